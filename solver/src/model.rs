@@ -1,0 +1,456 @@
+//! The validated, immutable finite-element model.
+//!
+//! Everything downstream of the deck reader (elements, assembly, analyses, the deck
+//! writer, the mesher) sees only this type; no numerical code sees deck text.
+//!
+//! # Units
+//! The model is in Marc's consistent unit system: length in mm, force in N, mass in
+//! tonne (1 t = 1000 kg), time in s. Hence stress and Young's modulus in MPa (N/mm^2),
+//! density in t/mm^3 (7850 kg/m^3 = 7.85e-9 t/mm^3), rotary inertia in t mm^2,
+//! velocity in mm/s, acceleration in mm/s^2. Conversion to SI happens only at the
+//! edges (result files, the mesher's flags); see [`units`].
+//!
+//! # Degrees of freedom
+//! Every node carries six DOFs, numbered 1..=6 in the deck as in Marc:
+//! 1 = u_x, 2 = u_y, 3 = u_z, 4 = theta_x, 5 = theta_y, 6 = theta_z (global axes,
+//! right-handed, rotations in radians). Internally a DOF is `node_index * 6 + (dof - 1)`.
+//!
+//! # Identity
+//! Nodes and elements keep their user numbers (`id`); vectors are sorted by id so that
+//! look-ups are binary searches. Sets are resolved to sorted, de-duplicated id lists
+//! when the model is built; the named sets are kept only so that a written deck reads
+//! back to an equal model.
+
+use serde::{Deserialize, Serialize};
+
+/// Number of DOFs per node (3 translations, 3 rotations).
+pub const DOFS_PER_NODE: usize = 6;
+
+/// A node id as written in the deck.
+pub type NodeId = u32;
+/// An element id as written in the deck.
+pub type ElementId = u32;
+
+/// Beam element formulations, by their Marc element type number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ElementType {
+    /// Marc type 52: two-node Euler-Bernoulli beam (no transverse shear strain).
+    Beam52,
+    /// Marc type 98: two-node beam with transverse shear (Timoshenko).
+    Beam98,
+}
+
+impl ElementType {
+    /// The Marc element type number.
+    pub fn number(self) -> u32 {
+        match self {
+            ElementType::Beam52 => 52,
+            ElementType::Beam98 => 98,
+        }
+    }
+
+    /// The element type for a Marc type number, if coil supports it.
+    pub fn from_number(n: u32) -> Option<Self> {
+        match n {
+            52 => Some(ElementType::Beam52),
+            98 => Some(ElementType::Beam98),
+            _ => None,
+        }
+    }
+}
+
+/// A node: its id and coordinates (mm).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Node {
+    pub id: NodeId,
+    pub xyz: [f64; 3],
+}
+
+/// A two-node beam element.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Element {
+    pub id: ElementId,
+    pub kind: ElementType,
+    pub nodes: [NodeId; 2],
+}
+
+/// A named node set (`DEFINE NODE SET`). Ids sorted and unique.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NodeSet {
+    pub name: String,
+    pub nodes: Vec<NodeId>,
+}
+
+/// A named element set (`DEFINE ELEMENT SET`). Ids sorted and unique.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ElementSet {
+    pub name: String,
+    pub elements: Vec<ElementId>,
+}
+
+/// Linear isotropic elastic material (`ISOTROPIC`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    /// Material name (Marc's material id/name field).
+    pub name: String,
+    /// Young's modulus E (MPa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio nu (-); the shear modulus is G = E / (2 (1 + nu)).
+    pub poisson: f64,
+    /// Mass density (t/mm^3).
+    pub density: f64,
+    /// Elements the material applies to (sorted, unique).
+    pub elements: Vec<ElementId>,
+}
+
+impl Material {
+    /// Shear modulus G = E / (2 (1 + nu)) in MPa.
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+    }
+}
+
+/// Cross-section of a beam.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Section {
+    /// A solid circular wire of the given diameter (mm). Area, second moments and the
+    /// torsion constant follow from it; the Timoshenko shear coefficient is
+    /// kappa = 6 (1 + nu) / (7 + 6 nu) (Cowper 1966).
+    SolidCircle { diameter: f64 },
+    /// A general section given by its properties.
+    General {
+        /// Area A (mm^2).
+        area: f64,
+        /// Second moment about the element's local y axis, I_y (mm^4).
+        iyy: f64,
+        /// Second moment about the element's local z axis, I_z (mm^4).
+        izz: f64,
+        /// Torsion constant J (mm^4).
+        torsion: f64,
+        /// Timoshenko shear coefficient kappa (shear area = kappa A), both directions.
+        /// Ignored by type 52.
+        shear_coefficient: f64,
+    },
+}
+
+/// Derived section properties, the same for both section kinds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionProperties {
+    pub area: f64,
+    pub iyy: f64,
+    pub izz: f64,
+    pub torsion: f64,
+    pub shear_coefficient: f64,
+}
+
+impl Section {
+    /// Area, second moments, torsion constant and shear coefficient. `poisson` is
+    /// needed for the solid circle's Cowper coefficient.
+    pub fn properties(&self, poisson: f64) -> SectionProperties {
+        match *self {
+            Section::SolidCircle { diameter } => {
+                let r = 0.5 * diameter;
+                let area = std::f64::consts::PI * r * r;
+                let i = std::f64::consts::PI * r.powi(4) / 4.0;
+                SectionProperties {
+                    area,
+                    iyy: i,
+                    izz: i,
+                    torsion: 2.0 * i,
+                    shear_coefficient: 6.0 * (1.0 + poisson) / (7.0 + 6.0 * poisson),
+                }
+            }
+            Section::General {
+                area,
+                iyy,
+                izz,
+                torsion,
+                shear_coefficient,
+            } => SectionProperties {
+                area,
+                iyy,
+                izz,
+                torsion,
+                shear_coefficient,
+            },
+        }
+    }
+}
+
+/// Beam geometry (`GEOMETRY`): section and orientation for a list of elements.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Geometry {
+    pub name: String,
+    pub section: Section,
+    /// A vector (global axes) that, with the element axis, fixes the local frame:
+    /// local x runs from node 1 to node 2, local y is the part of `orientation`
+    /// normal to x, local z = x cross y. Must not be parallel to any of its elements.
+    pub orientation: [f64; 3],
+    pub elements: Vec<ElementId>,
+}
+
+/// Rayleigh damping (`DAMPING`): C_e = alpha M_e + beta K_e on the listed elements, and
+/// C = alpha M_p on the point masses of the listed nodes (none unless named).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Damping {
+    /// Mass-proportional coefficient alpha (1/s).
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient beta (s).
+    pub beta: f64,
+    pub elements: Vec<ElementId>,
+    /// Nodes whose point masses receive alpha (beta has no meaning for a point mass).
+    pub mass_nodes: Vec<NodeId>,
+}
+
+/// A point mass with rotary inertia at a node (`POINT MASS`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointMass {
+    pub node: NodeId,
+    /// Translational mass (t), on DOFs 1-3.
+    pub mass: f64,
+    /// Rotary inertia about the global x, y, z axes (t mm^2), on DOFs 4-6.
+    pub inertia: [f64; 3],
+}
+
+/// A rigid tie (Marc's RBE2, coil card `RBE2`): the tied nodes' listed DOFs follow the
+/// reference node as a rigid body: u_s = u_r + theta_r x (x_s - x_r), theta_s = theta_r.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RigidTie {
+    pub name: String,
+    pub reference: NodeId,
+    /// Tied DOFs of the tied nodes (1..=6, sorted, unique).
+    pub dofs: Vec<u8>,
+    pub tied: Vec<NodeId>,
+}
+
+/// Prescribed displacements (`FIXED DISP`): each listed DOF of each node gets its value
+/// (mm or rad).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FixedDisp {
+    /// (dof 1..=6, value) pairs.
+    pub dofs: Vec<(u8, f64)>,
+    pub nodes: Vec<NodeId>,
+}
+
+/// Concentrated loads (`POINT LOAD`): each listed DOF of each node gets its value
+/// (N or N mm), optionally scaled in time by a table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointLoad {
+    /// (dof 1..=6, value) pairs.
+    pub dofs: Vec<(u8, f64)>,
+    pub nodes: Vec<NodeId>,
+    /// Name of a [`Table`] giving the load factor against time; `None` = constant 1.
+    pub table: Option<String>,
+}
+
+/// A piecewise-linear table of (time s, factor) points, sorted by time (`TABLE`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Table {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Initial velocities (`INITIAL VEL`): each listed DOF of each node (mm/s or rad/s).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InitialVelocity {
+    pub dofs: Vec<(u8, f64)>,
+    pub nodes: Vec<NodeId>,
+}
+
+/// What a history output records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Quantity {
+    Displacement,
+    Velocity,
+    Acceleration,
+}
+
+/// A history output request (coil card `HISTORY OUTPUT`): the listed quantities of the
+/// listed DOFs of the listed nodes, every `every`-th step of a transient.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutputRequest {
+    pub nodes: Vec<NodeId>,
+    pub dofs: Vec<u8>,
+    pub quantities: Vec<Quantity>,
+    pub every: u32,
+}
+
+/// Time integration schemes for direct transient analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Integrator {
+    /// Newmark average acceleration (beta = 1/4, gamma = 1/2): no numerical damping.
+    AverageAcceleration,
+    /// Hilber-Hughes-Taylor with alpha in [-1/3, 0].
+    Hht { alpha: f64 },
+    /// Chung-Hulbert generalised-alpha with spectral radius at infinity rho_inf in [0, 1].
+    GeneralizedAlpha { rho_inf: f64 },
+}
+
+/// How a transient is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum TransientMethod {
+    /// Direct integration of the full system.
+    Direct(Integrator),
+    /// Modal superposition over the lowest `modes` modes, each integrated exactly.
+    Modal { modes: u32 },
+}
+
+/// The analysis a load case runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Analysis {
+    /// Linear static (`AUTO LOAD` / `TIME STEP`). `steps` and `time` are kept for
+    /// Marc compatibility; a linear solve applies the full load once.
+    Static { steps: u32, time: f64 },
+    /// Lowest `modes` eigenpairs of K phi = omega^2 M phi (`MODAL SHAPE`).
+    Modal { modes: u32 },
+    /// Transient (`DYNAMIC CHANGE`): fixed step `dt` (s) up to `total_time` (s).
+    Transient {
+        dt: f64,
+        total_time: f64,
+        method: TransientMethod,
+    },
+}
+
+/// One load case of the history section, closed by `CONTINUE`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LoadCase {
+    pub title: String,
+    pub analysis: Analysis,
+    /// Loads added in this load case (history-definition `POINT LOAD`), on top of the
+    /// model-definition loads.
+    pub point_loads: Vec<PointLoad>,
+}
+
+/// The complete, validated model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    pub title: String,
+    /// Element types declared in the parameter section (`ELEMENTS`).
+    pub element_types: Vec<ElementType>,
+    /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
+    pub lumped_mass: bool,
+    /// Sorted by id.
+    pub nodes: Vec<Node>,
+    /// Sorted by id.
+    pub elements: Vec<Element>,
+    pub node_sets: Vec<NodeSet>,
+    pub element_sets: Vec<ElementSet>,
+    pub materials: Vec<Material>,
+    pub geometries: Vec<Geometry>,
+    pub damping: Vec<Damping>,
+    pub point_masses: Vec<PointMass>,
+    pub rigid_ties: Vec<RigidTie>,
+    pub fixed_disp: Vec<FixedDisp>,
+    pub point_loads: Vec<PointLoad>,
+    pub tables: Vec<Table>,
+    pub initial_velocities: Vec<InitialVelocity>,
+    pub outputs: Vec<OutputRequest>,
+    pub load_cases: Vec<LoadCase>,
+}
+
+impl Model {
+    /// Index of a node id in `nodes`.
+    pub fn node_index(&self, id: NodeId) -> Option<usize> {
+        self.nodes.binary_search_by_key(&id, |n| n.id).ok()
+    }
+
+    /// Index of an element id in `elements`.
+    pub fn element_index(&self, id: ElementId) -> Option<usize> {
+        self.elements.binary_search_by_key(&id, |e| e.id).ok()
+    }
+
+    /// Total number of DOFs before constraints (6 per node).
+    pub fn dof_count(&self) -> usize {
+        self.nodes.len() * DOFS_PER_NODE
+    }
+
+    /// The material of an element, if one is assigned.
+    pub fn material_of(&self, id: ElementId) -> Option<&Material> {
+        self.materials
+            .iter()
+            .rev()
+            .find(|m| m.elements.binary_search(&id).is_ok())
+    }
+
+    /// The geometry of an element, if one is assigned.
+    pub fn geometry_of(&self, id: ElementId) -> Option<&Geometry> {
+        self.geometries
+            .iter()
+            .rev()
+            .find(|g| g.elements.binary_search(&id).is_ok())
+    }
+}
+
+/// Conversions between the model's units (mm, N, t, s) and SI.
+pub mod units {
+    /// mm per m.
+    pub const MM_PER_M: f64 = 1000.0;
+    /// kg per tonne.
+    pub const KG_PER_T: f64 = 1000.0;
+
+    /// kg/m^3 -> t/mm^3.
+    pub fn density_from_si(kg_m3: f64) -> f64 {
+        kg_m3 * 1e-12
+    }
+    /// t/mm^3 -> kg/m^3.
+    pub fn density_to_si(t_mm3: f64) -> f64 {
+        t_mm3 * 1e12
+    }
+    /// kg -> t.
+    pub fn mass_from_si(kg: f64) -> f64 {
+        kg / KG_PER_T
+    }
+    /// t -> kg.
+    pub fn mass_to_si(t: f64) -> f64 {
+        t * KG_PER_T
+    }
+    /// kg m^2 -> t mm^2.
+    pub fn inertia_from_si(kg_m2: f64) -> f64 {
+        kg_m2 * 1e3
+    }
+    /// t mm^2 -> kg m^2.
+    pub fn inertia_to_si(t_mm2: f64) -> f64 {
+        t_mm2 * 1e-3
+    }
+    /// m (or m/s, m/s^2) -> mm (mm/s, mm/s^2).
+    pub fn length_from_si(m: f64) -> f64 {
+        m * MM_PER_M
+    }
+    /// mm (mm/s, mm/s^2) -> m (m/s, m/s^2).
+    pub fn length_to_si(mm: f64) -> f64 {
+        mm / MM_PER_M
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn round_trips_are_identities() {
+            for x in [1.0, 7850.0, 5.3, 1e-4] {
+                assert!((density_to_si(density_from_si(x)) - x).abs() <= 1e-12 * x);
+                assert!((mass_to_si(mass_from_si(x)) - x).abs() <= 1e-12 * x);
+                assert!((inertia_to_si(inertia_from_si(x)) - x).abs() <= 1e-12 * x);
+                assert!((length_to_si(length_from_si(x)) - x).abs() <= 1e-12 * x);
+            }
+            // 7850 kg/m^3 is 7.85e-9 t/mm^3, 1 kg m^2 is 1e3 t mm^2 (1e-3 t * 1e6 mm^2).
+            assert!((density_from_si(7850.0) - 7.85e-9).abs() < 1e-20);
+            assert!((inertia_from_si(1.0) - 1e3).abs() < 1e-12);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solid_circle_properties() {
+        let p = Section::SolidCircle { diameter: 3.0 }.properties(0.3);
+        let pi = std::f64::consts::PI;
+        assert!((p.area - pi * 2.25).abs() < 1e-12);
+        assert!((p.iyy - pi * 81.0 / 64.0).abs() < 1e-12);
+        assert!((p.torsion - pi * 81.0 / 32.0).abs() < 1e-12);
+        assert!((p.shear_coefficient - 7.8 / 8.8).abs() < 1e-12);
+    }
+}

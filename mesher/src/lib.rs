@@ -1,1 +1,584 @@
-//! stub
+//! coil-mesher: helical-spring geometry -> a coil input deck.
+//!
+//! # Geometry
+//! The wire centreline is the helix x = R cos t, y = R sin t, z = h t / (2 pi) for
+//! t in [0, 2 pi n], R = D/2, over the n active coils; the spring axis is global z and
+//! the base is at z = 0. The helix is cut into `elements_per_coil * n` straight two-node
+//! beams (rounded to a whole number) with every node exactly on the helix, so a coarse
+//! mesh is a polygon inscribed in the helix: shorter wire, hence a stiffer spring (the
+//! bias that the tuner's mesh study measures).
+//!
+//! # Numbering (stable, documented in docs/mesher.md)
+//! - node 1: the weight's reference node on the axis at the top, (0, 0, n h);
+//! - nodes 2 ..= N+2: the helix from the base (node 2, t = 0) to the top wire end;
+//! - elements 1 ..= N: helix segments, element i joins nodes i+1 and i+2;
+//! - sets: `spring` (all elements), `base` (node 2), `weight` (node 1), `wire_top`.
+//!
+//! So the weight's axial acceleration column of a transient history is always
+//! `node1_uz_accel_m_s2`.
+//!
+//! # Boundary conditions
+//! The base wire end is clamped (DOFs 1-6). The top wire end is tied rigidly (RBE2, all
+//! six DOFs) to node 1, which carries the weight (point mass and rotary inertia) and the
+//! loads. `guided`: only node 1's axial translation is free; `free-rotation`: its rotation
+//! about the axis is free too; `held`: node 1 is fixed (a bare spring between two plates,
+//! for surge modes).
+//!
+//! # Units
+//! The spec's names carry SI or engineering units (`_mm`, `_mpa`, `_kg`, `_m_s`); the deck
+//! is in mm, N, t, s (see `coil_solver::model`). Conversions happen here, once.
+
+pub mod closed_form;
+
+use coil_solver::model::{
+    units, Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry,
+    InitialVelocity, Integrator, LoadCase, Material, Model, Node, NodeSet, OutputRequest,
+    PointLoad, PointMass, Quantity, RigidTie, Section, TransientMethod,
+};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Node id of the weight's reference node.
+pub const WEIGHT_NODE: u32 = 1;
+/// Node id of the clamped base end of the wire.
+pub const BASE_NODE: u32 = 2;
+/// Column of the weight's axial acceleration in a transient `history.csv`.
+pub const WEIGHT_ACCEL_COLUMN: &str = "node1_uz_accel_m_s2";
+
+/// How the top reference node (the weight) is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Top {
+    /// Only the axial translation is free.
+    #[default]
+    Guided,
+    /// Axial translation and rotation about the axis are free.
+    FreeRotation,
+    /// Fully fixed: the spring is held at both ends.
+    Held,
+}
+
+/// Which analysis the deck's history runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AnalysisKind {
+    Static,
+    Modal,
+    Transient,
+}
+
+/// Everything `coil-mesh` needs, from flags or a JSON spec file. Field names carry units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SpringSpec {
+    pub title: String,
+    pub coils: f64,
+    pub mean_diameter_mm: f64,
+    pub wire_diameter_mm: f64,
+    pub pitch_mm: f64,
+    pub elements_per_coil: u32,
+    /// Marc element type: 98 (Timoshenko) or 52 (Euler-Bernoulli).
+    pub element: u32,
+    pub lumped_mass: bool,
+    pub youngs_modulus_mpa: f64,
+    pub poisson: f64,
+    pub density_kg_m3: f64,
+    /// The weight's mass (kg); 0 = no weight.
+    pub mass_kg: f64,
+    /// The weight's rotary inertia about the spring axis (kg m^2).
+    pub rotary_inertia_kg_m2: f64,
+    pub top: Top,
+    /// Load cases, in order.
+    pub analyses: Vec<AnalysisKind>,
+    /// Static: compressive axial force on the weight (N).
+    pub force_n: f64,
+    /// Modal: number of modes.
+    pub modes: u32,
+    /// Transient: time step (s).
+    pub dt_s: f64,
+    /// Transient: total time (s).
+    pub duration_s: f64,
+    /// Transient: initial axial velocity of the weight (m/s, + away from the base).
+    pub initial_velocity_m_s: f64,
+    /// Rayleigh alpha on the spring's elements (1/s).
+    pub alpha: f64,
+    /// Rayleigh beta on the spring's elements (s).
+    pub beta: f64,
+    /// Transient: record every k-th step.
+    pub output_every: u32,
+}
+
+impl Default for SpringSpec {
+    /// The paper's spring (n = 14, D = 24, d = 3, h = 6.2) with handbook steel.
+    fn default() -> Self {
+        SpringSpec {
+            title: "helical spring".into(),
+            coils: 14.0,
+            mean_diameter_mm: 24.0,
+            wire_diameter_mm: 3.0,
+            pitch_mm: 6.2,
+            elements_per_coil: 24,
+            element: 98,
+            lumped_mass: false,
+            youngs_modulus_mpa: 206000.0,
+            poisson: 0.3,
+            density_kg_m3: 7850.0,
+            mass_kg: 0.0,
+            rotary_inertia_kg_m2: 0.0,
+            top: Top::Guided,
+            analyses: vec![AnalysisKind::Static],
+            force_n: 10.0,
+            modes: 10,
+            dt_s: 1e-3,
+            duration_s: 20.0,
+            initial_velocity_m_s: 0.1,
+            alpha: 0.0,
+            beta: 0.0,
+            output_every: 1,
+        }
+    }
+}
+
+/// A spec that cannot be meshed, naming the field and what was expected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{field} = {value}: expected {expected}")]
+pub struct SpecError {
+    pub field: &'static str,
+    pub value: String,
+    pub expected: &'static str,
+}
+
+fn check(
+    ok: bool,
+    field: &'static str,
+    value: f64,
+    expected: &'static str,
+) -> Result<(), SpecError> {
+    if ok && value.is_finite() {
+        Ok(())
+    } else {
+        Err(SpecError {
+            field,
+            value: value.to_string(),
+            expected,
+        })
+    }
+}
+
+impl SpringSpec {
+    /// The helix geometry part of the spec.
+    pub fn geometry(&self) -> closed_form::HelixGeometry {
+        closed_form::HelixGeometry {
+            coils: self.coils,
+            mean_diameter_mm: self.mean_diameter_mm,
+            wire_diameter_mm: self.wire_diameter_mm,
+            pitch_mm: self.pitch_mm,
+        }
+    }
+
+    /// Number of beam elements along the wire.
+    pub fn element_count(&self) -> usize {
+        ((self.coils * f64::from(self.elements_per_coil)).round() as usize).max(1)
+    }
+
+    /// Checks every field; the deck reader would catch most of these later, but the
+    /// message is clearer in the spec's own terms.
+    pub fn validate(&self) -> Result<(), SpecError> {
+        check(
+            self.coils > 0.0,
+            "coils",
+            self.coils,
+            "a positive number of coils",
+        )?;
+        check(
+            self.mean_diameter_mm > 0.0,
+            "mean_diameter_mm",
+            self.mean_diameter_mm,
+            "a positive diameter",
+        )?;
+        check(
+            self.wire_diameter_mm > 0.0 && self.wire_diameter_mm < self.mean_diameter_mm,
+            "wire_diameter_mm",
+            self.wire_diameter_mm,
+            "a positive wire diameter smaller than the mean diameter",
+        )?;
+        // A pitch angle near 90 degrees would make the axis-parallel orientation vector
+        // parallel to the wire.
+        check(
+            self.pitch_mm >= 0.0 && self.pitch_mm < 2.0 * PI * self.mean_diameter_mm,
+            "pitch_mm",
+            self.pitch_mm,
+            "a pitch >= 0 and below 2 pi D (pitch angle under 63 degrees)",
+        )?;
+        if self.elements_per_coil < 3 {
+            return Err(SpecError {
+                field: "elements_per_coil",
+                value: self.elements_per_coil.to_string(),
+                expected: "at least 3 elements per coil",
+            });
+        }
+        if ElementType::from_number(self.element).is_none() {
+            return Err(SpecError {
+                field: "element",
+                value: self.element.to_string(),
+                expected: "98 (Timoshenko) or 52 (Euler-Bernoulli)",
+            });
+        }
+        check(
+            self.youngs_modulus_mpa > 0.0,
+            "youngs_modulus_mpa",
+            self.youngs_modulus_mpa,
+            "a positive modulus",
+        )?;
+        check(
+            self.poisson > -1.0 && self.poisson < 0.5,
+            "poisson",
+            self.poisson,
+            "a Poisson ratio in (-1, 0.5)",
+        )?;
+        check(
+            self.density_kg_m3 >= 0.0,
+            "density_kg_m3",
+            self.density_kg_m3,
+            "a density >= 0",
+        )?;
+        check(self.mass_kg >= 0.0, "mass_kg", self.mass_kg, "a mass >= 0")?;
+        check(
+            self.rotary_inertia_kg_m2 >= 0.0,
+            "rotary_inertia_kg_m2",
+            self.rotary_inertia_kg_m2,
+            "an inertia >= 0",
+        )?;
+        check(
+            self.force_n.is_finite(),
+            "force_n",
+            self.force_n,
+            "a finite force",
+        )?;
+        check(self.alpha >= 0.0, "alpha", self.alpha, "alpha >= 0")?;
+        check(self.beta >= 0.0, "beta", self.beta, "beta >= 0")?;
+        check(
+            self.initial_velocity_m_s.is_finite(),
+            "initial_velocity_m_s",
+            self.initial_velocity_m_s,
+            "a finite velocity",
+        )?;
+        if self.analyses.contains(&AnalysisKind::Modal) && self.modes == 0 {
+            return Err(SpecError {
+                field: "modes",
+                value: "0".into(),
+                expected: "at least one mode",
+            });
+        }
+        if self.analyses.contains(&AnalysisKind::Transient) {
+            check(self.dt_s > 0.0, "dt_s", self.dt_s, "a positive time step")?;
+            check(
+                self.duration_s >= self.dt_s,
+                "duration_s",
+                self.duration_s,
+                "a duration of at least one time step",
+            )?;
+            if self.output_every == 0 {
+                return Err(SpecError {
+                    field: "output_every",
+                    value: "0".into(),
+                    expected: "a positive step interval",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the finite-element model.
+    pub fn build(&self) -> Result<Model, SpecError> {
+        self.validate()?;
+        let kind = ElementType::from_number(self.element).unwrap_or(ElementType::Beam98);
+        let n_el = self.element_count();
+        let r = 0.5 * self.mean_diameter_mm;
+        let t_end = 2.0 * PI * self.coils;
+        let height = self.pitch_mm * self.coils;
+
+        let mut nodes = Vec::with_capacity(n_el + 2);
+        nodes.push(Node {
+            id: WEIGHT_NODE,
+            xyz: [0.0, 0.0, height],
+        });
+        for i in 0..=n_el {
+            let t = t_end * i as f64 / n_el as f64;
+            nodes.push(Node {
+                id: BASE_NODE + i as u32,
+                xyz: [r * t.cos(), r * t.sin(), self.pitch_mm * t / (2.0 * PI)],
+            });
+        }
+        let wire_top = BASE_NODE + n_el as u32;
+        let elements: Vec<Element> = (0..n_el as u32)
+            .map(|i| Element {
+                id: i + 1,
+                kind,
+                nodes: [BASE_NODE + i, BASE_NODE + i + 1],
+            })
+            .collect();
+        let all_elements: Vec<u32> = elements.iter().map(|e| e.id).collect();
+
+        let mut fixed_disp = vec![FixedDisp {
+            dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+            nodes: vec![BASE_NODE],
+        }];
+        let held: Vec<u8> = match self.top {
+            Top::Guided => vec![1, 2, 4, 5, 6],
+            Top::FreeRotation => vec![1, 2, 4, 5],
+            Top::Held => vec![1, 2, 3, 4, 5, 6],
+        };
+        fixed_disp.push(FixedDisp {
+            dofs: held.into_iter().map(|d| (d, 0.0)).collect(),
+            nodes: vec![WEIGHT_NODE],
+        });
+
+        let mut point_masses = Vec::new();
+        if self.mass_kg > 0.0 || self.rotary_inertia_kg_m2 > 0.0 {
+            point_masses.push(PointMass {
+                node: WEIGHT_NODE,
+                mass: units::mass_from_si(self.mass_kg),
+                inertia: [0.0, 0.0, units::inertia_from_si(self.rotary_inertia_kg_m2)],
+            });
+        }
+
+        let mut damping = Vec::new();
+        if self.alpha > 0.0 || self.beta > 0.0 {
+            // Alpha acts on the spring's own elements only, never on the weight.
+            damping.push(Damping {
+                alpha: self.alpha,
+                beta: self.beta,
+                elements: all_elements.clone(),
+                mass_nodes: vec![],
+            });
+        }
+
+        let mut initial_velocities = Vec::new();
+        let mut outputs = Vec::new();
+        let mut load_cases = Vec::new();
+        for analysis in &self.analyses {
+            match analysis {
+                AnalysisKind::Static => load_cases.push(LoadCase {
+                    title: format!("static axial force {} N", self.force_n),
+                    analysis: Analysis::Static {
+                        steps: 1,
+                        time: 1.0,
+                    },
+                    point_loads: vec![PointLoad {
+                        dofs: vec![(3, -self.force_n)],
+                        nodes: vec![WEIGHT_NODE],
+                        table: None,
+                    }],
+                }),
+                AnalysisKind::Modal => load_cases.push(LoadCase {
+                    title: format!("lowest {} modes", self.modes),
+                    analysis: Analysis::Modal { modes: self.modes },
+                    point_loads: vec![],
+                }),
+                AnalysisKind::Transient => {
+                    if self.initial_velocity_m_s != 0.0 {
+                        initial_velocities.push(InitialVelocity {
+                            dofs: vec![(3, units::length_from_si(self.initial_velocity_m_s))],
+                            nodes: vec![WEIGHT_NODE],
+                        });
+                    }
+                    outputs.push(OutputRequest {
+                        nodes: vec![WEIGHT_NODE],
+                        dofs: vec![3],
+                        quantities: vec![
+                            Quantity::Displacement,
+                            Quantity::Velocity,
+                            Quantity::Acceleration,
+                        ],
+                        every: self.output_every,
+                    });
+                    load_cases.push(LoadCase {
+                        title: "free decay".into(),
+                        analysis: Analysis::Transient {
+                            dt: self.dt_s,
+                            total_time: self.duration_s,
+                            method: TransientMethod::Direct(Integrator::AverageAcceleration),
+                        },
+                        point_loads: vec![],
+                    });
+                }
+            }
+        }
+
+        Ok(Model {
+            title: self.title.clone(),
+            element_types: vec![kind],
+            lumped_mass: self.lumped_mass,
+            nodes,
+            elements,
+            node_sets: vec![
+                NodeSet {
+                    name: "weight".into(),
+                    nodes: vec![WEIGHT_NODE],
+                },
+                NodeSet {
+                    name: "base".into(),
+                    nodes: vec![BASE_NODE],
+                },
+                NodeSet {
+                    name: "wire_top".into(),
+                    nodes: vec![wire_top],
+                },
+            ],
+            element_sets: vec![ElementSet {
+                name: "spring".into(),
+                elements: all_elements.clone(),
+            }],
+            materials: vec![Material {
+                name: "steel".into(),
+                youngs_modulus: self.youngs_modulus_mpa,
+                poisson: self.poisson,
+                density: units::density_from_si(self.density_kg_m3),
+                elements: all_elements.clone(),
+            }],
+            geometries: vec![Geometry {
+                name: "wire".into(),
+                section: Section::SolidCircle {
+                    diameter: self.wire_diameter_mm,
+                },
+                orientation: [0.0, 0.0, 1.0],
+                elements: all_elements,
+            }],
+            damping,
+            point_masses,
+            rigid_ties: vec![RigidTie {
+                name: "top".into(),
+                reference: WEIGHT_NODE,
+                dofs: vec![1, 2, 3, 4, 5, 6],
+                tied: vec![wire_top],
+            }],
+            fixed_disp,
+            point_loads: vec![],
+            tables: vec![],
+            initial_velocities,
+            outputs,
+            load_cases,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_node_lies_on_the_helix() {
+        let spec = SpringSpec {
+            elements_per_coil: 7,
+            coils: 3.5,
+            ..SpringSpec::default()
+        };
+        let model = spec.build().unwrap();
+        let r = 12.0;
+        assert_eq!(model.elements.len(), 25); // round(3.5 * 7) = 24.5 -> 25 (round half away)
+        for node in model.nodes.iter().skip(1) {
+            let [x, y, z] = node.xyz;
+            assert!(((x * x + y * y).sqrt() - r).abs() < 1e-12);
+            // Angle recovered from z must match the angle of (x, y).
+            let t = 2.0 * PI * z / 6.2;
+            assert!((r * t.cos() - x).abs() < 1e-9 && (r * t.sin() - y).abs() < 1e-9);
+        }
+        let top = model.nodes.last().unwrap().xyz;
+        assert!((top[2] - 3.5 * 6.2).abs() < 1e-12);
+        assert_eq!(model.nodes[0].xyz, [0.0, 0.0, 3.5 * 6.2]);
+    }
+
+    #[test]
+    fn ids_are_sorted_and_elements_chain() {
+        let model = SpringSpec::default().build().unwrap();
+        assert!(model.nodes.windows(2).all(|w| w[0].id < w[1].id));
+        for e in &model.elements {
+            assert_eq!(e.nodes[1], e.nodes[0] + 1);
+        }
+        assert_eq!(model.elements.len(), 14 * 24);
+    }
+
+    #[test]
+    fn bad_specs_name_the_field() {
+        for (spec, field) in [
+            (
+                SpringSpec {
+                    wire_diameter_mm: 30.0,
+                    ..SpringSpec::default()
+                },
+                "wire_diameter_mm",
+            ),
+            (
+                SpringSpec {
+                    coils: f64::NAN,
+                    ..SpringSpec::default()
+                },
+                "coils",
+            ),
+            (
+                SpringSpec {
+                    element: 5,
+                    ..SpringSpec::default()
+                },
+                "element",
+            ),
+            (
+                SpringSpec {
+                    elements_per_coil: 2,
+                    ..SpringSpec::default()
+                },
+                "elements_per_coil",
+            ),
+        ] {
+            assert_eq!(spec.build().unwrap_err().field, field);
+        }
+    }
+
+    #[test]
+    fn weight_gets_no_alpha() {
+        let spec = SpringSpec {
+            alpha: 0.8,
+            beta: 1.2e-4,
+            mass_kg: 5.0,
+            ..SpringSpec::default()
+        };
+        let model = spec.build().unwrap();
+        assert_eq!(model.damping.len(), 1);
+        assert!(model.damping[0].mass_nodes.is_empty());
+        assert_eq!(model.point_masses[0].mass, 5e-3);
+    }
+}
+
+/// Reading a spec file failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadSpecError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}:{column}: {message}; expected a JSON object with the fields of a spring spec (see docs/mesher.md)")]
+    Json {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+}
+
+/// Reads a JSON spring spec; missing fields take the defaults, unknown fields are errors.
+pub fn read_spec(path: &std::path::Path) -> Result<SpringSpec, ReadSpecError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| ReadSpecError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    serde_json::from_str(&text).map_err(|e| ReadSpecError::Json {
+        path: name,
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    })
+}

@@ -11,6 +11,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod atomic;
 pub mod deck;
 pub mod dof;
 pub mod element;

@@ -1,1 +1,186 @@
-fn main() {}
+//! `coil-mesh`: helical spring geometry -> coil input deck.
+//!
+//! Settings come from an optional JSON spec file (the fields of
+//! `coil_mesher::SpringSpec`), then from flags, which override the file.
+
+use clap::{Parser, ValueEnum};
+use coil_mesher::{AnalysisKind, SpringSpec, Top};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum TopArg {
+    Guided,
+    FreeRotation,
+    Held,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum AnalysisArg {
+    Static,
+    Modal,
+    Transient,
+}
+
+/// Mesh a helical spring into a coil input deck (mm, N, t, s).
+#[derive(Debug, Parser)]
+#[command(name = "coil-mesh", version, about)]
+struct Args {
+    /// JSON spec file (fields of SpringSpec); flags override it.
+    spec: Option<PathBuf>,
+    /// Output deck.
+    #[arg(short = 'o', long = "output", value_name = "DECK")]
+    output: PathBuf,
+    /// Also write the merged spec as JSON.
+    #[arg(long, value_name = "JSON")]
+    write_spec: Option<PathBuf>,
+    #[arg(long)]
+    title: Option<String>,
+    /// Number of active coils n.
+    #[arg(long, value_name = "N")]
+    coils: Option<f64>,
+    /// Mean coil diameter D.
+    #[arg(long, value_name = "MM")]
+    mean_diameter: Option<f64>,
+    /// Wire diameter d.
+    #[arg(long, value_name = "MM")]
+    wire_diameter: Option<f64>,
+    /// Pitch h.
+    #[arg(long, value_name = "MM")]
+    pitch: Option<f64>,
+    /// Beam elements per coil [default: 24].
+    #[arg(long, value_name = "M")]
+    elements_per_coil: Option<u32>,
+    /// Marc element type: 98 (Timoshenko) or 52 (Euler-Bernoulli) [default: 98].
+    #[arg(long, value_name = "98|52")]
+    element: Option<u32>,
+    /// Lumped instead of consistent mass.
+    #[arg(long)]
+    lumped: bool,
+    /// Young's modulus E [default: 206000].
+    #[arg(long, value_name = "MPA")]
+    youngs_modulus: Option<f64>,
+    /// Poisson's ratio [default: 0.3].
+    #[arg(long)]
+    poisson: Option<f64>,
+    /// Wire density [default: 7850].
+    #[arg(long, value_name = "KG_M3")]
+    density: Option<f64>,
+    /// Mass of the weight on top [default: 0].
+    #[arg(long, value_name = "KG")]
+    mass: Option<f64>,
+    /// Rotary inertia of the weight about the spring axis [default: 0].
+    #[arg(long, value_name = "KG_M2")]
+    rotary_inertia: Option<f64>,
+    /// How the top reference node is held [default: guided].
+    #[arg(long, value_enum)]
+    top: Option<TopArg>,
+    /// Load cases, in order (repeat or comma-separate) [default: static].
+    #[arg(long, value_enum, value_delimiter = ',')]
+    analysis: Vec<AnalysisArg>,
+    /// Static: compressive axial force on the weight [default: 10].
+    #[arg(long, value_name = "N")]
+    force: Option<f64>,
+    /// Modal: number of modes [default: 10].
+    #[arg(long, value_name = "K")]
+    modes: Option<u32>,
+    /// Transient: time step [default: 0.001].
+    #[arg(long, value_name = "S")]
+    dt: Option<f64>,
+    /// Transient: total time [default: 20].
+    #[arg(long, value_name = "S")]
+    duration: Option<f64>,
+    /// Transient: initial axial velocity of the weight [default: 0.1].
+    #[arg(long, value_name = "M_S")]
+    initial_velocity: Option<f64>,
+    /// Rayleigh alpha on the spring's elements (never on the weight) [default: 0].
+    #[arg(long)]
+    alpha: Option<f64>,
+    /// Rayleigh beta on the spring's elements [default: 0].
+    #[arg(long)]
+    beta: Option<f64>,
+    /// Transient: record every k-th step [default: 1].
+    #[arg(long, value_name = "K")]
+    output_every: Option<u32>,
+}
+
+fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
+    macro_rules! set {
+        ($($field:ident <- $arg:ident),* $(,)?) => {
+            $(if let Some(v) = args.$arg.clone() { spec.$field = v; })*
+        };
+    }
+    set!(
+        title <- title,
+        coils <- coils,
+        mean_diameter_mm <- mean_diameter,
+        wire_diameter_mm <- wire_diameter,
+        pitch_mm <- pitch,
+        elements_per_coil <- elements_per_coil,
+        element <- element,
+        youngs_modulus_mpa <- youngs_modulus,
+        poisson <- poisson,
+        density_kg_m3 <- density,
+        mass_kg <- mass,
+        rotary_inertia_kg_m2 <- rotary_inertia,
+        force_n <- force,
+        modes <- modes,
+        dt_s <- dt,
+        duration_s <- duration,
+        initial_velocity_m_s <- initial_velocity,
+        alpha <- alpha,
+        beta <- beta,
+        output_every <- output_every,
+    );
+    if args.lumped {
+        spec.lumped_mass = true;
+    }
+    if let Some(top) = args.top {
+        spec.top = match top {
+            TopArg::Guided => Top::Guided,
+            TopArg::FreeRotation => Top::FreeRotation,
+            TopArg::Held => Top::Held,
+        };
+    }
+    if !args.analysis.is_empty() {
+        spec.analyses = args
+            .analysis
+            .iter()
+            .map(|a| match a {
+                AnalysisArg::Static => AnalysisKind::Static,
+                AnalysisArg::Modal => AnalysisKind::Modal,
+                AnalysisArg::Transient => AnalysisKind::Transient,
+            })
+            .collect();
+    }
+    spec
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    let base = match &args.spec {
+        Some(path) => coil_mesher::read_spec(path).map_err(|e| e.to_string())?,
+        None => SpringSpec::default(),
+    };
+    let spec = merge(args, base);
+    let model = spec
+        .build()
+        .map_err(|e| format!("invalid spring spec: {e}"))?;
+    let deck = coil_solver::deck::write(&model);
+    coil_solver::atomic::write_atomic(&args.output, deck.as_bytes()).map_err(|e| e.to_string())?;
+    if let Some(path) = &args.write_spec {
+        let json = serde_json::to_string_pretty(&spec).map_err(|e| e.to_string())?;
+        coil_solver::atomic::write_atomic(path, json.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("coil-mesh: {message}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -19,7 +19,7 @@ use super::reader::CardCtx;
 use crate::model::{ElementType, Integrator, Quantity, Section, TransientMethod};
 
 /// The three sections of a deck, in order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum DeckSection {
     /// Before `END`.
     Parameters,
@@ -519,7 +519,8 @@ pub(crate) fn match_keyword(line: &Line) -> Option<(&'static Keyword, usize)> {
     best
 }
 
-/// The `k` keywords nearest (by edit distance) to the first one, two or three words.
+/// Up to `k` keywords nearest (by edit distance) to the line's first words: the best
+/// match and any other within two edits of it.
 pub(crate) fn nearest(words: &[&str], k: usize) -> Vec<&'static str> {
     let mut scored: Vec<(usize, &'static str)> = KEYWORDS
         .iter()
@@ -531,7 +532,14 @@ pub(crate) fn nearest(words: &[&str], k: usize) -> Vec<&'static str> {
         })
         .collect();
     scored.sort();
-    scored.into_iter().take(k).map(|(_, n)| n).collect()
+    // Keep the close ones: within two edits of the best match.
+    let best = scored.first().map_or(0, |s| s.0);
+    scored
+        .into_iter()
+        .take_while(|(d, _)| *d <= best + 2)
+        .take(k)
+        .map(|(_, n)| n)
+        .collect()
 }
 
 /// Levenshtein distance.
@@ -1604,7 +1612,8 @@ mod tests {
         assert_eq!(nearest(&["isotropik"], 1), ["ISOTROPIC"]);
         assert_eq!(nearest(&["ENDOPTION"], 1), ["END OPTION"]);
         assert_eq!(nearest(&["POINT", "LAOD", "1"], 1), ["POINT LOAD"]);
-        assert_eq!(nearest(&["x"], 3).len(), 3);
+        assert!(!nearest(&["x"], 3).is_empty());
+        assert!(nearest(&["x"], 3).len() <= 3);
     }
 
     #[test]

@@ -507,35 +507,34 @@ fn misplaced(
     deck: &RawDeck,
 ) -> DeckError {
     use DeckSection::*;
-    let home = kw
-        .sections
-        .iter()
-        .map(|s| s.describe())
-        .collect::<Vec<_>>()
-        .join(" or the ");
-    let (msg, expected) = match (kw.sections.first().copied(), section) {
-        (Some(Model), Parameters) => (
-            format!(
-                "`{}` is a model-definition card, but the parameter section has not ended",
-                kw.name
-            ),
-            "END before the model definition".to_string(),
-        ),
-        (Some(History), Parameters) => (
-            format!(
-                "`{}` is a history card, but the parameter section has not ended",
-                kw.name
-            ),
-            "END, the model definition and END OPTION before the load cases".to_string(),
-        ),
-        (Some(History), Model) => (
-            format!(
-                "`{}` is a history card, but the model definition has not ended",
-                kw.name
-            ),
-            "END OPTION before the first load case".to_string(),
-        ),
-        _ => {
+    let (msg, expected) = match kw.sections.iter().copied().find(|s| *s > section) {
+        // The card's section has not begun: the current one lacks its end card.
+        Some(target) => {
+            let kind = match target {
+                Model => "model-definition",
+                _ => "history",
+            };
+            let expected = match (section, target) {
+                (Parameters, Model) => "END before the model definition",
+                (Parameters, _) => "END, the model definition and END OPTION before the load cases",
+                _ => "END OPTION before the first load case",
+            };
+            (
+                format!(
+                    "`{}` is a {kind} card, but the {} has not ended",
+                    kw.name,
+                    section.describe()
+                ),
+                expected.to_string(),
+            )
+        }
+        None => {
+            let home = kw
+                .sections
+                .iter()
+                .map(|s| s.describe())
+                .collect::<Vec<_>>()
+                .join(" or the ");
             let ended = match section {
                 Model => deck.end.map(|l| format!(" (END at line {})", l.line)),
                 History => deck

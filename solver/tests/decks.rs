@@ -517,9 +517,9 @@ fn written_decks_are_readable_marc_style() {
     }
 }
 
-/// Deterministic mutations of the good decks: truncation at every line, deletion of
-/// every line, swaps of neighbouring fields and replacements of fields by hostile
-/// tokens. The reader must answer Ok or Err, never panic.
+/// Deterministic mutations of every deck of the corpus: truncation at every line,
+/// deletion of every line, swaps of neighbouring lines and of neighbouring fields, and
+/// replacements of fields by hostile tokens. The reader must answer Ok or Err, never panic.
 #[test]
 fn mutated_decks_never_panic() {
     let hostile = [
@@ -544,8 +544,8 @@ fn mutated_decks_never_panic() {
         let r = catch_unwind(AssertUnwindSafe(|| deck::read_str(text, "mutant.dat")));
         assert!(r.is_ok(), "the reader panicked on:\n{text}");
     };
-    for f in corpus("good") {
-        let text = fs::read_to_string(&f).unwrap();
+    for f in corpus("good").into_iter().chain(corpus("bad")) {
+        let text = String::from_utf8_lossy(&fs::read(&f).unwrap()).into_owned();
         let lines: Vec<&str> = text.lines().collect();
         for k in 0..=lines.len() {
             check(&lines[..k].join("\n"));
@@ -553,6 +553,11 @@ fn mutated_decks_never_panic() {
                 let mut cut = lines.clone();
                 cut.remove(k);
                 check(&cut.join("\n"));
+            }
+            if k + 1 < lines.len() {
+                let mut swapped = lines.clone();
+                swapped.swap(k, k + 1);
+                check(&swapped.join("\n"));
             }
         }
         for (k, line) in lines.iter().enumerate() {
@@ -575,5 +580,33 @@ fn mutated_decks_never_panic() {
             }
         }
     }
-    assert!(count > 1000, "only {count} mutants");
+    assert!(count > 10_000, "only {count} mutants");
+}
+
+const BEGIN: &str = "<!-- BEGIN GENERATED CARD REFERENCE -->\n";
+const END: &str = "<!-- END GENERATED CARD REFERENCE -->";
+
+/// docs/deck.md's card reference is the keyword table's. With COIL_BLESS_DOCS=1 the
+/// test rewrites it (through a temporary file) instead of failing.
+#[test]
+fn deck_reference_matches_the_keyword_table() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/deck.md");
+    let text = fs::read_to_string(&path).unwrap();
+    let start = text
+        .find(BEGIN)
+        .expect("docs/deck.md lacks the BEGIN marker")
+        + BEGIN.len();
+    let end = text.find(END).expect("docs/deck.md lacks the END marker");
+    let generated = deck::reference_markdown();
+    if text[start..end] == generated {
+        return;
+    }
+    if std::env::var_os("COIL_BLESS_DOCS").is_some() {
+        let updated = format!("{}{generated}{}", &text[..start], &text[end..]);
+        let tmp = path.with_extension("md.tmp");
+        fs::write(&tmp, updated).unwrap();
+        fs::rename(&tmp, &path).unwrap();
+        return;
+    }
+    panic!("docs/deck.md's card reference differs from the keyword table; rerun with COIL_BLESS_DOCS=1");
 }

@@ -1484,8 +1484,8 @@ fn parse_continue(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 /// The card reference of docs/deck.md, generated from [`KEYWORDS`].
 pub fn reference_markdown() -> String {
     let mut s = String::new();
-    s.push_str("| Card | Sections | Layout | Lines after the keyword line |\n");
-    s.push_str("|---|---|---|---|\n");
+    s.push_str("| Card | Sections | Layout | Keyword line | Data lines |\n");
+    s.push_str("|---|---|---|---|---|\n");
     for kw in KEYWORDS {
         let lines: Vec<String> = kw
             .layout
@@ -1494,11 +1494,12 @@ pub fn reference_markdown() -> String {
             .map(|(f, _)| format!("`{f}`"))
             .collect();
         s.push_str(&format!(
-            "| [`{}`](#{}) | {} | {} | {} |\n",
+            "| [`{}`](#{}) | {} | {} | `{}` | {} |\n",
             kw.name,
             anchor(kw.name),
             sections_text(kw),
             origin_text(kw.origin),
+            kw.layout.first().map_or(kw.name, |l| l.0),
             if lines.is_empty() {
                 "none".to_string()
             } else {

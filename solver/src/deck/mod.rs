@@ -1,24 +1,83 @@
-//! (module under construction: the deck reader and writer)
+//! coil's input-deck language: MSC Marc's card structure in free format, for 3D beam
+//! models of springs. The reader turns text into a validated, immutable
+//! [`Model`]; the writer turns a model back into a deck that reads back equal.
+//!
+//! # Structure
+//! A parameter section ending with `END`, a model definition ending with `END OPTION`,
+//! then a history of load cases each closed by `CONTINUE`. Keywords are
+//! case-insensitive, `$` starts a comment line, fields are separated by commas and/or
+//! blanks, and multi-word keywords keep their blank (`FIXED DISP`). Every card is one
+//! entry of [`keywords::KEYWORDS`]; docs/deck.md is generated from that table.
+//!
+//! # Units and DOFs
+//! Marc's consistent units: mm, N, tonne, s (E in MPa, density in t/mm^3, rotary
+//! inertia in t mm^2). DOFs 1..6 = u_x, u_y, u_z, theta_x, theta_y, theta_z in global
+//! axes. See [`crate::model`].
+//!
+//! # Reading in two stages
+//! 1. [`lexer`]: text -> lines of located fields (file, line, column).
+//! 2. [`reader`] + [`keywords`]: lines -> cards, each field checked where it is read,
+//!    into a located raw deck; [`build`]: raw deck -> [`Model`], ids and sets
+//!    resolved and everything that involves several cards validated.
+//!
+//! Every error is a [`DeckError`] naming `file:line:column`, the card, what is wrong
+//! and what was expected. No input makes the reader panic.
+
+mod build;
+mod error;
+pub mod keywords;
+mod lexer;
+mod raw;
+mod reader;
+mod writer;
+
+pub use error::{DeckError, Loc};
+pub use keywords::{reference_markdown, DeckSection, Keyword, Origin, KEYWORDS};
 
 use crate::model::Model;
 use std::path::Path;
 
-/// Errors from reading a deck (placeholder until the reader lands).
-#[derive(Debug, thiserror::Error)]
-#[error("deck error")]
-pub struct DeckError;
-
 /// Reads a deck from text; `file` names it in error messages.
-pub fn read_str(_text: &str, _file: &str) -> Result<Model, DeckError> {
-    Err(DeckError)
+pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
+    let lines = lexer::lex(text)
+        .map_err(|e| DeckError::new(file, e.loc, None, e.message, "a text deck"))?;
+    let raw = reader::read_cards(&lines, file, DeckSection::Parameters, true)?;
+    build::build(raw, file)
 }
 
-/// Reads a deck file.
-pub fn read_file(_path: &Path) -> Result<Model, DeckError> {
-    Err(DeckError)
+/// Reads a deck file. A file that cannot be read, or is not UTF-8 text, is a
+/// [`DeckError`] too (naming the line and column of the first bad byte).
+pub fn read_file(path: &Path) -> Result<Model, DeckError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
+        DeckError::file_level(
+            &name,
+            format!("cannot read the file: {e}"),
+            "a readable deck file",
+        )
+    })?;
+    match String::from_utf8(bytes) {
+        Ok(text) => read_str(&text, &name),
+        Err(e) => {
+            let bytes = e.as_bytes();
+            let valid = e.utf8_error().valid_up_to();
+            let prefix = String::from_utf8_lossy(&bytes[..valid]);
+            let line = prefix.matches('\n').count() + 1;
+            let col = prefix.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            let byte = bytes.get(valid).copied().unwrap_or(0);
+            Err(DeckError::new(
+                &name,
+                Loc::new(line, col),
+                None,
+                format!("the file is not UTF-8 text (byte 0x{byte:02X}; is this a binary file?)"),
+                "a text deck",
+            ))
+        }
+    }
 }
 
-/// Writes a model as a deck that reads back to an equal model.
-pub fn write(_model: &Model) -> String {
-    String::new()
+/// Writes a model as a deck that reads back to an equal model (see [`writer`] for the
+/// few things a hand-built model could hold that a deck cannot).
+pub fn write(model: &Model) -> String {
+    writer::write(model)
 }

@@ -1,0 +1,184 @@
+//! The deck as read, before validation: every value with the location it came from,
+//! lists not yet resolved to ids. The card parsers in [`super::keywords`] fill it;
+//! [`super::build`] turns it into a [`crate::model::Model`].
+
+use super::error::Loc;
+use super::lexer::ListItem;
+use crate::model::{ElementType, Quantity, Section, TransientMethod};
+
+/// An unresolved node or element list: items with their locations, and where the list
+/// starts (for errors about the list as a whole).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawList {
+    pub items: Vec<(ListItem, Loc)>,
+    pub loc: Loc,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SetKind {
+    Node,
+    Element,
+}
+
+impl SetKind {
+    pub fn word(self) -> &'static str {
+        match self {
+            SetKind::Node => "node",
+            SetKind::Element => "element",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawNode {
+    pub id: u32,
+    pub xyz: [f64; 3],
+    pub loc: Loc,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawElement {
+    pub id: u32,
+    pub kind: ElementType,
+    pub type_loc: Loc,
+    pub nodes: [(u32, Loc); 2],
+    pub loc: Loc,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawSet {
+    pub kind: SetKind,
+    pub name: String,
+    pub loc: Loc,
+    pub list: RawList,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawMaterial {
+    pub id: u32,
+    pub name: String,
+    pub loc: Loc,
+    pub youngs_modulus: f64,
+    pub poisson: f64,
+    pub density: f64,
+    pub elements: RawList,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawGeometry {
+    /// `(id, name)` from the optional name line.
+    pub id: Option<u32>,
+    pub name: String,
+    pub loc: Loc,
+    pub section: Section,
+    /// False when a general section omitted the shear coefficient (type 52 only).
+    pub has_shear_coefficient: bool,
+    pub section_loc: Loc,
+    pub orientation: [f64; 3],
+    pub orientation_loc: Loc,
+    pub elements: RawList,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawDamping {
+    pub alpha: f64,
+    pub beta: f64,
+    pub loc: Loc,
+    pub elements: RawList,
+    pub mass_nodes: Option<RawList>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawPointMass {
+    pub node: u32,
+    pub node_loc: Loc,
+    pub mass: f64,
+    pub inertia: [f64; 3],
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawTie {
+    pub id: u32,
+    pub name: String,
+    pub loc: Loc,
+    pub reference: u32,
+    pub reference_loc: Loc,
+    pub dofs: Vec<u8>,
+    pub tied: RawList,
+}
+
+/// A `FIXED DISP` or `INITIAL VEL` group: (DOF, value) pairs on a node list.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawDofValues {
+    pub dofs: Vec<(u8, f64)>,
+    pub loc: Loc,
+    pub nodes: RawList,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawPointLoad {
+    pub dofs: Vec<(u8, f64)>,
+    pub loc: Loc,
+    pub nodes: RawList,
+    pub table: Option<(String, Loc)>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawTable {
+    pub name: String,
+    pub loc: Loc,
+    pub points: Vec<(f64, f64)>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawOutput {
+    pub every: u32,
+    pub loc: Loc,
+    pub quantities: Vec<Quantity>,
+    pub dofs: Vec<u8>,
+    pub nodes: RawList,
+}
+
+/// One history load case while it is being read.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(crate) struct RawLoadCase {
+    /// The first card of the load case.
+    pub loc: Option<Loc>,
+    pub title: Option<(String, Loc)>,
+    pub auto_load: Option<(u32, Loc)>,
+    pub time_step: Option<(f64, Loc)>,
+    pub modal: Option<(u32, Loc)>,
+    pub dynamic: Option<(f64, f64, TransientMethod, Loc)>,
+    pub point_loads: Vec<RawPointLoad>,
+    /// The `CONTINUE` line.
+    pub end: Option<Loc>,
+}
+
+/// Everything read from a deck.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(crate) struct RawDeck {
+    pub title: Option<(String, Loc)>,
+    /// `SIZING`: upper bounds for elements and nodes (0 = no bound).
+    pub sizing: Option<(u64, u64, Loc)>,
+    pub element_types: Vec<(ElementType, Loc)>,
+    pub lump: Option<Loc>,
+    pub nodes: Vec<RawNode>,
+    pub elements: Vec<RawElement>,
+    pub sets: Vec<RawSet>,
+    pub materials: Vec<RawMaterial>,
+    pub geometries: Vec<RawGeometry>,
+    pub damping: Vec<RawDamping>,
+    pub point_masses: Vec<RawPointMass>,
+    pub rigid_ties: Vec<RawTie>,
+    pub fixed_disp: Vec<RawDofValues>,
+    pub point_loads: Vec<RawPointLoad>,
+    pub tables: Vec<RawTable>,
+    pub initial_velocities: Vec<RawDofValues>,
+    pub outputs: Vec<RawOutput>,
+    pub load_cases: Vec<RawLoadCase>,
+    /// The load case being read (history cards seen, `CONTINUE` not yet).
+    pub open_case: Option<RawLoadCase>,
+    /// Where `END` and `END OPTION` were.
+    pub end: Option<Loc>,
+    pub end_option: Option<Loc>,
+}

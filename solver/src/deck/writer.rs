@@ -1,0 +1,430 @@
+//! Model -> deck text, in the same Marc style the reader reads: one card per block,
+//! a comment with the units above each kind of data line, lists compressed to
+//! `a TO b` ranges (or a set's name when a set holds exactly the list), long lists
+//! continued with `C`. Reals are printed in Rust's shortest round-trip form (`{:?}`:
+//! `7.85e-9`, `190708.0`), so read(write(m)) == m bit for bit.
+//!
+//! What cannot round-trip: titles are single lines (line breaks are written as
+//! blanks; blanks at either end are lost) and names must be names in the deck's
+//! sense (a letter or `_` first); a point load keeps only its non-zero components, in
+//! DOF order. A model the reader produced always round-trips.
+
+use std::fmt::Write;
+
+use crate::model::{Analysis, Integrator, Model, PointLoad, Quantity, Section, TransientMethod};
+
+/// Ids per list line before a `C` continuation.
+const ITEMS_PER_LINE: usize = 10;
+
+/// Writes a model as a deck that reads back to an equal model.
+pub fn write(model: &Model) -> String {
+    let mut w = Writer {
+        out: String::new(),
+        model,
+    };
+    w.parameters();
+    w.model_definition();
+    w.history();
+    w.out
+}
+
+struct Writer<'m> {
+    out: String,
+    model: &'m Model,
+}
+
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+fn nums(xs: impl IntoIterator<Item = f64>) -> String {
+    xs.into_iter().map(num).collect::<Vec<_>>().join(", ")
+}
+
+fn node_sets(m: &Model) -> Vec<(&str, &[u32])> {
+    m.node_sets
+        .iter()
+        .map(|s| (s.name.as_str(), s.nodes.as_slice()))
+        .collect()
+}
+
+fn element_sets(m: &Model) -> Vec<(&str, &[u32])> {
+    m.element_sets
+        .iter()
+        .map(|s| (s.name.as_str(), s.elements.as_slice()))
+        .collect()
+}
+
+fn one_line(text: &str) -> String {
+    text.replace(['\r', '\n'], " ")
+}
+
+impl Writer<'_> {
+    fn line(&mut self, text: &str) {
+        self.out.push_str(text);
+        self.out.push('\n');
+    }
+
+    fn comment(&mut self, text: &str) {
+        let _ = writeln!(self.out, "$ {text}");
+    }
+
+    fn rule(&mut self, what: &str) {
+        let _ = writeln!(self.out, "$ {:-<60} {what}", "");
+    }
+
+    /// A list of ids: a set's name if one holds exactly these ids, else ranges.
+    fn list(&mut self, ids: &[u32], sets: &[(&str, &[u32])]) {
+        if !ids.is_empty() {
+            if let Some((name, _)) = sets.iter().find(|(_, s)| *s == ids) {
+                self.line(name);
+                return;
+            }
+        }
+        self.ranges(ids);
+    }
+
+    /// Ids as `a TO b` runs and single ids, continued with `C` every few items. An
+    /// empty list is a blank line.
+    fn ranges(&mut self, ids: &[u32]) {
+        let mut items = Vec::new();
+        let mut i = 0;
+        while i < ids.len() {
+            let mut j = i;
+            while j + 1 < ids.len() && u64::from(ids[j + 1]) == u64::from(ids[j]) + 1 {
+                j += 1;
+            }
+            if j - i >= 2 {
+                items.push(format!("{} TO {}", ids[i], ids[j]));
+            } else {
+                items.extend(ids[i..=j].iter().map(u32::to_string));
+            }
+            i = j + 1;
+        }
+        if items.is_empty() {
+            self.line("");
+            return;
+        }
+        let chunks: Vec<&[String]> = items.chunks(ITEMS_PER_LINE).collect();
+        for (k, chunk) in chunks.iter().enumerate() {
+            let mut text = chunk.join(", ");
+            if k + 1 < chunks.len() {
+                text.push_str(", C");
+            }
+            self.line(&text);
+        }
+    }
+
+    fn parameters(&mut self) {
+        let m = self.model;
+        self.comment("coil input deck in MSC Marc's free format (reference: docs/deck.md)");
+        self.comment(
+            "units: length mm, force N, mass t (tonne), time s; E in MPa, density in t/mm^3,",
+        );
+        self.comment(
+            "rotary inertia in t mm^2. DOFs: 1-3 = ux, uy, uz (mm); 4-6 = rx, ry, rz (rad)",
+        );
+        self.rule("parameters");
+        if !m.title.is_empty() {
+            self.line(&format!("TITLE, {}", one_line(&m.title)));
+        }
+        self.line(&format!(
+            "SIZING, 0, {}, {}, 0",
+            m.elements.len(),
+            m.nodes.len()
+        ));
+        if !m.element_types.is_empty() {
+            let types: Vec<String> = m
+                .element_types
+                .iter()
+                .map(|t| t.number().to_string())
+                .collect();
+            self.line(&format!("ELEMENTS, {}", types.join(", ")));
+        }
+        if m.lumped_mass {
+            self.comment("lumped mass for every element");
+            self.line("LUMP");
+        }
+        self.line("END");
+    }
+
+    fn model_definition(&mut self) {
+        let m = self.model;
+        let node_sets = node_sets(m);
+        let element_sets = element_sets(m);
+        self.rule("model definition");
+
+        self.line("CONNECTIVITY");
+        self.comment("number of element lines");
+        self.line(&m.elements.len().to_string());
+        self.comment("element, type, node 1, node 2");
+        for e in &m.elements {
+            self.line(&format!(
+                "{}, {}, {}, {}",
+                e.id,
+                e.kind.number(),
+                e.nodes[0],
+                e.nodes[1]
+            ));
+        }
+
+        self.line("COORDINATES");
+        self.comment("3 coordinates per node, number of node lines");
+        self.line(&format!("3, {}, 0, 1", m.nodes.len()));
+        self.comment("node, x, y, z (mm)");
+        for n in &m.nodes {
+            self.line(&format!("{}, {}", n.id, nums(n.xyz)));
+        }
+
+        for s in &m.node_sets {
+            self.line(&format!("DEFINE, NODE, SET, {}", s.name));
+            self.ranges(&s.nodes);
+        }
+        for s in &m.element_sets {
+            self.line(&format!("DEFINE, ELEMENT, SET, {}", s.name));
+            self.ranges(&s.elements);
+        }
+
+        for t in &m.tables {
+            self.line(&format!("TABLE, {}", t.name));
+            self.comment("time (s), factor");
+            for &(time, factor) in &t.points {
+                self.line(&nums([time, factor]));
+            }
+        }
+
+        if !m.materials.is_empty() {
+            self.line("ISOTROPIC");
+            self.comment("number of materials");
+            self.line(&m.materials.len().to_string());
+            for (k, mat) in m.materials.iter().enumerate() {
+                self.comment("id, name");
+                self.line(&format!("{}, {}", k + 1, mat.name));
+                self.comment("E (MPa), Poisson's ratio, density (t/mm^3)");
+                self.line(&nums([mat.youngs_modulus, mat.poisson, mat.density]));
+                self.comment("elements");
+                self.list(&mat.elements, &element_sets);
+            }
+        }
+
+        if !m.geometries.is_empty() {
+            self.line("GEOMETRY");
+            self.comment("number of geometries");
+            self.line(&m.geometries.len().to_string());
+            for (k, g) in m.geometries.iter().enumerate() {
+                if !g.name.is_empty() {
+                    self.comment("id, name");
+                    self.line(&format!("{}, {}", k + 1, g.name));
+                }
+                match g.section {
+                    Section::SolidCircle { diameter } => {
+                        self.comment("solid circular wire: diameter (mm)");
+                        self.line(&num(diameter));
+                    }
+                    Section::General {
+                        area,
+                        iyy,
+                        izz,
+                        torsion,
+                        shear_coefficient,
+                    } => {
+                        if shear_coefficient == 0.0 {
+                            self.comment("A (mm^2), I1, I2, J (mm^4)");
+                            self.line(&nums([area, iyy, izz, torsion]));
+                        } else {
+                            self.comment("A (mm^2), I1, I2, J (mm^4), shear coefficient");
+                            self.line(&nums([area, iyy, izz, torsion, shear_coefficient]));
+                        }
+                    }
+                }
+                self.comment("orientation vector (global x, y, z)");
+                self.line(&nums(g.orientation));
+                self.comment("elements");
+                self.list(&g.elements, &element_sets);
+            }
+        }
+
+        if !m.damping.is_empty() {
+            self.line("DAMPING");
+            for d in &m.damping {
+                let with_nodes = !d.mass_nodes.is_empty();
+                self.comment("alpha (1/s), beta (s), 1 if a line of point-mass nodes follows");
+                self.line(&format!(
+                    "{}, {}",
+                    nums([d.alpha, d.beta]),
+                    u8::from(with_nodes)
+                ));
+                self.comment("elements (a blank line: none)");
+                self.list(&d.elements, &element_sets);
+                if with_nodes {
+                    self.comment("nodes whose point masses get alpha");
+                    self.list(&d.mass_nodes, &node_sets);
+                }
+            }
+        }
+
+        if !m.point_masses.is_empty() {
+            self.line("POINT MASS");
+            self.comment("node, mass (t), Ixx, Iyy, Izz (t mm^2)");
+            for p in &m.point_masses {
+                self.line(&format!(
+                    "{}, {}",
+                    p.node,
+                    nums([p.mass, p.inertia[0], p.inertia[1], p.inertia[2]])
+                ));
+            }
+        }
+
+        if !m.rigid_ties.is_empty() {
+            self.line("RBE2");
+            for (k, t) in m.rigid_ties.iter().enumerate() {
+                self.comment("id, name");
+                self.line(&format!("{}, {}", k + 1, t.name));
+                self.comment("reference node, tied DOFs");
+                let dofs: Vec<String> = t.dofs.iter().map(u8::to_string).collect();
+                self.line(&format!("{}, {}", t.reference, dofs.join(", ")));
+                self.comment("tied nodes");
+                self.list(&t.tied, &node_sets);
+            }
+        }
+
+        if !m.fixed_disp.is_empty() {
+            self.line("FIXED DISP");
+            for f in &m.fixed_disp {
+                self.dof_values("prescribed values (mm, rad)", &f.dofs, &f.nodes, &node_sets);
+            }
+        }
+
+        for p in &m.point_loads {
+            self.point_load(p, &node_sets);
+        }
+
+        if !m.initial_velocities.is_empty() {
+            self.line("INITIAL VEL");
+            for v in &m.initial_velocities {
+                self.dof_values(
+                    "initial velocities (mm/s, rad/s)",
+                    &v.dofs,
+                    &v.nodes,
+                    &node_sets,
+                );
+            }
+        }
+
+        if !m.outputs.is_empty() {
+            self.line("HISTORY OUTPUT");
+            for o in &m.outputs {
+                self.comment("every k-th step");
+                self.line(&o.every.to_string());
+                self.comment("quantities");
+                let q: Vec<&str> = o
+                    .quantities
+                    .iter()
+                    .map(|q| match q {
+                        Quantity::Displacement => "DISP",
+                        Quantity::Velocity => "VEL",
+                        Quantity::Acceleration => "ACCEL",
+                    })
+                    .collect();
+                self.line(&q.join(", "));
+                self.comment("DOFs");
+                let dofs: Vec<String> = o.dofs.iter().map(u8::to_string).collect();
+                self.line(&dofs.join(", "));
+                self.comment("nodes");
+                self.list(&o.nodes, &node_sets);
+            }
+        }
+        self.line("END OPTION");
+    }
+
+    fn dof_values(
+        &mut self,
+        what: &str,
+        dofs: &[(u8, f64)],
+        nodes: &[u32],
+        sets: &[(&str, &[u32])],
+    ) {
+        self.comment(what);
+        self.line(&nums(dofs.iter().map(|d| d.1)));
+        self.comment("DOFs");
+        let numbers: Vec<String> = dofs.iter().map(|d| d.0.to_string()).collect();
+        self.line(&numbers.join(", "));
+        self.comment("nodes");
+        self.list(nodes, sets);
+    }
+
+    fn point_load(&mut self, p: &PointLoad, sets: &[(&str, &[u32])]) {
+        match &p.table {
+            Some(t) => self.line(&format!("POINT LOAD, TABLE, {t}")),
+            None => self.line("POINT LOAD"),
+        }
+        let last = p
+            .dofs
+            .iter()
+            .map(|d| d.0)
+            .filter(|d| (1..=6).contains(d))
+            .max()
+            .unwrap_or(1);
+        let mut values = vec![0.0; usize::from(last)];
+        for &(d, v) in &p.dofs {
+            if let Some(slot) = values.get_mut(usize::from(d).wrapping_sub(1)) {
+                *slot = v;
+            }
+        }
+        self.comment("Fx, Fy, Fz (N), Mx, My, Mz (N mm)");
+        self.line(&nums(values));
+        self.comment("nodes");
+        self.list(&p.nodes, sets);
+    }
+
+    fn history(&mut self) {
+        let m = self.model;
+        let node_sets = node_sets(m);
+        for (k, case) in m.load_cases.iter().enumerate() {
+            self.rule(&format!("load case {}", k + 1));
+            if !case.title.is_empty() {
+                self.line(&format!("TITLE, {}", one_line(&case.title)));
+            }
+            match case.analysis {
+                Analysis::Static { steps, time } => {
+                    self.line("AUTO LOAD");
+                    self.comment("number of steps");
+                    self.line(&steps.to_string());
+                    self.line("TIME STEP");
+                    self.comment("time of each step (s)");
+                    self.line(&num(time));
+                }
+                Analysis::Modal { modes } => {
+                    self.line("MODAL SHAPE");
+                    self.comment("number of modes");
+                    self.line(&modes.to_string());
+                }
+                Analysis::Transient {
+                    dt,
+                    total_time,
+                    method,
+                } => {
+                    self.line("DYNAMIC CHANGE");
+                    self.comment("dt (s), total time (s), method");
+                    let method = match method {
+                        TransientMethod::Direct(Integrator::AverageAcceleration) => {
+                            "NEWMARK".to_string()
+                        }
+                        TransientMethod::Direct(Integrator::Hht { alpha }) => {
+                            format!("HHT, {}", num(alpha))
+                        }
+                        TransientMethod::Direct(Integrator::GeneralizedAlpha { rho_inf }) => {
+                            format!("GALPHA, {}", num(rho_inf))
+                        }
+                        TransientMethod::Modal { modes } => format!("MODAL, {modes}"),
+                    };
+                    self.line(&format!("{}, {method}", nums([dt, total_time])));
+                }
+            }
+            for p in &case.point_loads {
+                self.point_load(p, &node_sets);
+            }
+            self.line("CONTINUE");
+        }
+    }
+}

@@ -536,6 +536,33 @@ mod tests {
     }
 
     #[test]
+    fn written_deck_reads_back_equal() {
+        for analyses in [
+            vec![AnalysisKind::Static],
+            vec![
+                AnalysisKind::Static,
+                AnalysisKind::Modal,
+                AnalysisKind::Transient,
+            ],
+        ] {
+            let spec = SpringSpec {
+                analyses,
+                mass_kg: 5.26,
+                rotary_inertia_kg_m2: 1e-3,
+                alpha: 0.8,
+                beta: 1.2e-4,
+                top: Top::FreeRotation,
+                elements_per_coil: 8,
+                ..SpringSpec::default()
+            };
+            let model = spec.build().unwrap();
+            let text = coil_solver::deck::write(&model);
+            let back = coil_solver::deck::read_str(&text, "mesh.dat").unwrap();
+            assert_eq!(back, model);
+        }
+    }
+
+    #[test]
     fn weight_gets_no_alpha() {
         let spec = SpringSpec {
             alpha: 0.8,

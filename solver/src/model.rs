@@ -390,7 +390,7 @@ pub mod units {
 
     /// kg/m^3 -> t/mm^3.
     pub fn density_from_si(kg_m3: f64) -> f64 {
-        kg_m3 * 1e-12
+        kg_m3 / 1e12
     }
     /// t/mm^3 -> kg/m^3.
     pub fn density_to_si(t_mm3: f64) -> f64 {
@@ -410,7 +410,7 @@ pub mod units {
     }
     /// t mm^2 -> kg m^2.
     pub fn inertia_to_si(t_mm2: f64) -> f64 {
-        t_mm2 * 1e-3
+        t_mm2 / 1e3
     }
     /// m (or m/s, m/s^2) -> mm (mm/s, mm/s^2).
     pub fn length_from_si(m: f64) -> f64 {

@@ -224,8 +224,9 @@ pub static KEYWORDS: &[Keyword] = &[
             ),
             ("list", "the elements"),
         ],
-        notes: "The id/name line is coil's reading of Marc's material line: coil takes \
-                only the id and the name. Where lists overlap, the later material wins.",
+        notes: "Lines 3 to 5 repeat for each material. The id/name line is coil's reading \
+                of Marc's material line: coil takes only the id and the name. Where lists \
+                overlap, the later material wins.",
         example: "ISOTROPIC\n1\n1, steel\n190708.0, 0.3, 7.85e-9\nwire",
         parse: parse_isotropic,
     },
@@ -258,7 +259,8 @@ pub static KEYWORDS: &[Keyword] = &[
             ),
             ("list", "the elements"),
         ],
-        notes: "coil's own parts: the diameter form, J and kappa as fields (no Ixx + Iyy \
+        notes: "Lines 3 to 6 repeat for each geometry; line 3 is recognised by its second \
+                field being a name. coil's own parts: the diameter form, J and kappa as fields (no Ixx + Iyy \
                 default for J), and the optional name line. kappa is needed when a listed \
                 element is of type 98; type 52 ignores it (recorded as 0 when omitted). \
                 The orientation may not be parallel to any listed element \

@@ -1,0 +1,173 @@
+//! End-to-end checks on the paper's spring (n = 14, D = 24 mm, d = 3 mm, h = 6.2 mm,
+//! E = 190708 MPa, nu = 0.3, weight guided): mesher -> deck text -> reader -> solver,
+//! against the Castigliano helix stiffness, the paper's Table 4 ratios and the closed-form
+//! mass-spring and surge frequencies.
+
+use coil_mesher::closed_form::{rayleigh_period_s, surge_frequency_hz, HelixStiffness};
+use coil_mesher::{AnalysisKind, SpringSpec, Top, WEIGHT_NODE};
+use coil_solver::analysis::{run, CaseSolution, ModalSolution};
+use coil_solver::model::units;
+
+const E_PAPER: f64 = 190708.0;
+
+fn paper_spec() -> SpringSpec {
+    SpringSpec {
+        youngs_modulus_mpa: E_PAPER,
+        poisson: 0.3,
+        density_kg_m3: 7850.0,
+        ..SpringSpec::default()
+    }
+}
+
+/// Meshes, writes the deck, reads it back (so the whole text path is exercised) and runs.
+fn solve(spec: &SpringSpec) -> Vec<CaseSolution> {
+    let model = spec.build().expect("valid spec");
+    let text = coil_solver::deck::write(&model);
+    let model = coil_solver::deck::read_str(&text, "paper.dat").expect("deck reads back");
+    run(&model)
+        .expect("solves")
+        .into_iter()
+        .map(|c| c.solution)
+        .collect()
+}
+
+fn static_k(spec: &SpringSpec) -> f64 {
+    let spec = SpringSpec {
+        analyses: vec![AnalysisKind::Static],
+        ..spec.clone()
+    };
+    match &solve(&spec)[0] {
+        CaseSolution::Static(s) => {
+            assert_eq!(s.reference_node, Some(WEIGHT_NODE));
+            s.stiffness_n_mm.expect("stiffness at the weight")
+        }
+        other => panic!("expected a static case, got {other:?}"),
+    }
+}
+
+fn modal(spec: &SpringSpec) -> ModalSolution {
+    match solve(spec).pop() {
+        Some(CaseSolution::Modal(m)) => m,
+        other => panic!("expected a modal case, got {other:?}"),
+    }
+}
+
+/// The mode with the largest effective mass along the spring axis (global z).
+fn axial_mode(m: &ModalSolution) -> &coil_solver::analysis::Mode {
+    m.modes
+        .iter()
+        .max_by(|a, b| a.effective_mass[2].total_cmp(&b.effective_mass[2]))
+        .expect("at least one mode")
+}
+
+#[test]
+fn stiffness_converges_monotonically_to_castigliano() {
+    let geometry = paper_spec().geometry();
+    let closed = HelixStiffness::new(&geometry, E_PAPER, 0.3);
+    for (element, reference) in [(98, closed.guided(true)), (52, closed.guided(false))] {
+        let ks: Vec<f64> = [8, 16, 24, 48, 96, 192]
+            .iter()
+            .map(|&m| {
+                static_k(&SpringSpec {
+                    elements_per_coil: m,
+                    element,
+                    ..paper_spec()
+                })
+            })
+            .collect();
+        eprintln!("type {element}: K = {ks:?}, Castigliano (guided) = {reference}");
+        // An inscribed polygon has a shorter wire than the helix, so K falls as the mesh
+        // is refined: strictly monotone.
+        assert!(ks.windows(2).all(|w| w[1] < w[0]), "not monotone: {ks:?}");
+        // The chord bias shrinks as (pi/m)^2: at 192 elements per coil it is ~1e-4, so the
+        // finest mesh must sit within 0.5 % of the closed form (which neglects the end
+        // effects of the clamped base and the rigid tie, well under 0.5 %).
+        let finest = ks[ks.len() - 1];
+        assert!(
+            (finest / reference - 1.0).abs() < 5e-3,
+            "type {element}: K = {finest} vs Castigliano {reference}"
+        );
+    }
+}
+
+#[test]
+fn table4_stiffness_ratios_match_the_paper() {
+    // K of each variant over K of the base spring, with the same E: the paper's Table 4
+    // values divided by its validated base K = 3.927506 N/mm (Table 3).
+    let table = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../cases/160ect/table4.json"
+    ))
+    .expect("cases/160ect/table4.json");
+    let table: serde_json::Value = serde_json::from_str(&table).expect("valid JSON");
+    let base = static_k(&paper_spec());
+    for v in table["variants"].as_array().expect("variants") {
+        let f = |key: &str| v[key].as_f64().expect(key);
+        let spec = SpringSpec {
+            coils: f("active_coils"),
+            mean_diameter_mm: f("mean_diameter_mm"),
+            wire_diameter_mm: f("wire_diameter_mm"),
+            pitch_mm: f("pitch_mm"),
+            ..paper_spec()
+        };
+        let ratio = static_k(&spec) / base;
+        let paper = f("paper_stiffness_n_mm") / 3.927506;
+        eprintln!("{}: coil {ratio:.5}, paper {paper:.5}", v["name"]);
+        // The paper prints K to 4 significant figures (<= 0.03 % rounding); 0.5 % is the
+        // issue's bound.
+        assert!(
+            (ratio / paper - 1.0).abs() < 5e-3,
+            "{}: ratio {ratio} vs paper {paper}",
+            v["name"]
+        );
+    }
+}
+
+#[test]
+fn axial_mode_period_matches_rayleigh_mass_correction() {
+    let k = static_k(&paper_spec());
+    // The weight for 2 pi sqrt(m/K) = 0.23 s.
+    let mass_kg = k * 1000.0 * (0.23 / (2.0 * std::f64::consts::PI)).powi(2);
+    let spec = SpringSpec {
+        mass_kg,
+        analyses: vec![AnalysisKind::Modal],
+        modes: 6,
+        ..paper_spec()
+    };
+    let m = modal(&spec);
+    let axial = axial_mode(&m);
+    let spring_kg = spec.geometry().spring_mass_kg(7850.0);
+    let expected = rayleigh_period_s(k, mass_kg, spring_kg);
+    eprintln!(
+        "axial mode T = {} s, Rayleigh {} s, effective mass {} kg",
+        axial.period_s,
+        expected,
+        units::mass_to_si(axial.effective_mass[2])
+    );
+    // Rayleigh's m/3 is exact to O((m_s/m)^2) ~ 1e-4 relative in the period here.
+    assert!((axial.period_s / expected - 1.0).abs() < 5e-4);
+    // The axial mode carries (almost) all of the moving mass.
+    assert!(units::mass_to_si(axial.effective_mass[2]) > mass_kg);
+}
+
+#[test]
+fn surge_mode_of_the_held_bare_spring() {
+    let spec = SpringSpec {
+        top: Top::Held,
+        mass_kg: 0.0,
+        analyses: vec![AnalysisKind::Modal],
+        modes: 30,
+        ..paper_spec()
+    };
+    let k = HelixStiffness::new(&spec.geometry(), E_PAPER, 0.3).guided(true);
+    let expected = surge_frequency_hz(k, spec.geometry().spring_mass_kg(7850.0));
+    let m = modal(&spec);
+    let surge = axial_mode(&m);
+    eprintln!(
+        "surge f = {} Hz, closed form {} Hz",
+        surge.frequency_hz, expected
+    );
+    // The closed form treats the spring as a uniform axial rod; the helix's axial-torsional
+    // coupling and the discrete coils shift it slightly: 3 % is the bound.
+    assert!((surge.frequency_hz / expected - 1.0).abs() < 0.03);
+}

@@ -421,3 +421,187 @@ fn resolve(raw: &[Option<Terms>], node_ids: &[NodeId]) -> Result<(Vec<usize>, Te
     }
     Ok((offsets, masters))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::test_support::{model, tied_frame};
+    use crate::model::{FixedDisp, RigidTie};
+
+    fn tie(reference: NodeId, tied: &[NodeId], dofs: &[u8]) -> RigidTie {
+        RigidTie {
+            name: format!("tie{reference}"),
+            reference,
+            dofs: dofs.to_vec(),
+            tied: tied.to_vec(),
+        }
+    }
+
+    #[test]
+    fn tied_dofs_follow_the_reference_as_a_rigid_body() {
+        let mut m = model(
+            &[
+                (1, [1.0, 1.0, 1.0]),
+                (2, [2.0, 3.0, 4.0]),
+                (3, [9.0, 9.0, 9.0]),
+            ],
+            &[[1, 3]],
+        );
+        m.rigid_ties.push(tie(1, &[2], &[1, 2, 3, 4, 5, 6]));
+        let map = DofMap::new(&m).unwrap();
+        // A small rigid motion of the reference: u = (0.1, -0.2, 0.3), theta = (0.01, 0.02, -0.03).
+        let mut q = vec![0.0; map.free_len()];
+        let reference = [0.1, -0.2, 0.3, 0.01, 0.02, -0.03];
+        for (k, v) in reference.iter().enumerate() {
+            let DofStatus::Free(eq) = map.status(k) else {
+                panic!("free")
+            };
+            q[eq] = *v;
+        }
+        let u = map.expand(&q, 1.0);
+        let arm = [1.0, 2.0, 3.0];
+        let t = &reference[3..];
+        let cross = [
+            t[1] * arm[2] - t[2] * arm[1],
+            t[2] * arm[0] - t[0] * arm[2],
+            t[0] * arm[1] - t[1] * arm[0],
+        ];
+        for c in 0..3 {
+            assert!((u[6 + c] - (reference[c] + cross[c])).abs() < 1e-15);
+            assert_eq!(u[9 + c], reference[3 + c]);
+            assert_eq!(map.status(6 + c), DofStatus::Dependent);
+        }
+        assert_eq!(map.free_len(), 12);
+    }
+
+    #[test]
+    fn tie_chains_resolve_and_cycles_are_errors() {
+        let nodes = [
+            (1, [0.0; 3]),
+            (2, [1.0, 0.0, 0.0]),
+            (3, [1.0, 1.0, 0.0]),
+            (4, [5.0, 5.0, 5.0]),
+        ];
+        let mut m = model(&nodes, &[[1, 4]]);
+        m.rigid_ties.push(tie(2, &[3], &[1, 2, 3, 4, 5, 6]));
+        m.rigid_ties.push(tie(1, &[2], &[1, 2, 3, 4, 5, 6]));
+        let map = DofMap::new(&m).unwrap();
+        // Node 3 hangs on node 1 through node 2; u_y of node 3 = u_y1 + theta_z1 * 1.
+        let terms = map.masters(2 * 6 + 1);
+        assert_eq!(terms, &[(1, 1.0), (5, 1.0)]);
+        m.rigid_ties.push(tie(3, &[1], &[1]));
+        let err = DofMap::new(&m).unwrap_err();
+        assert!(
+            matches!(err, SolveError::ConflictingConstraint { .. }),
+            "{err}"
+        );
+        assert!(err.to_string().contains("cycle"));
+    }
+
+    #[test]
+    fn conflicting_constraints_are_errors() {
+        let mut m = model(&[(1, [0.0; 3]), (2, [1.0, 0.0, 0.0])], &[[1, 2]]);
+        m.fixed_disp.push(FixedDisp {
+            dofs: vec![(2, 0.0)],
+            nodes: vec![2],
+        });
+        m.rigid_ties.push(tie(1, &[2], &[2]));
+        let err = DofMap::new(&m).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                SolveError::ConflictingConstraint {
+                    node: 2,
+                    dof: 2,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+
+        let mut m = model(&[(1, [0.0; 3]), (2, [1.0, 0.0, 0.0])], &[[1, 2]]);
+        for value in [0.0, 1.0] {
+            m.fixed_disp.push(FixedDisp {
+                dofs: vec![(1, value)],
+                nodes: vec![1],
+            });
+        }
+        assert!(matches!(
+            DofMap::new(&m),
+            Err(SolveError::ConflictingConstraint {
+                node: 1,
+                dof: 1,
+                ..
+            })
+        ));
+        m.fixed_disp[1].dofs[0].0 = 7;
+        assert!(matches!(
+            DofMap::new(&m),
+            Err(SolveError::BadDof { dof: 7, .. })
+        ));
+        m.fixed_disp[1].nodes[0] = 99;
+        assert!(matches!(
+            DofMap::new(&m),
+            Err(SolveError::UnknownNode { node: 99, .. })
+        ));
+    }
+
+    #[test]
+    fn prescribed_masters_give_the_slaves_their_motion() {
+        let m = tied_frame();
+        let map = DofMap::new(&m).unwrap();
+        // Reference 10 has u_z = 0.25 prescribed and theta_x = 0; node 4 (tied) gets
+        // u_z = 0.25 + theta_x dy - theta_y dx with theta_x prescribed to 0.
+        let uz4 = map.full_index(4, 3).unwrap();
+        assert_eq!(map.prescribed_part(uz4), 0.25);
+        let expansion: Vec<(usize, f64)> = map.expansion(uz4).collect();
+        // theta_y of node 10 is free: coefficient -dx = -(12 - 15) = 3.
+        let ry10 = map.full_index(10, 5).unwrap();
+        let DofStatus::Free(eq) = map.status(ry10) else {
+            panic!("free")
+        };
+        assert_eq!(expansion, vec![(eq, 3.0)]);
+        // Reactions project the slave residual onto the prescribed masters.
+        let mut residual = vec![0.0; map.full_len()];
+        residual[uz4] = 2.0;
+        let reactions = map.reactions(&residual);
+        let at = |node, dof| {
+            reactions
+                .iter()
+                .find(|r| r.0 == map.full_index(node, dof).unwrap())
+                .unwrap()
+                .1
+        };
+        assert_eq!(at(10, 3), 2.0);
+        // theta_x of node 10 carries u_z4 through dy = 9 - 5 = 4.
+        assert_eq!(at(10, 4), 8.0);
+        assert_eq!(at(1, 3), 0.0);
+    }
+
+    #[test]
+    fn an_untouched_node_is_a_mechanism() {
+        let m = model(
+            &[(1, [0.0; 3]), (2, [1.0, 0.0, 0.0]), (3, [7.0, 0.0, 0.0])],
+            &[[1, 2]],
+        );
+        let err = DofMap::new(&m).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                SolveError::Mechanism {
+                    node: 3,
+                    dof: 1,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        // Fully prescribed, it is harmless.
+        let mut m = m;
+        m.fixed_disp.push(FixedDisp {
+            dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+            nodes: vec![3],
+        });
+        assert!(DofMap::new(&m).is_ok());
+    }
+}

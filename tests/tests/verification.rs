@@ -542,3 +542,42 @@ fn paper_spring_axial_period() {
     assert!(rel(axial.period_s, expected) < 5e-4);
     let _ = CaseSolution::Modal(modes);
 }
+
+/// A prescribed non-zero tip displacement enters as a load: the tip reaction of a
+/// cantilever pushed by delta is delta / (L^3/3EI [+ L/(kappa G A)]), exact.
+#[test]
+fn prescribed_displacement_gives_the_cantilever_reaction() {
+    let (length, d, delta) = (60.0, 5.0, 0.4);
+    for kind in KINDS {
+        let beam = StraightBeam::along_x(kind, 4, length, d);
+        let c = circle(d, beam.poisson);
+        let e = beam.youngs_modulus;
+        let g = e / (2.0 * (1.0 + beam.poisson));
+        let shear = if kind == ElementType::Beam98 {
+            length / (c.kappa * g * c.area)
+        } else {
+            0.0
+        };
+        let mut model = beam.model();
+        clamp(&mut model, 1);
+        model.fixed_disp.push(coil_solver::model::FixedDisp {
+            dofs: vec![(3, delta)],
+            nodes: vec![beam.tip()],
+        });
+        static_case(&mut model, "pushed");
+        let (system, sol) = solve_static(&model);
+        let tip = sol.node_displacement(&system, beam.tip()).unwrap();
+        assert_eq!(tip[2], delta);
+        let reaction = sol
+            .reactions
+            .iter()
+            .find(|r| r.node == beam.tip() && r.dof == 3)
+            .unwrap()
+            .value;
+        let expected = delta / (length.powi(3) / (3.0 * e * c.inertia) + shear);
+        assert!(
+            rel(reaction, expected) < 1e-9,
+            "{kind:?}: {reaction} vs {expected}"
+        );
+    }
+}

@@ -26,14 +26,15 @@
 //!   about (row count of L) terms each with relative error `eps`: `~ 10-100 eps`, i.e.
 //!   `2e-15..2e-14`, and even with a generous growth factor below `1e-12`;
 //! - real structures stay many decades above: with AMD ordering the smallest ratio
-//!   measured is 3e-4..0.25 on the cantilevers of the verification tests and 4e-3..0.2
-//!   on the paper's spring from 8 to 192 elements per coil (2e-4..1e-3 with other
-//!   supports). The unsupported beams and springs tried give negative pivots (the
-//!   first check) or ratios near `1e-16`.
+//!   measured is 0.07..0.24 on cantilevers of 10 to 200 elements and 4e-3..0.2 on the
+//!   paper's spring from 8 to 192 elements per coil (3e-4..4e-3 with other supports).
+//!   The unsupported beams and springs tried all stop at a negative pivot (the first
+//!   check); the second one is exercised by a unit test with a pivot of 1e-14.
 //!
-//! A ratio of 1e-11 leaves the DOF's stiffness with about five significant digits at
-//! double precision; below it a linear solve is no longer meaningful, so it is reported
-//! as a mechanism rather than returning displacements amplified by 1e11.
+//! With the pivot's rounding error near `1e-14` of the diagonal, a ratio of 1e-11
+//! leaves about three significant digits of the DOF's stiffness; below it a linear
+//! solve is no longer meaningful, so it is reported as a mechanism rather than
+//! returning displacements amplified by 1e11.
 
 use crate::analysis::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack};

@@ -1,1 +1,293 @@
-//! Shared helpers for the end-to-end tests.
+//! Shared helpers for the end-to-end and verification tests: models built in code
+//! (no deck text), in the model's units (mm, N, t, s).
+
+use coil_solver::model::{
+    Analysis, ElementType, Geometry, LoadCase, Material, Model, Node, NodeId, PointLoad, PointMass,
+    RigidTie, Section,
+};
+use coil_solver::model::{Element, FixedDisp};
+
+/// Steel-like material constants used by several tests.
+pub const STEEL_E_MPA: f64 = 210_000.0;
+pub const STEEL_NU: f64 = 0.3;
+/// 7850 kg/m^3 in t/mm^3.
+pub const STEEL_DENSITY: f64 = 7.85e-9;
+
+/// A model with nothing in it but a title.
+pub fn empty_model(title: &str) -> Model {
+    Model {
+        title: title.to_string(),
+        element_types: Vec::new(),
+        lumped_mass: false,
+        nodes: Vec::new(),
+        elements: Vec::new(),
+        node_sets: Vec::new(),
+        element_sets: Vec::new(),
+        materials: Vec::new(),
+        geometries: Vec::new(),
+        damping: Vec::new(),
+        point_masses: Vec::new(),
+        rigid_ties: Vec::new(),
+        fixed_disp: Vec::new(),
+        point_loads: Vec::new(),
+        tables: Vec::new(),
+        initial_velocities: Vec::new(),
+        outputs: Vec::new(),
+        load_cases: Vec::new(),
+    }
+}
+
+/// A straight beam of `n_elements` equal elements from `start` along `direction`
+/// (normalised here) with total `length`; nodes 1..=n+1, elements 1..=n.
+#[derive(Debug, Clone)]
+pub struct StraightBeam {
+    pub kind: ElementType,
+    pub n_elements: usize,
+    pub length: f64,
+    pub start: [f64; 3],
+    pub direction: [f64; 3],
+    pub orientation: [f64; 3],
+    pub section: Section,
+    pub youngs_modulus: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+impl StraightBeam {
+    /// A beam along global x with a solid circular section, steel.
+    pub fn along_x(kind: ElementType, n_elements: usize, length: f64, diameter: f64) -> Self {
+        StraightBeam {
+            kind,
+            n_elements,
+            length,
+            start: [0.0; 3],
+            direction: [1.0, 0.0, 0.0],
+            orientation: [0.0, 1.0, 0.0],
+            section: Section::SolidCircle { diameter },
+            youngs_modulus: STEEL_E_MPA,
+            poisson: STEEL_NU,
+            density: STEEL_DENSITY,
+        }
+    }
+
+    /// Id of the last node (the tip).
+    pub fn tip(&self) -> NodeId {
+        self.n_elements as NodeId + 1
+    }
+
+    /// The model (no supports, loads or load cases yet).
+    pub fn model(&self) -> Model {
+        let mut m = empty_model("straight beam");
+        let norm = self.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let dir = self.direction.map(|x| x / norm);
+        for i in 0..=self.n_elements {
+            let s = self.length * i as f64 / self.n_elements as f64;
+            m.nodes.push(Node {
+                id: i as NodeId + 1,
+                xyz: [0, 1, 2].map(|c| self.start[c] + s * dir[c]),
+            });
+        }
+        for i in 1..=self.n_elements as u32 {
+            m.elements.push(Element {
+                id: i,
+                kind: self.kind,
+                nodes: [i, i + 1],
+            });
+        }
+        let ids: Vec<u32> = m.elements.iter().map(|e| e.id).collect();
+        m.element_types = vec![self.kind];
+        m.materials.push(Material {
+            name: "steel".to_string(),
+            youngs_modulus: self.youngs_modulus,
+            poisson: self.poisson,
+            density: self.density,
+            elements: ids.clone(),
+        });
+        m.geometries.push(Geometry {
+            name: "wire".to_string(),
+            section: self.section.clone(),
+            orientation: self.orientation,
+            elements: ids,
+        });
+        m
+    }
+}
+
+/// Prescribes `dofs` (1..=6) of `nodes` to zero.
+pub fn fix(model: &mut Model, nodes: &[NodeId], dofs: &[u8]) {
+    model.fixed_disp.push(FixedDisp {
+        dofs: dofs.iter().map(|&d| (d, 0.0)).collect(),
+        nodes: nodes.to_vec(),
+    });
+}
+
+/// Clamps a node (all six DOFs zero).
+pub fn clamp(model: &mut Model, node: NodeId) {
+    fix(model, &[node], &[1, 2, 3, 4, 5, 6]);
+}
+
+/// A constant model-definition point load.
+pub fn point_load(model: &mut Model, node: NodeId, dof: u8, value: f64) {
+    model.point_loads.push(PointLoad {
+        dofs: vec![(dof, value)],
+        nodes: vec![node],
+        table: None,
+    });
+}
+
+/// Appends a static load case.
+pub fn static_case(model: &mut Model, title: &str) {
+    model.load_cases.push(LoadCase {
+        title: title.to_string(),
+        analysis: Analysis::Static {
+            steps: 1,
+            time: 1.0,
+        },
+        point_loads: Vec::new(),
+    });
+}
+
+/// Appends a modal load case.
+pub fn modal_case(model: &mut Model, title: &str, modes: u32) {
+    model.load_cases.push(LoadCase {
+        title: title.to_string(),
+        analysis: Analysis::Modal { modes },
+        point_loads: Vec::new(),
+    });
+}
+
+/// The paper's helical spring (section 2 of issue 2): helix `x = R cos t, y = R sin t,
+/// z = h t / 2 pi`, base wire end clamped, top wire end tied (all six DOFs, RBE2) to a
+/// reference node on the axis at the top, which is guided (only u_z free) and carries
+/// the weight as a point mass.
+#[derive(Debug, Clone)]
+pub struct Spring {
+    pub coils: f64,
+    pub mean_diameter: f64,
+    pub wire_diameter: f64,
+    pub pitch: f64,
+    pub elements_per_coil: usize,
+    pub kind: ElementType,
+    pub youngs_modulus: f64,
+    pub poisson: f64,
+    pub density: f64,
+    /// The weight (t) on the reference node; 0 for none.
+    pub weight_mass: f64,
+}
+
+impl Spring {
+    /// The paper's base spring: n = 14, D = 24 mm, d = 3 mm, h = 6.2 mm, E = 190708 MPa.
+    pub fn paper(elements_per_coil: usize, kind: ElementType) -> Self {
+        Spring {
+            coils: 14.0,
+            mean_diameter: 24.0,
+            wire_diameter: 3.0,
+            pitch: 6.2,
+            elements_per_coil,
+            kind,
+            youngs_modulus: 190_708.0,
+            poisson: 0.3,
+            density: STEEL_DENSITY,
+            weight_mass: 0.0,
+        }
+    }
+
+    /// Number of beam elements.
+    pub fn n_elements(&self) -> usize {
+        (self.coils * self.elements_per_coil as f64).round() as usize
+    }
+
+    /// Id of the reference (weight) node.
+    pub fn reference(&self) -> NodeId {
+        self.n_elements() as NodeId + 2
+    }
+
+    /// Spring wire mass (t).
+    pub fn wire_mass(&self) -> f64 {
+        let area = std::f64::consts::PI * self.wire_diameter.powi(2) / 4.0;
+        let turn = (std::f64::consts::PI * self.mean_diameter).hypot(self.pitch);
+        self.density * area * turn * self.coils
+    }
+
+    /// Castigliano stiffness of the helix (N/mm) with wire torsion, bending, direct
+    /// shear and axial force along the pitch angle alpha:
+    /// `1/K = L_w [R^2 cos^2 a / GJ + R^2 sin^2 a / EI + cos^2 a / (kappa G A) + sin^2 a / EA]`
+    /// with the wire length `L_w = n pi D / cos a` and `tan a = h / (pi D)`.
+    pub fn castigliano_stiffness(&self) -> f64 {
+        let pi = std::f64::consts::PI;
+        let r = 0.5 * self.mean_diameter;
+        let alpha = (self.pitch / (pi * self.mean_diameter)).atan();
+        let (c2, s2) = (alpha.cos().powi(2), alpha.sin().powi(2));
+        let e = self.youngs_modulus;
+        let g = e / (2.0 * (1.0 + self.poisson));
+        let area = pi * self.wire_diameter.powi(2) / 4.0;
+        let i = pi * self.wire_diameter.powi(4) / 64.0;
+        let kappa = 6.0 * (1.0 + self.poisson) / (7.0 + 6.0 * self.poisson);
+        let wire = self.coils * pi * self.mean_diameter / alpha.cos();
+        let shear = match self.kind {
+            ElementType::Beam98 => c2 / (kappa * g * area),
+            ElementType::Beam52 => 0.0,
+        };
+        1.0 / (wire * (r * r * c2 / (g * 2.0 * i) + r * r * s2 / (e * i) + shear + s2 / (e * area)))
+    }
+
+    /// The model: nodes 1..=N+1 on the helix, elements 1..=N, reference node N+2.
+    pub fn model(&self) -> Model {
+        let mut m = empty_model("paper spring");
+        let n = self.n_elements();
+        let r = 0.5 * self.mean_diameter;
+        let turns = std::f64::consts::TAU * self.coils;
+        for i in 0..=n {
+            let t = turns * i as f64 / n as f64;
+            m.nodes.push(Node {
+                id: i as NodeId + 1,
+                xyz: [
+                    r * t.cos(),
+                    r * t.sin(),
+                    self.pitch * t / std::f64::consts::TAU,
+                ],
+            });
+        }
+        let top = n as NodeId + 1;
+        let reference = self.reference();
+        m.nodes.push(Node {
+            id: reference,
+            xyz: [0.0, 0.0, self.pitch * self.coils],
+        });
+        let straight = StraightBeam {
+            kind: self.kind,
+            n_elements: n,
+            length: 1.0,
+            start: [0.0; 3],
+            direction: [1.0, 0.0, 0.0],
+            orientation: [0.0, 0.0, 1.0],
+            section: Section::SolidCircle {
+                diameter: self.wire_diameter,
+            },
+            youngs_modulus: self.youngs_modulus,
+            poisson: self.poisson,
+            density: self.density,
+        }
+        .model();
+        m.elements = straight.elements;
+        m.element_types = straight.element_types;
+        m.materials = straight.materials;
+        m.geometries = straight.geometries;
+        m.rigid_ties.push(RigidTie {
+            name: "top".to_string(),
+            reference,
+            dofs: vec![1, 2, 3, 4, 5, 6],
+            tied: vec![top],
+        });
+        clamp(&mut m, 1);
+        fix(&mut m, &[reference], &[1, 2, 4, 5, 6]);
+        if self.weight_mass > 0.0 {
+            m.point_masses.push(PointMass {
+                node: reference,
+                mass: self.weight_mass,
+                inertia: [0.0; 3],
+            });
+        }
+        m
+    }
+}

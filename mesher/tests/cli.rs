@@ -1,0 +1,99 @@
+//! The real `coil-mesh` binary: flags and a JSON spec give the same deck, flags override
+//! the spec, and bad input exits non-zero with a message naming what is wrong.
+
+use std::path::Path;
+use std::process::Command;
+
+fn coil_mesh(args: &[&str], cwd: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_coil-mesh"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("coil-mesh runs")
+}
+
+#[test]
+fn flags_and_spec_file_give_the_same_deck() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flags = [
+        "--coils",
+        "12",
+        "--mean-diameter",
+        "24",
+        "--wire-diameter",
+        "3",
+        "--pitch",
+        "6.2",
+        "--elements-per-coil",
+        "16",
+        "--youngs-modulus",
+        "190708",
+        "--mass",
+        "5.2",
+        "--analysis",
+        "static,modal",
+        "--modes",
+        "5",
+    ];
+    let mut a: Vec<&str> = flags.to_vec();
+    a.extend(["-o", "flags.dat", "--write-spec", "spec.json"]);
+    let run = coil_mesh(&a, d);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let run = coil_mesh(&["spec.json", "-o", "spec.dat"], d);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let from_flags = std::fs::read_to_string(d.join("flags.dat")).unwrap();
+    let from_spec = std::fs::read_to_string(d.join("spec.dat")).unwrap();
+    assert_eq!(from_flags, from_spec);
+    let model = coil_solver::deck::read_str(&from_spec, "spec.dat").unwrap();
+    assert_eq!(model.elements.len(), 12 * 16);
+    assert_eq!(model.load_cases.len(), 2);
+
+    // A flag overrides the file.
+    let run = coil_mesh(&["spec.json", "--elements-per-coil", "8", "-o", "o.dat"], d);
+    assert!(run.status.success());
+    let text = std::fs::read_to_string(d.join("o.dat")).unwrap();
+    let model = coil_solver::deck::read_str(&text, "o.dat").unwrap();
+    assert_eq!(model.elements.len(), 12 * 8);
+}
+
+#[test]
+fn bad_input_names_the_problem_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("typo.json"),
+        "{\n  \"coils\": 14,\n  \"wire_diam\": 3\n}\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("broken.json"), "{ \"coils\": 14,").unwrap();
+    for (args, needle) in [
+        (
+            vec!["--wire-diameter", "30", "-o", "x.dat"],
+            "wire_diameter_mm",
+        ),
+        (vec!["--coils", "NaN", "-o", "x.dat"], "coils"),
+        (vec!["--element", "7", "-o", "x.dat"], "element"),
+        (vec!["typo.json", "-o", "x.dat"], "typo.json:3"),
+        (vec!["broken.json", "-o", "x.dat"], "broken.json:1"),
+        (vec!["missing.json", "-o", "x.dat"], "missing.json"),
+    ] {
+        let run = coil_mesh(&args, d);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?}");
+        assert_ne!(run.status.code(), Some(101), "{args:?} panicked: {stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: no '{needle}' in {stderr}"
+        );
+        assert!(!d.join("x.dat").exists(), "{args:?}: wrote a deck");
+    }
+}

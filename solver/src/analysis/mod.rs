@@ -6,10 +6,14 @@
 //! [`System::new`] builds, once per model, the [`DofMap`] (constraints), the global
 //! element matrices, the [`Assembler`] with its pattern, the reduced stiffness `K`,
 //! mass `M` and Rayleigh damping `C` on that one pattern, the load that prescribed
-//! displacements put on the free DOFs, and the symbolic Cholesky of the pattern. A
-//! transient analysis forms `M + gamma dt C + beta dt^2 K` with
-//! [`Assembler::combine`] and factors it with [`System::symbolic`], reusing both the
-//! pattern and the symbolic analysis.
+//! displacements put on the free DOFs, and the symbolic Cholesky of the pattern.
+//!
+//! For a transient analysis the system provides: `M`, `C`, `K` on one pattern (upper
+//! triangles; [`crate::linalg::upper_to_full`] gives both triangles where an
+//! integrator wants them), `M + gamma dt C + beta dt^2 K` by [`Assembler::combine`]
+//! factored with [`System::symbolic`] (pattern and symbolic analysis reused), the load
+//! at time t by [`System::point_load_vector`] + [`System::free_load`], and the DOF map
+//! to expand free vectors to nodes ([`DofMap::expand`]) for history output.
 //!
 //! # Damping
 //! `C = sum over DAMPING entries of (alpha M_e + beta K_e)` over the entry's elements,
@@ -622,6 +626,48 @@ mod tests {
             System::new(&model),
             Err(SolveError::BadInput { .. })
         ));
+    }
+
+    /// Degenerate models give results or errors, never panics.
+    #[test]
+    fn fully_fixed_and_empty_models_do_not_panic() {
+        let mut model = tied_frame();
+        model.fixed_disp.push(crate::model::FixedDisp {
+            dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+            nodes: vec![2, 3],
+        });
+        model.fixed_disp.push(crate::model::FixedDisp {
+            dofs: [1, 2, 5, 6].map(|d| (d, 0.0)).to_vec(),
+            nodes: vec![10],
+        });
+        for analysis in [
+            Analysis::Static {
+                steps: 1,
+                time: 1.0,
+            },
+            Analysis::Modal { modes: 1 },
+        ] {
+            model.load_cases = vec![crate::model::LoadCase {
+                title: "case".to_string(),
+                analysis,
+                point_loads: Vec::new(),
+            }];
+            match run(&model) {
+                Ok(cases) => assert!(matches!(cases[0].solution, CaseSolution::Static(_))),
+                Err(e) => assert!(
+                    matches!(e, SolveError::TooManyModes { available: 0, .. }),
+                    "{e}"
+                ),
+            }
+        }
+        let mut empty = test_support::model(&[], &[]);
+        empty.load_cases = model.load_cases.clone();
+        assert!(run(&empty).is_err());
+        empty.load_cases[0].analysis = Analysis::Static {
+            steps: 1,
+            time: 1.0,
+        };
+        assert!(run(&empty).is_ok());
     }
 
     #[test]

@@ -45,7 +45,7 @@ use faer::sparse::linalg::cholesky::{
     SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef, Triplet};
 use faer::{Conj, MatMut, MatRef, Par, Side};
 use std::sync::Arc;
 
@@ -355,6 +355,24 @@ fn permute_back(fwd: Option<&[usize]>, z: &[f64], out: &mut [f64]) {
     }
 }
 
+/// Both triangles of a symmetric matrix stored as its upper triangle (for consumers
+/// that want the full pattern, e.g. the time integrators' operators).
+pub fn upper_to_full(
+    a: SparseColMatRef<'_, usize, f64>,
+) -> Result<SparseColMat<usize, f64>, SolveError> {
+    let mut triplets = Vec::with_capacity(2 * a.val().len());
+    for j in 0..a.ncols() {
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            triplets.push(Triplet::new(i, j, v));
+            if i != j {
+                triplets.push(Triplet::new(j, i, v));
+            }
+        }
+    }
+    SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &triplets)
+        .map_err(|e| SolveError::Linalg(format!("symmetric expansion: {e:?}")))
+}
+
 /// `y += alpha A x` for a symmetric matrix stored as its upper triangle.
 pub fn sym_upper_matvec(a: SparseColMatRef<'_, usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
     for j in 0..a.ncols() {
@@ -448,7 +466,6 @@ impl LinOp<f64> for ShiftInvert<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use faer::sparse::{SparseColMat, Triplet};
 
     /// Upper triangle of a dense symmetric matrix as a faer CSC matrix.
     fn upper(a: &[&[f64]]) -> SparseColMat<usize, f64> {
@@ -574,6 +591,22 @@ mod tests {
         chol.solve_in_place(&mut b);
         x.iter_mut().for_each(|v| *v = 1.0);
         assert!(b.iter().zip(&x).all(|(p, q)| (p - q).abs() < 1e-13));
+    }
+
+    #[test]
+    fn full_expansion_matches_the_symmetric_product() {
+        let dense = spd(9);
+        let rows: Vec<&[f64]> = dense.iter().map(|r| r.as_slice()).collect();
+        let a = upper(&rows);
+        let full = upper_to_full(a.as_ref()).unwrap();
+        let x: Vec<f64> = (0..9).map(|i| 1.0 + i as f64).collect();
+        let mut y = vec![0.0; 9];
+        sym_upper_matvec(a.as_ref(), &x, 1.0, &mut y);
+        let z = &full * faer::ColRef::from_slice(&x);
+        for i in 0..9 {
+            assert!((y[i] - z[i]).abs() < 1e-12 * y[i].abs().max(1.0));
+        }
+        assert_eq!(full.val().len(), 2 * a.val().len() - 9);
     }
 
     /// The shift-invert operator is symmetric, and its eigenvector maps back to a

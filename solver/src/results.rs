@@ -1,1 +1,345 @@
-//! (module under construction)
+//! Result files of a run: `DIR/results.json`, `DIR/model.vtu` and one `.vtu` per static
+//! displaced shape and per mode shape.
+//!
+//! # results.json
+//! ```json
+//! {"title": "...", "load_cases": [
+//!   {"name": "...", "kind": "static", "stiffness_n_mm": 3.86,
+//!    "reference_node": {"node": 338, "ux_mm": 0, "uy_mm": 0, "uz_mm": -2.59, "rx_rad": 0, ...},
+//!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu"},
+//!   {"name": "...", "kind": "modal", "total_mass_kg": 5.4,
+//!    "modes": [{"mode": 1, "frequency_hz": 4.34, "period_s": 0.2304, "omega_rad_s": 27.3,
+//!               "axial_effective_mass_kg": 5.2, "effective_mass_x_kg": ..., ...}]}]}
+//! ```
+//! Units are in the names: the model's mm, N, N mm, rad for displacements and loads;
+//! SI for masses (kg), frequencies (Hz) and periods (s), converted here from the model's
+//! tonnes. `axial_effective_mass_kg` is the effective mass along global z, the spring
+//! axis of coil's models. `stiffness_n_mm` is `null` when no single loaded DOF
+//! identifies the reference node (see [`crate::analysis::static_analysis`]).
+//!
+//! Every file is written to a temporary file in the same directory and renamed, so a
+//! failed run never leaves half a file.
+
+use crate::analysis::{CaseResult, CaseSolution, ModalSolution, StaticSolution};
+use crate::dof::dof_name;
+use crate::error::Error;
+use crate::model::{units, Model, NodeId, DOFS_PER_NODE};
+use crate::vtk;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The whole `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResultsFile {
+    pub title: String,
+    pub load_cases: Vec<CaseEntry>,
+}
+
+/// One load case, tagged by `"kind"`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum CaseEntry {
+    Static(StaticEntry),
+    Modal(ModalEntry),
+}
+
+/// Six displacements of a node (mm, rad).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct NodeDisplacement {
+    pub node: NodeId,
+    pub ux_mm: f64,
+    pub uy_mm: f64,
+    pub uz_mm: f64,
+    pub rx_rad: f64,
+    pub ry_rad: f64,
+    pub rz_rad: f64,
+}
+
+/// A loaded DOF: load (N or N mm), displacement (mm or rad), stiffness F/u.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LoadedDofEntry {
+    pub node: NodeId,
+    pub dof: String,
+    pub load: f64,
+    pub displacement: f64,
+    pub stiffness: Option<f64>,
+    /// Unit of `stiffness`: "N/mm" or "N mm/rad".
+    pub stiffness_unit: String,
+}
+
+/// A reaction at a prescribed DOF.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReactionEntry {
+    pub node: NodeId,
+    pub dof: String,
+    pub value: f64,
+    /// "N" or "N mm".
+    pub unit: String,
+}
+
+/// A static load case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StaticEntry {
+    pub name: String,
+    pub stiffness_n_mm: Option<f64>,
+    pub reference_node: Option<NodeDisplacement>,
+    pub loaded_dofs: Vec<LoadedDofEntry>,
+    pub reactions: Vec<ReactionEntry>,
+    /// Largest displacement magnitude over the nodes (mm).
+    pub max_displacement_mm: f64,
+    /// Equilibrium check of the solve, `|T^T (K u - f)| / |T^T f|`.
+    pub relative_residual: f64,
+    pub shape_file: String,
+}
+
+/// One mode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeEntry {
+    pub mode: usize,
+    pub frequency_hz: f64,
+    pub period_s: f64,
+    pub omega_rad_s: f64,
+    /// Effective modal mass along global z, the spring axis (kg).
+    pub axial_effective_mass_kg: f64,
+    pub effective_mass_x_kg: f64,
+    pub effective_mass_y_kg: f64,
+    pub effective_mass_z_kg: f64,
+    /// `|K phi - omega^2 M phi| / |K phi|`.
+    pub relative_residual: f64,
+    pub shape_file: String,
+}
+
+/// A modal load case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModalEntry {
+    pub name: String,
+    /// Total translational mass of the model, supports included (kg).
+    pub total_mass_kg: f64,
+    /// `max |phi_i^T M phi_j - delta_ij|` of the mass-normalised modes.
+    pub orthonormality_error: f64,
+    pub modes: Vec<ModeEntry>,
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        // Best effort: do not leave the temporary behind when the rename fails.
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDisplacement> {
+    let i = model.node_index(node)?;
+    let d = &u[i * DOFS_PER_NODE..(i + 1) * DOFS_PER_NODE];
+    Some(NodeDisplacement {
+        node,
+        ux_mm: d[0],
+        uy_mm: d[1],
+        uz_mm: d[2],
+        rx_rad: d[3],
+        ry_rad: d[4],
+        rz_rad: d[5],
+    })
+}
+
+fn static_entry(model: &Model, name: &str, s: &StaticSolution, shape_file: String) -> StaticEntry {
+    let translational = |dof: u8| dof <= 3;
+    StaticEntry {
+        name: name.to_string(),
+        stiffness_n_mm: s.stiffness_n_mm,
+        reference_node: s
+            .reference_node
+            .and_then(|n| node_displacement(model, &s.displacement, n)),
+        loaded_dofs: s
+            .loaded
+            .iter()
+            .map(|l| LoadedDofEntry {
+                node: l.node,
+                dof: dof_name(l.dof).to_string(),
+                load: l.load,
+                displacement: l.displacement,
+                stiffness: l.stiffness,
+                stiffness_unit: if translational(l.dof) {
+                    "N/mm"
+                } else {
+                    "N mm/rad"
+                }
+                .to_string(),
+            })
+            .collect(),
+        reactions: s
+            .reactions
+            .iter()
+            .map(|r| ReactionEntry {
+                node: r.node,
+                dof: dof_name(r.dof).to_string(),
+                value: r.value,
+                unit: if translational(r.dof) { "N" } else { "N mm" }.to_string(),
+            })
+            .collect(),
+        max_displacement_mm: s
+            .displacement
+            .chunks(DOFS_PER_NODE)
+            .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            .fold(0.0, f64::max),
+        relative_residual: s.relative_residual,
+        shape_file,
+    }
+}
+
+fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> String) -> ModalEntry {
+    let kg = units::mass_to_si;
+    ModalEntry {
+        name: name.to_string(),
+        total_mass_kg: kg(m.total_mass[2]),
+        orthonormality_error: m.orthonormality_error,
+        modes: m
+            .modes
+            .iter()
+            .enumerate()
+            .map(|(k, mode)| ModeEntry {
+                mode: k + 1,
+                frequency_hz: mode.frequency_hz,
+                period_s: mode.period_s,
+                omega_rad_s: mode.omega_squared.sqrt(),
+                axial_effective_mass_kg: kg(mode.effective_mass[2]),
+                effective_mass_x_kg: kg(mode.effective_mass[0]),
+                effective_mass_y_kg: kg(mode.effective_mass[1]),
+                effective_mass_z_kg: kg(mode.effective_mass[2]),
+                relative_residual: mode.relative_residual,
+                shape_file: shape_file(k + 1),
+            })
+            .collect(),
+    }
+}
+
+/// Builds the `results.json` content and writes every file of a run into `dir`
+/// (created if missing).
+pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    write_atomic(
+        &dir.join("model.vtu"),
+        vtk::unstructured_grid(model, None).as_bytes(),
+    )?;
+    let mut entries = Vec::with_capacity(cases.len());
+    for (index, case) in cases.iter().enumerate() {
+        let c = index + 1;
+        match &case.solution {
+            CaseSolution::Static(s) => {
+                let file = format!("case{c}_static.vtu");
+                write_atomic(
+                    &dir.join(&file),
+                    vtk::unstructured_grid(model, Some(&s.displacement)).as_bytes(),
+                )?;
+                entries.push(CaseEntry::Static(static_entry(model, &case.title, s, file)));
+            }
+            CaseSolution::Modal(m) => {
+                let width = m.modes.len().to_string().len();
+                let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
+                for (k, mode) in m.modes.iter().enumerate() {
+                    write_atomic(
+                        &dir.join(name(k + 1)),
+                        vtk::unstructured_grid(model, Some(&mode.shape)).as_bytes(),
+                    )?;
+                }
+                entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
+            }
+        }
+    }
+    let file = ResultsFile {
+        title: model.title.clone(),
+        load_cases: entries,
+    };
+    // Serialising plain structs of numbers and strings cannot fail except on non-finite
+    // floats, which serde_json writes as null.
+    let json = serde_json::to_string_pretty(&file).map_err(|e| Error::Io {
+        path: dir.join("results.json"),
+        source: std::io::Error::other(e),
+    })?;
+    write_atomic(&dir.join("results.json"), json.as_bytes())?;
+    Ok(file)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::test_support::tied_frame;
+    use crate::model::{Analysis, LoadCase, PointLoad};
+
+    #[test]
+    fn writes_results_and_shapes_atomically() {
+        let mut model = tied_frame();
+        model.point_loads.push(PointLoad {
+            dofs: vec![(2, 5.0)],
+            nodes: vec![3],
+            table: None,
+        });
+        model.load_cases.push(LoadCase {
+            title: "push".to_string(),
+            analysis: Analysis::Static {
+                steps: 1,
+                time: 1.0,
+            },
+            point_loads: Vec::new(),
+        });
+        model.load_cases.push(LoadCase {
+            title: "modes".to_string(),
+            analysis: Analysis::Modal { modes: 3 },
+            point_loads: Vec::new(),
+        });
+        let cases = crate::analysis::run(&model).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let written = write_all(dir.path(), &model, &cases).unwrap();
+        let text = std::fs::read_to_string(dir.path().join("results.json")).unwrap();
+        let read: ResultsFile = serde_json::from_str(&text).unwrap();
+        assert_eq!(read.load_cases.len(), written.load_cases.len());
+        let (CaseEntry::Static(r), CaseEntry::Static(w)) =
+            (&read.load_cases[0], &written.load_cases[0])
+        else {
+            panic!("static first")
+        };
+        assert_eq!(r.reactions.len(), w.reactions.len());
+        let k = (r.stiffness_n_mm.unwrap(), w.stiffness_n_mm.unwrap());
+        // serde_json's default float parsing may differ in the last bit.
+        assert!((k.0 - k.1).abs() <= 1e-15 * k.1);
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(value["load_cases"][0]["kind"], "static");
+        assert_eq!(value["load_cases"][0]["name"], "push");
+        assert_eq!(value["load_cases"][1]["kind"], "modal");
+        let modes = value["load_cases"][1]["modes"].as_array().unwrap();
+        assert_eq!(modes.len(), 3);
+        assert!(modes[0]["frequency_hz"].as_f64().unwrap() > 0.0);
+        assert!(modes[0]["axial_effective_mass_kg"].as_f64().is_some());
+        for f in [
+            "model.vtu",
+            "case1_static.vtu",
+            "case2_mode1.vtu",
+            "case2_mode3.vtu",
+        ] {
+            assert!(dir.path().join(f).is_file(), "{f}");
+        }
+        // No temporaries left behind.
+        let leftovers = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .is_ok_and(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+            })
+            .count();
+        assert_eq!(leftovers, 0);
+    }
+}

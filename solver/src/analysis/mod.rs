@@ -6,10 +6,14 @@
 //! [`System::new`] builds, once per model, the [`DofMap`] (constraints), the global
 //! element matrices, the [`Assembler`] with its pattern, the reduced stiffness `K`,
 //! mass `M` and Rayleigh damping `C` on that one pattern, the load that prescribed
-//! displacements put on the free DOFs, and the symbolic Cholesky of the pattern. A
-//! transient analysis forms `M + gamma dt C + beta dt^2 K` with
-//! [`Assembler::combine`] and factors it with [`System::symbolic`], reusing both the
-//! pattern and the symbolic analysis.
+//! displacements put on the free DOFs, and the symbolic Cholesky of the pattern.
+//!
+//! For a transient analysis the system provides: `M`, `C`, `K` on one pattern (upper
+//! triangles; [`crate::linalg::upper_to_full`] gives both triangles where an
+//! integrator wants them), `M + gamma dt C + beta dt^2 K` by [`Assembler::combine`]
+//! factored with [`System::symbolic`] (pattern and symbolic analysis reused), the load
+//! at time t by [`System::point_load_vector`] + [`System::free_load`], and the DOF map
+//! to expand free vectors to nodes ([`DofMap::expand`]) for history output.
 //!
 //! # Damping
 //! `C = sum over DAMPING entries of (alpha M_e + beta K_e)` over the entry's elements,
@@ -348,6 +352,14 @@ impl<'m> System<'m> {
         Ok(f)
     }
 
+    /// The free-DOF right-hand side `T^T f - T^T K g` of a full-space load `f` (the
+    /// prescribed displacements are constant in time, so this holds for transients too).
+    pub fn free_load(&self, f_full: &[f64]) -> Vec<f64> {
+        let mut rhs = self.prescribed_load.clone();
+        self.dofs.restrict_add(f_full, &mut rhs);
+        rhs
+    }
+
     /// `K_full u - f` in the full space, element by element (for reactions).
     pub fn residual(&self, u_full: &[f64], f_full: &[f64]) -> Vec<f64> {
         let mut r: Vec<f64> = f_full.iter().map(|f| -f).collect();
@@ -548,5 +560,225 @@ pub(crate) mod test_support {
             tied: vec![4],
         });
         m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_support::tied_frame;
+    use super::*;
+    use crate::linalg::sym_upper_matvec;
+    use crate::model::{Damping, PointMass, Table};
+
+    fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
+        let mut y = vec![0.0; x.len()];
+        sym_upper_matvec(a.as_ref(), x, 1.0, &mut y);
+        x.iter().zip(&y).map(|(p, q)| p * q).sum()
+    }
+
+    /// C = alpha M_e + beta K_e on the damped elements; the point mass gets alpha only
+    /// when its node is named.
+    #[test]
+    fn rayleigh_damping_skips_unnamed_point_masses() {
+        let (alpha, beta) = (0.8, 1.2e-4);
+        let mut model = tied_frame();
+        model.point_masses.push(PointMass {
+            node: 10,
+            mass: 5e-3,
+            inertia: [1.0, 2.0, 3.0],
+        });
+        model.damping.push(Damping {
+            alpha,
+            beta,
+            elements: vec![1, 2, 3],
+            mass_nodes: Vec::new(),
+        });
+        let x: Vec<f64> = (0..System::new(&model).unwrap().dim())
+            .map(|i| (0.7 * i as f64).sin())
+            .collect();
+        let system = System::new(&model).unwrap();
+        let mut bare = model.clone();
+        bare.point_masses.clear();
+        let bare_system = System::new(&bare).unwrap();
+        let (m, m_bare, k) = (
+            quadratic(&system.mass, &x),
+            quadratic(&bare_system.mass, &x),
+            quadratic(&system.stiffness, &x),
+        );
+        assert!(m > m_bare * 1.01, "the point mass moves with x");
+        let c = quadratic(&system.damping, &x);
+        let expected = alpha * m_bare + beta * k;
+        assert!(
+            (c - expected).abs() < 1e-12 * expected.abs(),
+            "{c} vs {expected}"
+        );
+        model.damping[0].mass_nodes = vec![10];
+        let named = System::new(&model).unwrap();
+        let c = quadratic(&named.damping, &x);
+        let expected = alpha * m + beta * k;
+        assert!(
+            (c - expected).abs() < 1e-12 * expected.abs(),
+            "{c} vs {expected}"
+        );
+        // Naming a node without a point mass is an error, not a silent no-op.
+        model.damping[0].mass_nodes = vec![2];
+        assert!(matches!(
+            System::new(&model),
+            Err(SolveError::BadInput { .. })
+        ));
+    }
+
+    /// Degenerate models give results or errors, never panics.
+    #[test]
+    fn fully_fixed_and_empty_models_do_not_panic() {
+        let mut model = tied_frame();
+        model.fixed_disp.push(crate::model::FixedDisp {
+            dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+            nodes: vec![2, 3],
+        });
+        model.fixed_disp.push(crate::model::FixedDisp {
+            dofs: [1, 2, 5, 6].map(|d| (d, 0.0)).to_vec(),
+            nodes: vec![10],
+        });
+        for analysis in [
+            Analysis::Static {
+                steps: 1,
+                time: 1.0,
+            },
+            Analysis::Modal { modes: 1 },
+        ] {
+            model.load_cases = vec![crate::model::LoadCase {
+                title: "case".to_string(),
+                analysis,
+                point_loads: Vec::new(),
+            }];
+            match run(&model) {
+                Ok(cases) => assert!(matches!(cases[0].solution, CaseSolution::Static(_))),
+                Err(e) => assert!(
+                    matches!(e, SolveError::TooManyModes { available: 0, .. }),
+                    "{e}"
+                ),
+            }
+        }
+        let mut empty = test_support::model(&[], &[]);
+        empty.load_cases = model.load_cases.clone();
+        assert!(run(&empty).is_err());
+        empty.load_cases[0].analysis = Analysis::Static {
+            steps: 1,
+            time: 1.0,
+        };
+        assert!(run(&empty).is_ok());
+    }
+
+    #[test]
+    fn tables_interpolate_and_hold_their_ends() {
+        let mut model = tied_frame();
+        model.tables.push(Table {
+            name: "pulse".to_string(),
+            points: vec![(0.0, 0.0), (0.001, 1.0), (0.002, 0.0)],
+        });
+        let f = |t| table_factor(&model, "PULSE", t).unwrap();
+        assert_eq!(f(-1.0), 0.0);
+        assert!((f(0.0005) - 0.5).abs() < 1e-12);
+        assert_eq!(f(0.001), 1.0);
+        assert!((f(0.0015) - 0.5).abs() < 1e-12);
+        assert_eq!(f(5.0), 0.0);
+        assert!(matches!(
+            table_factor(&model, "nope", 0.0),
+            Err(SolveError::UnknownTable { .. })
+        ));
+    }
+
+    #[test]
+    fn modal_requests_beyond_the_model_are_errors() {
+        let mut model = tied_frame();
+        model.load_cases.push(crate::model::LoadCase {
+            title: "too many".to_string(),
+            analysis: Analysis::Modal { modes: 1000 },
+            point_loads: Vec::new(),
+        });
+        match run(&model) {
+            Err(SolveError::TooManyModes {
+                requested,
+                available,
+                ..
+            }) => {
+                assert_eq!(requested, 1000);
+                assert_eq!(available, System::new(&model).unwrap().dim());
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Lowest omega^2 of `K phi = omega^2 M phi` by a dense reference (nalgebra):
+    /// `L_M^-1 K L_M^-T` with the Cholesky factor of M.
+    fn dense_omega2(system: &System) -> Vec<f64> {
+        let n = system.dim();
+        let dense = |a: &SparseColMat<usize, f64>| {
+            let mut out = nalgebra::DMatrix::<f64>::zeros(n, n);
+            for j in 0..n {
+                for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                    out[(i, j)] += v;
+                    if i != j {
+                        out[(j, i)] += v;
+                    }
+                }
+            }
+            out
+        };
+        let (k, m) = (dense(&system.stiffness), dense(&system.mass));
+        let l_inv = m.clone().cholesky().unwrap().l().try_inverse().unwrap();
+        let a = &l_inv * &k * l_inv.transpose();
+        let eigen = ((&a + a.transpose()) * 0.5).symmetric_eigen();
+        // Rayleigh quotients of the back-transformed vectors: the ill-conditioned L_M^-1
+        // spoils the eigenvalues at 1e-8, the quotient is second order in that error.
+        let mut w: Vec<f64> = eigen
+            .eigenvectors
+            .column_iter()
+            .map(|y| {
+                let x = l_inv.transpose() * y;
+                (x.transpose() * &k * &x)[0] / (x.transpose() * &m * &x)[0]
+            })
+            .collect();
+        w.sort_by(f64::total_cmp);
+        w
+    }
+
+    /// A 3-element chain has fewer DOFs than faer's Lanczos subspace, so the dense path
+    /// runs; a 40-element chain goes through Lanczos. Both must match a dense
+    /// generalised eigensolution (1e-9 relative: Lanczos locks residuals at 1e-12 of
+    /// the top eigenvalue) and give M-orthonormal modes.
+    #[test]
+    fn dense_and_lanczos_paths_match_a_dense_reference() {
+        let n = 40;
+        let nodes: Vec<(NodeId, [f64; 3])> = (0..=n)
+            .map(|i| {
+                (
+                    i as NodeId + 1,
+                    [i as f64 * 3.0, (i as f64 * 0.3).sin(), 0.0],
+                )
+            })
+            .collect();
+        let elements: Vec<[NodeId; 2]> = (1..=n as NodeId).map(|i| [i, i + 1]).collect();
+        for (count, modes) in [(3, 5), (n, 12)] {
+            let mut model = test_support::model(&nodes[..=count], &elements[..count]);
+            model.fixed_disp.push(crate::model::FixedDisp {
+                dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+                nodes: vec![1],
+            });
+            let system = System::new(&model).unwrap();
+            let factor = system.factor_stiffness().unwrap();
+            let sol = modal::solve(&system, &factor, "modes", modes).unwrap();
+            let reference = dense_omega2(&system);
+            assert!(sol.orthonormality_error < 1e-10);
+            for (mode, w2) in sol.modes.iter().zip(&reference) {
+                assert!(
+                    (mode.omega_squared - w2).abs() < 1e-9 * w2,
+                    "{count}: {} vs {w2}",
+                    mode.omega_squared
+                );
+                assert!(mode.relative_residual < 1e-8, "{}", mode.relative_residual);
+            }
+        }
     }
 }

@@ -12,7 +12,7 @@
 
 use super::{SolveError, System};
 use crate::linalg::Cholesky;
-use crate::model::{LoadCase, NodeId, DOFS_PER_NODE};
+use crate::model::{LoadCase, Model, NodeId, DOFS_PER_NODE};
 
 /// A reaction force (N) or moment (N mm) at a prescribed DOF.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,8 +50,8 @@ pub struct StaticSolution {
 
 impl StaticSolution {
     /// The six displacements of a node (mm, mm, mm, rad, rad, rad).
-    pub fn node_displacement(&self, system: &System, node: NodeId) -> Option<[f64; 6]> {
-        let i = system.model.node_index(node)?;
+    pub fn node_displacement(&self, model: &Model, node: NodeId) -> Option<[f64; 6]> {
+        let i = model.node_index(node)?;
         let mut out = [0.0; 6];
         out.copy_from_slice(&self.displacement[i * DOFS_PER_NODE..(i + 1) * DOFS_PER_NODE]);
         Some(out)
@@ -69,8 +69,7 @@ pub fn solve(
     let dofs = &system.dofs;
     let f_full =
         system.point_load_vector(model.point_loads.iter().chain(&case.point_loads), time)?;
-    let mut rhs = system.prescribed_load.clone();
-    dofs.restrict_add(&f_full, &mut rhs);
+    let rhs = system.free_load(&f_full);
     let mut q = rhs.clone();
     factor.solve_in_place(&mut q);
     if q.iter().any(|v| !v.is_finite()) {

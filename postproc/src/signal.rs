@@ -1,0 +1,602 @@
+//! Uniformly sampled signals: reading them from CSV, checking their time axis, removing
+//! their offset.
+//!
+//! # File format
+//! Any comma-separated file whose first line is a header naming the columns, one of them
+//! `time_s` (seconds), the others signals in whatever unit their name gives (for example
+//! `node12_uz_accel_m_s2` from `coil-solve`, or `accel_m_s2` in a measured `decay.csv`, see
+//! `shared/spec/measured-case.md`). Cells may be padded with spaces; lines starting with `#`
+//! are comments; blank lines are skipped. Every cell of `time_s` and of each requested column
+//! must be a finite number.
+//!
+//! # Time axis
+//! The estimators assume uniform sampling. A record passes when every step
+//! `t[i] - t[i-1]` is positive and within [`STEP_TOLERANCE`] of the mean step
+//! `(t[n-1] - t[0]) / (n - 1)`, widened by the resolution to which the two times were printed
+//! (a file that writes 1024 Hz times with four decimals has steps that jitter by up to 1e-4 s
+//! purely from rounding). The analyses then use the ideal grid `t[0] + i * step`, so print
+//! rounding does not leak into peak times. A dropped sample (a step of twice the mean) or a
+//! change of sampling rate is reported with its line.
+//!
+//! # Offsets
+//! [`Detrend`] says what constant is removed before analysis; see its variants for what each
+//! choice does to a decaying oscillation.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{PostError, Result};
+use crate::peaks::{self, PeakOptions, Polarity};
+
+/// Name of the mandatory time column.
+pub const TIME_COLUMN: &str = "time_s";
+
+/// Relative tolerance of each time step against the record's mean step (5%).
+pub const STEP_TOLERANCE: f64 = 0.05;
+
+/// The fewest rows a record may have: three samples define a step and check it once.
+pub const MIN_SAMPLES: usize = 3;
+
+/// Columns read from one CSV file, on a checked uniform time axis.
+#[derive(Debug, Clone)]
+pub struct Table {
+    /// The file the table came from (for messages).
+    pub path: PathBuf,
+    /// Line of the header (1 unless comment lines precede it).
+    pub header_line: u64,
+    /// `time_s` as read, seconds.
+    pub time_s: Vec<f64>,
+    /// Mean sampling step, seconds.
+    pub step_s: f64,
+    /// Every header name in file order (including `time_s`).
+    pub header: Vec<String>,
+    /// The parsed columns, by name, in the order they were requested.
+    pub columns: Vec<(String, Vec<f64>)>,
+}
+
+impl Table {
+    /// The values of column `name`, or a [`PostError::MissingColumn`] listing the columns
+    /// that were read.
+    pub fn column(&self, name: &str) -> Result<&[f64]> {
+        self.columns
+            .iter()
+            .find(|(column, _)| column == name)
+            .map(|(_, values)| values.as_slice())
+            .ok_or_else(|| PostError::MissingColumn {
+                path: self.path.clone(),
+                line: self.header_line,
+                column: name.to_string(),
+                available: self.header.clone(),
+            })
+    }
+
+    /// One column as a [`Signal`].
+    pub fn signal(&self, name: &str) -> Result<Signal> {
+        Ok(Signal {
+            source: self.path.clone(),
+            column: name.to_string(),
+            time_s: self.time_s.clone(),
+            step_s: self.step_s,
+            values: self.column(name)?.to_vec(),
+        })
+    }
+}
+
+/// One named column with its time axis.
+#[derive(Debug, Clone)]
+pub struct Signal {
+    /// The file it came from.
+    pub source: PathBuf,
+    /// Its column name.
+    pub column: String,
+    /// Time, seconds.
+    pub time_s: Vec<f64>,
+    /// Mean sampling step, seconds.
+    pub step_s: f64,
+    /// The values, in the unit the column name gives.
+    pub values: Vec<f64>,
+}
+
+/// Which columns to parse.
+#[derive(Debug, Clone, Copy)]
+pub enum Columns<'a> {
+    /// Every column of the header must be numeric.
+    All,
+    /// Only these (plus `time_s`); other columns may hold anything.
+    Named(&'a [&'a str]),
+}
+
+/// Reads every column of a CSV file (all must be numeric).
+pub fn read_csv(path: &Path) -> Result<Table> {
+    read_csv_columns(path, Columns::All)
+}
+
+/// Reads one column of a CSV file as a [`Signal`].
+pub fn read_signal(path: &Path, column: &str) -> Result<Signal> {
+    read_csv_columns(path, Columns::Named(&[column]))?.signal(column)
+}
+
+/// Names of the columns of a CSV file other than `time_s`, without parsing the data. Lets a
+/// caller pick the only signal column when the user named none.
+pub fn signal_columns(path: &Path) -> Result<Vec<String>> {
+    let (header, header_line) = read_header(path)?;
+    if !header.iter().any(|name| name == TIME_COLUMN) {
+        return Err(PostError::MissingColumn {
+            path: path.to_path_buf(),
+            line: header_line,
+            column: TIME_COLUMN.to_string(),
+            available: header,
+        });
+    }
+    Ok(header
+        .into_iter()
+        .filter(|name| name != TIME_COLUMN)
+        .collect())
+}
+
+fn reader_builder() -> csv::ReaderBuilder {
+    let mut builder = csv::ReaderBuilder::new();
+    builder
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'));
+    builder
+}
+
+fn open_reader(path: &Path) -> Result<csv::Reader<std::fs::File>> {
+    let file = std::fs::File::open(path).map_err(|source| PostError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(reader_builder().from_reader(file))
+}
+
+fn csv_error(path: &Path, error: csv::Error) -> PostError {
+    let line = error.position().map_or(0, csv::Position::line);
+    match error.into_kind() {
+        csv::ErrorKind::Io(source) => PostError::Read {
+            path: path.to_path_buf(),
+            source,
+        },
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => PostError::Csv {
+            path: path.to_path_buf(),
+            line,
+            message: format!("expected {expected_len} fields as in the header, found {len}"),
+        },
+        csv::ErrorKind::Utf8 { err, .. } => PostError::Csv {
+            path: path.to_path_buf(),
+            line,
+            message: format!("invalid UTF-8: {err}"),
+        },
+        other => PostError::Csv {
+            path: path.to_path_buf(),
+            line,
+            message: format!("{other:?}"),
+        },
+    }
+}
+
+fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
+    let mut reader = open_reader(path)?;
+    header_of(path, &mut reader)
+}
+
+fn header_of(path: &Path, reader: &mut csv::Reader<std::fs::File>) -> Result<(Vec<String>, u64)> {
+    let record = reader
+        .headers()
+        .map_err(|error| csv_error(path, error))?
+        .clone();
+    if record.is_empty() || (record.len() == 1 && record[0].is_empty()) {
+        return Err(PostError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    let line = record.position().map_or(1, csv::Position::line);
+    let header = record
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            // A spreadsheet may save a byte-order mark before the first name.
+            let name = if i == 0 {
+                name.trim_start_matches('\u{feff}')
+            } else {
+                name
+            };
+            name.trim().to_string()
+        })
+        .collect();
+    Ok((header, line))
+}
+
+/// Reads `time_s` and the selected columns of a CSV file, checking every cell and the time
+/// axis. Errors name the file and line.
+pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
+    let mut reader = open_reader(path)?;
+    let (header, header_line) = header_of(path, &mut reader)?;
+
+    let mut first_field: HashMap<&str, usize> = HashMap::new();
+    for (field, name) in header.iter().enumerate() {
+        if let Some(&first) = first_field.get(name.as_str()) {
+            let requested = match columns {
+                Columns::All => true,
+                Columns::Named(names) => name == TIME_COLUMN || names.contains(&name.as_str()),
+            };
+            if requested {
+                return Err(PostError::DuplicateColumn {
+                    path: path.to_path_buf(),
+                    line: header_line,
+                    column: name.clone(),
+                    first: first + 1,
+                    second: field + 1,
+                });
+            }
+        } else {
+            first_field.insert(name, field);
+        }
+    }
+    let field_of = |name: &str| {
+        first_field
+            .get(name)
+            .copied()
+            .ok_or_else(|| PostError::MissingColumn {
+                path: path.to_path_buf(),
+                line: header_line,
+                column: name.to_string(),
+                available: header.clone(),
+            })
+    };
+    let time_field = field_of(TIME_COLUMN)?;
+    let wanted: Vec<String> = match columns {
+        Columns::All => header
+            .iter()
+            .filter(|name| name.as_str() != TIME_COLUMN)
+            .cloned()
+            .collect(),
+        Columns::Named(names) => names.iter().map(|name| name.to_string()).collect(),
+    };
+    let wanted_fields = wanted
+        .iter()
+        .map(|name| field_of(name))
+        .collect::<Result<Vec<_>>>()?;
+
+    let mut time_s = Vec::new();
+    let mut time_resolution = Vec::new();
+    let mut lines = Vec::new();
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); wanted.len()];
+    let mut record = csv::StringRecord::new();
+    loop {
+        match reader.read_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(error) => return Err(csv_error(path, error)),
+        }
+        let line = record.position().map_or(0, csv::Position::line);
+        let text = &record[time_field];
+        time_s.push(parse_cell(path, line, TIME_COLUMN, text)?);
+        time_resolution.push(printed_resolution(text));
+        lines.push(line);
+        for (column, (&field, name)) in wanted_fields.iter().zip(&wanted).enumerate() {
+            values[column].push(parse_cell(path, line, name, &record[field])?);
+        }
+    }
+
+    if time_s.len() < MIN_SAMPLES {
+        return Err(PostError::TooFewSamples {
+            path: path.to_path_buf(),
+            found: time_s.len(),
+            needed: MIN_SAMPLES,
+        });
+    }
+    let step_s = check_time_axis(&time_s, &time_resolution).map_err(|fault| match fault {
+        TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
+            path: path.to_path_buf(),
+            line: lines[index],
+            time: time_s[index],
+            previous: time_s[index - 1],
+        },
+        TimeFault::NonUniform {
+            index,
+            step_s,
+            mean_step_s,
+        } => PostError::NonUniformTime {
+            path: path.to_path_buf(),
+            line: lines[index],
+            step_s,
+            mean_step_s,
+            tolerance_percent: STEP_TOLERANCE * 100.0,
+        },
+    })?;
+
+    Ok(Table {
+        path: path.to_path_buf(),
+        header_line,
+        time_s,
+        step_s,
+        header,
+        columns: wanted.into_iter().zip(values).collect(),
+    })
+}
+
+fn parse_cell(path: &Path, line: u64, column: &str, text: &str) -> Result<f64> {
+    let value: f64 = text.parse().map_err(|_| PostError::NotANumber {
+        path: path.to_path_buf(),
+        line,
+        column: column.to_string(),
+        text: text.to_string(),
+    })?;
+    if !value.is_finite() {
+        return Err(PostError::NonFinite {
+            path: path.to_path_buf(),
+            line,
+            column: column.to_string(),
+            text: text.to_string(),
+        });
+    }
+    Ok(value)
+}
+
+/// The spacing of the decimal grid a number was printed on: `0.0125` -> 1e-4,
+/// `1.5e-3` -> 1e-4, `20` -> 1. Printed values are exact to half of it.
+fn printed_resolution(text: &str) -> f64 {
+    let text = text.trim_start_matches(['+', '-']);
+    let (mantissa, exponent) = match text.find(['e', 'E']) {
+        Some(at) => (&text[..at], text[at + 1..].parse::<i32>().unwrap_or(0)),
+        None => (text, 0),
+    };
+    let decimals = mantissa.find('.').map_or(0, |dot| mantissa.len() - dot - 1) as i32;
+    10f64.powi(exponent - decimals)
+}
+
+enum TimeFault {
+    NotIncreasing {
+        index: usize,
+    },
+    NonUniform {
+        index: usize,
+        step_s: f64,
+        mean_step_s: f64,
+    },
+}
+
+/// Checks a time axis; returns the mean step. `resolution[i]` widens the tolerance of the
+/// steps touching sample `i` (zero for exact values).
+fn check_time_axis(time_s: &[f64], resolution: &[f64]) -> std::result::Result<f64, TimeFault> {
+    for index in 1..time_s.len() {
+        if time_s[index] <= time_s[index - 1] {
+            return Err(TimeFault::NotIncreasing { index });
+        }
+    }
+    let n = time_s.len();
+    let mean_step_s = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
+    for index in 1..n {
+        let step_s = time_s[index] - time_s[index - 1];
+        let rounding = resolution[index] + resolution[index - 1];
+        if (step_s - mean_step_s).abs() > STEP_TOLERANCE * mean_step_s + rounding {
+            return Err(TimeFault::NonUniform {
+                index,
+                step_s,
+                mean_step_s,
+            });
+        }
+    }
+    Ok(mean_step_s)
+}
+
+/// Checks an in-memory signal (equal lengths, finite values, at least [`MIN_SAMPLES`],
+/// uniform increasing time) and returns its mean step, seconds.
+pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
+    if time_s.len() != values.len() {
+        return Err(PostError::InvalidSignal {
+            index: time_s.len().min(values.len()),
+            what: format!(
+                "time has {} samples but the signal has {}; expected equal lengths",
+                time_s.len(),
+                values.len()
+            ),
+        });
+    }
+    if time_s.len() < MIN_SAMPLES {
+        return Err(PostError::InvalidSignal {
+            index: time_s.len(),
+            what: format!("{} samples; need at least {MIN_SAMPLES}", time_s.len()),
+        });
+    }
+    for (index, (t, x)) in time_s.iter().zip(values).enumerate() {
+        if !t.is_finite() || !x.is_finite() {
+            return Err(PostError::InvalidSignal {
+                index,
+                what: format!("time {t} s, value {x}: expected finite numbers"),
+            });
+        }
+    }
+    let exact = vec![0.0; time_s.len()];
+    check_time_axis(time_s, &exact).map_err(|fault| match fault {
+        TimeFault::NotIncreasing { index } => PostError::InvalidSignal {
+            index,
+            what: format!(
+                "time {} s does not increase (previous {} s)",
+                time_s[index],
+                time_s[index - 1]
+            ),
+        },
+        TimeFault::NonUniform {
+            index,
+            step_s,
+            mean_step_s,
+        } => PostError::InvalidSignal {
+            index,
+            what: format!(
+                "time step {step_s:e} s differs from the mean step {mean_step_s:e} s by more than {}%; expected uniform sampling",
+                STEP_TOLERANCE * 100.0
+            ),
+        },
+    })
+}
+
+/// What constant to remove from a signal before analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Detrend {
+    /// Analyse the signal as given. Right for AC-coupled accelerometer records and for FE
+    /// accelerations (zero at static equilibrium).
+    #[default]
+    None,
+    /// Subtract the record's mean. On a decaying oscillation the mean is not the midline: it
+    /// leaves a residual of order `A / (omega * T_record)` (about 0.2% of the first amplitude
+    /// for the paper's 20 s, 4.35 Hz record), enough to bias the decrement by ~0.2%. Fine for
+    /// spectra and envelopes, not recommended for the decrement.
+    Mean,
+    /// Estimate the equilibrium line from crest/trough triples: for a crest `P` between
+    /// troughs `T1` and `T2` of an exponential decay about an offset `c`,
+    /// `(P - c)^2 = (c - T1)(c - T2)`, so `c = (P^2 - T1 T2) / (2P - T1 - T2)` exactly; the
+    /// median over all cycles is subtracted. Use it for FE displacements that oscillate about
+    /// a gravity-preloaded position.
+    Midline,
+}
+
+/// Removes the offset chosen by `detrend`; returns the new signal and the constant removed.
+pub fn remove_offset(time_s: &[f64], values: &[f64], detrend: Detrend) -> Result<(Vec<f64>, f64)> {
+    let offset = match detrend {
+        Detrend::None => 0.0,
+        Detrend::Mean => mean(values),
+        Detrend::Midline => midline_offset(time_s, values)?,
+    };
+    Ok((values.iter().map(|x| x - offset).collect(), offset))
+}
+
+fn mean(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        0.0
+    } else {
+        values.iter().sum::<f64>() / values.len() as f64
+    }
+}
+
+/// The equilibrium line of a decaying oscillation from crest/trough triples (see
+/// [`Detrend::Midline`]).
+pub fn midline_offset(time_s: &[f64], values: &[f64]) -> Result<f64> {
+    // The mean is a coarse first guess, good enough to segment the signal into half-cycles.
+    let coarse = mean(values);
+    let centred: Vec<f64> = values.iter().map(|x| x - coarse).collect();
+    let options = |polarity| PeakOptions {
+        polarity,
+        ..PeakOptions::default()
+    };
+    let crests = peaks::find_peaks(time_s, &centred, &options(Polarity::Crests))?;
+    let troughs = peaks::find_peaks(time_s, &centred, &options(Polarity::Troughs))?;
+    let half_period = 0.5 * crests.period_s;
+    let mut estimates = Vec::new();
+    for crest in &crests.peaks {
+        let before = troughs
+            .peaks
+            .iter()
+            .rev()
+            .find(|trough| trough.time_s < crest.time_s);
+        let after = troughs
+            .peaks
+            .iter()
+            .find(|trough| trough.time_s > crest.time_s);
+        let (Some(before), Some(after)) = (before, after) else {
+            continue;
+        };
+        let regular = |gap: f64| (gap - half_period).abs() < 0.25 * half_period;
+        if !regular(crest.time_s - before.time_s) || !regular(after.time_s - crest.time_s) {
+            continue;
+        }
+        let p = crest.amplitude;
+        let (t1, t2) = (-before.amplitude, -after.amplitude);
+        let denominator = 2.0 * p - t1 - t2;
+        if denominator > 0.0 {
+            estimates.push((p * p - t1 * t2) / denominator);
+        }
+    }
+    if estimates.is_empty() {
+        return Err(PostError::TooFewPeaks {
+            kind: "crest/trough triples",
+            found: 0,
+            needed: 1,
+            hint: "the midline detrend needs a crest between two troughs half a period away"
+                .to_string(),
+        });
+    }
+    estimates.sort_by(f64::total_cmp);
+    let middle = estimates.len() / 2;
+    let median = if estimates.len() % 2 == 1 {
+        estimates[middle]
+    } else {
+        0.5 * (estimates[middle - 1] + estimates[middle])
+    };
+    Ok(coarse + median)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_signals::{damped_sine, DampedSine};
+
+    #[test]
+    fn printed_resolution_follows_the_text() {
+        assert_eq!(printed_resolution("20"), 1.0);
+        assert!((printed_resolution("0.0125") - 1e-4).abs() < 1e-18);
+        assert!((printed_resolution("1.5e-3") - 1e-4).abs() < 1e-18);
+        assert!((printed_resolution("-2.50E+1") - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rounded_print_of_1024_hz_passes_but_a_dropped_sample_fails() {
+        let n = 200;
+        let texts: Vec<String> = (0..n)
+            .map(|i| format!("{:.4}", i as f64 / 1024.0))
+            .collect();
+        let time: Vec<f64> = texts.iter().map(|t| t.parse().unwrap()).collect();
+        let resolution: Vec<f64> = texts.iter().map(|t| printed_resolution(t)).collect();
+        assert!(check_time_axis(&time, &resolution).is_ok());
+
+        let mut dropped = time.clone();
+        dropped.remove(120);
+        let mut dropped_resolution = resolution.clone();
+        dropped_resolution.remove(120);
+        match check_time_axis(&dropped, &dropped_resolution) {
+            Err(TimeFault::NonUniform { index, .. }) => assert_eq!(index, 120),
+            _ => panic!("a dropped sample must be reported at the gap"),
+        }
+    }
+
+    #[test]
+    fn uniform_step_rejects_bad_slices() {
+        assert!(uniform_step(&[0.0, 1.0, 2.0], &[1.0, 2.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 2.0], &[1.0, f64::NAN, 2.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 1.0], &[1.0, 2.0, 3.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 3.0, 4.0], &[1.0, 2.0, 3.0, 4.0]).is_err());
+        let step = uniform_step(&[0.0, 0.5, 1.0, 1.5], &[1.0, 2.0, 3.0, 4.0]);
+        assert!(matches!(step, Ok(s) if (s - 0.5).abs() < 1e-15));
+    }
+
+    #[test]
+    fn midline_recovers_an_offset_exactly_where_the_mean_does_not() {
+        // zeta = 0.01 decays fast enough that the mean of 10 s misses the midline.
+        let offset = 3.7;
+        let sine = DampedSine {
+            frequency_hz: 4.35,
+            zeta: 0.01,
+            amplitude: 1.0,
+            phase: 0.3,
+            offset,
+        };
+        let (time, x) = damped_sine(&sine, 1000.0, 10.0);
+        let midline = midline_offset(&time, &x).unwrap();
+        let mean_error = (mean(&x) - offset).abs();
+        let midline_error = (midline - offset).abs();
+        // The triple formula is exact for an exponential decay; what is left comes from the
+        // crest fits (relative ~1e-7 of the amplitude).
+        assert!(midline_error < 1e-5, "midline error {midline_error:e}");
+        assert!(
+            mean_error > 100.0 * midline_error,
+            "mean error {mean_error:e}"
+        );
+    }
+}

@@ -23,8 +23,9 @@
 //! `ln x_k = c - sigma t_k` is fitted over all crests by least squares weighted by `x_k^2`
 //! (additive noise of variance `s^2` gives `ln x_k` a variance `s^2 / x_k^2`; on clean data
 //! the weights change nothing). The damped period `T_d` is the least-squares slope of crest
-//! time against crest number (it uses every crest, where the mean of the differences uses
-//! only the first and last). Then, from `sigma = zeta omega_n` and
+//! time against crest number, with the same weights (a crest's timing error also scales as
+//! `s / x_k`); it uses every crest, where the mean of the differences uses only the first and
+//! last. Then, from `sigma = zeta omega_n` and
 //! `omega_d = omega_n sqrt(1 - zeta^2)`, `omega_n^2 = omega_d^2 + sigma^2` and
 //! `zeta_fit = sigma / sqrt(omega_d^2 + sigma^2)` exactly.
 //!
@@ -204,12 +205,13 @@ pub fn analyze(
         0.0
     };
 
+    // Additive noise of deviation s moves a crest of amplitude x_k by ~s / x_k in both time
+    // (scaled by the curvature) and ln amplitude: both fits weight by x_k^2.
+    let weights: Vec<f64> = crests.iter().map(|p| p.amplitude * p.amplitude).collect();
     let numbers: Vec<f64> = (0..crests.len()).map(|k| k as f64).collect();
     let times: Vec<f64> = crests.iter().map(|p| p.time_s).collect();
-    let period = weighted_line(&numbers, &times, &vec![1.0; crests.len()]);
-    let period_s = period.slope;
+    let period_s = weighted_line(&numbers, &times, &weights).slope;
     let log_amplitudes: Vec<f64> = crests.iter().map(|p| p.amplitude.ln()).collect();
-    let weights: Vec<f64> = crests.iter().map(|p| p.amplitude * p.amplitude).collect();
     let envelope = weighted_line(&times, &log_amplitudes, &weights);
     let sigma = -envelope.slope;
     let omega_d = TAU / period_s;

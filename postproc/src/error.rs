@@ -87,14 +87,14 @@ pub enum PostError {
 
     /// `time_s` steps are not uniform (a dropped sample, a change of rate).
     #[error(
-        "{}:{line}: time step {step_s:e} s differs from the record's mean step {mean_step_s:e} s by more than {tolerance_percent}% (plus print rounding); expected uniformly sampled data; resample it first",
+        "{}:{line}: time step {step_s:e} s differs from the record's median step {median_step_s:e} s by more than {tolerance_percent}% (plus print rounding); expected uniformly sampled data; resample it first",
         path.display()
     )]
     NonUniformTime {
         path: PathBuf,
         line: u64,
         step_s: f64,
-        mean_step_s: f64,
+        median_step_s: f64,
         tolerance_percent: f64,
     },
 
@@ -104,6 +104,27 @@ pub enum PostError {
         path: PathBuf,
         found: usize,
         needed: usize,
+    },
+
+    /// The user named no column and the file has more than one signal column.
+    #[error(
+        "{}:{line}: {} signal columns ({}); choose one with --column",
+        path.display(),
+        available.len(),
+        available.join(", ")
+    )]
+    AmbiguousColumn {
+        path: PathBuf,
+        line: u64,
+        available: Vec<String>,
+    },
+
+    /// An analysis of one column of a file failed; says which.
+    #[error("{}, column `{column}`: {error}", path.display())]
+    Analysis {
+        path: PathBuf,
+        column: String,
+        error: Box<PostError>,
     },
 
     /// An in-memory signal is unusable (length mismatch, non-finite value, bad time axis).

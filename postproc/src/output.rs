@@ -24,9 +24,16 @@ fn temporary_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
         .extension()
         .map(|ext| format!(".{}", ext.to_string_lossy()))
         .unwrap_or_default();
-    tempfile::Builder::new()
-        .prefix(".coil-post-")
-        .suffix(&suffix)
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".coil-post-").suffix(&suffix);
+    // A temporary file is private (0600) by default; the result is an ordinary output file,
+    // so ask for 0666 and let the umask decide, as for any newly created file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder
         .tempfile_in(folder)
         .map_err(|source| write_error(path, source))
 }
@@ -72,6 +79,16 @@ mod tests {
 
         write_atomic(&target, b"whole").unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"whole");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(&target).unwrap().permissions().mode();
+            assert_ne!(
+                mode & 0o044,
+                0,
+                "output readable by others under the usual umask"
+            );
+        }
         assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 1);
     }
 }

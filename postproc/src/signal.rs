@@ -11,12 +11,13 @@
 //!
 //! # Time axis
 //! The estimators assume uniform sampling. A record passes when every step
-//! `t[i] - t[i-1]` is positive and within [`STEP_TOLERANCE`] of the mean step
-//! `(t[n-1] - t[0]) / (n - 1)`, widened by the resolution to which the two times were printed
-//! (a file that writes 1024 Hz times with four decimals has steps that jitter by up to 1e-4 s
-//! purely from rounding). The analyses then use the ideal grid `t[0] + i * step`, so print
-//! rounding does not leak into peak times. A dropped sample (a step of twice the mean) or a
-//! change of sampling rate is reported with its line.
+//! `t[i] - t[i-1]` is positive and within [`STEP_TOLERANCE`] of the median step, widened by
+//! the resolution to which the times were printed (the median over the cells of the decimal
+//! grid each was written on: a file that writes 1024 Hz times with four decimals has steps
+//! that jitter by up to 1e-4 s purely from rounding), at most by 45% of the step. The
+//! analyses then use the ideal grid `t[0] + i * step` with the mean step
+//! `(t[n-1] - t[0]) / (n - 1)`, so print rounding does not leak into peak times. A dropped
+//! sample (a step of twice the median) or a change of sampling rate is reported with its line.
 //!
 //! # Offsets
 //! [`Detrend`] says what constant is removed before analysis; see its variants for what each
@@ -108,6 +109,22 @@ pub enum Columns<'a> {
     Named(&'a [&'a str]),
 }
 
+impl Signal {
+    /// Wraps an analysis error with this signal's file and column.
+    pub fn locate(&self, error: PostError) -> PostError {
+        match error {
+            PostError::TooFewPeaks { .. }
+            | PostError::InvalidSignal { .. }
+            | PostError::InvalidOption(_) => PostError::Analysis {
+                path: self.source.clone(),
+                column: self.column.clone(),
+                error: Box::new(error),
+            },
+            other => other,
+        }
+    }
+}
+
 /// Reads every column of a CSV file (all must be numeric).
 pub fn read_csv(path: &Path) -> Result<Table> {
     read_csv_columns(path, Columns::All)
@@ -118,9 +135,12 @@ pub fn read_signal(path: &Path, column: &str) -> Result<Signal> {
     read_csv_columns(path, Columns::Named(&[column]))?.signal(column)
 }
 
-/// Names of the columns of a CSV file other than `time_s`, without parsing the data. Lets a
-/// caller pick the only signal column when the user named none.
-pub fn signal_columns(path: &Path) -> Result<Vec<String>> {
+/// Reads `column`, or, when it is `None`, the only column besides `time_s`
+/// ([`PostError::AmbiguousColumn`] when there are several).
+pub fn read_signal_or_only(path: &Path, column: Option<&str>) -> Result<Signal> {
+    if let Some(column) = column {
+        return read_signal(path, column);
+    }
     let (header, header_line) = read_header(path)?;
     if !header.iter().any(|name| name == TIME_COLUMN) {
         return Err(PostError::MissingColumn {
@@ -130,10 +150,18 @@ pub fn signal_columns(path: &Path) -> Result<Vec<String>> {
             available: header,
         });
     }
-    Ok(header
+    let signals: Vec<String> = header
         .into_iter()
         .filter(|name| name != TIME_COLUMN)
-        .collect())
+        .collect();
+    match signals.as_slice() {
+        [only] => read_signal(path, only),
+        _ => Err(PostError::AmbiguousColumn {
+            path: path.to_path_buf(),
+            line: header_line,
+            available: signals,
+        }),
+    }
 }
 
 fn reader_builder() -> csv::ReaderBuilder {
@@ -291,7 +319,10 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
             needed: MIN_SAMPLES,
         });
     }
-    let step_s = check_time_axis(&time_s, &time_resolution).map_err(|fault| match fault {
+    // The record's print resolution is the median over its cells: "%g" drops trailing zeros
+    // ("0.1" among "0.1234"), a leading "0" has no decimals at all.
+    let rounding = crate::peaks::median(&time_resolution).unwrap_or(0.0);
+    let step_s = check_time_axis(&time_s, rounding).map_err(|fault| match fault {
         TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
             path: path.to_path_buf(),
             line: lines[index],
@@ -301,12 +332,12 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
         TimeFault::NonUniform {
             index,
             step_s,
-            mean_step_s,
+            median_step_s,
         } => PostError::NonUniformTime {
             path: path.to_path_buf(),
             line: lines[index],
             step_s,
-            mean_step_s,
+            median_step_s,
             tolerance_percent: STEP_TOLERANCE * 100.0,
         },
     })?;
@@ -358,32 +389,36 @@ enum TimeFault {
     NonUniform {
         index: usize,
         step_s: f64,
-        mean_step_s: f64,
+        median_step_s: f64,
     },
 }
 
-/// Checks a time axis; returns the mean step. `resolution[i]` widens the tolerance of the
-/// steps touching sample `i` (zero for exact values).
-fn check_time_axis(time_s: &[f64], resolution: &[f64]) -> std::result::Result<f64, TimeFault> {
+/// Checks a time axis; returns the mean step. `rounding` is the resolution to which the times
+/// were printed (0 for exact values).
+fn check_time_axis(time_s: &[f64], rounding: f64) -> std::result::Result<f64, TimeFault> {
     for index in 1..time_s.len() {
         if time_s[index] <= time_s[index - 1] {
             return Err(TimeFault::NotIncreasing { index });
         }
     }
     let n = time_s.len();
-    let mean_step_s = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
-    for index in 1..n {
-        let step_s = time_s[index] - time_s[index - 1];
-        let rounding = resolution[index] + resolution[index - 1];
-        if (step_s - mean_step_s).abs() > STEP_TOLERANCE * mean_step_s + rounding {
+    let steps: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+    // The median step is the sampling step even when a few samples are missing.
+    let median_step_s = crate::peaks::median(&steps).unwrap_or(0.0);
+    // Two printed times are each within half their resolution of the truth, so a step is
+    // within one resolution; capped so that a dropped sample (an error of one whole step) is
+    // always caught.
+    let tolerance = STEP_TOLERANCE * median_step_s + rounding.min(0.45 * median_step_s);
+    for (offset, step_s) in steps.iter().enumerate() {
+        if (step_s - median_step_s).abs() > tolerance {
             return Err(TimeFault::NonUniform {
-                index,
-                step_s,
-                mean_step_s,
+                index: offset + 1,
+                step_s: *step_s,
+                median_step_s,
             });
         }
     }
-    Ok(mean_step_s)
+    Ok((time_s[n - 1] - time_s[0]) / (n - 1) as f64)
 }
 
 /// Checks an in-memory signal (equal lengths, finite values, at least [`MIN_SAMPLES`],
@@ -413,8 +448,7 @@ pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
             });
         }
     }
-    let exact = vec![0.0; time_s.len()];
-    check_time_axis(time_s, &exact).map_err(|fault| match fault {
+    check_time_axis(time_s, 0.0).map_err(|fault| match fault {
         TimeFault::NotIncreasing { index } => PostError::InvalidSignal {
             index,
             what: format!(
@@ -426,11 +460,11 @@ pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
         TimeFault::NonUniform {
             index,
             step_s,
-            mean_step_s,
+            median_step_s,
         } => PostError::InvalidSignal {
             index,
             what: format!(
-                "time step {step_s:e} s differs from the mean step {mean_step_s:e} s by more than {}%; expected uniform sampling",
+                "time step {step_s:e} s differs from the median step {median_step_s:e} s by more than {}%; expected uniform sampling",
                 STEP_TOLERANCE * 100.0
             ),
         },
@@ -553,14 +587,12 @@ mod tests {
             .map(|i| format!("{:.4}", i as f64 / 1024.0))
             .collect();
         let time: Vec<f64> = texts.iter().map(|t| t.parse().unwrap()).collect();
-        let resolution: Vec<f64> = texts.iter().map(|t| printed_resolution(t)).collect();
-        assert!(check_time_axis(&time, &resolution).is_ok());
+        assert!(check_time_axis(&time, 1e-4).is_ok());
+        assert!(check_time_axis(&time, 0.0).is_err());
 
         let mut dropped = time.clone();
         dropped.remove(120);
-        let mut dropped_resolution = resolution.clone();
-        dropped_resolution.remove(120);
-        match check_time_axis(&dropped, &dropped_resolution) {
+        match check_time_axis(&dropped, 1e-4) {
             Err(TimeFault::NonUniform { index, .. }) => assert_eq!(index, 120),
             _ => panic!("a dropped sample must be reported at the gap"),
         }

@@ -32,8 +32,10 @@
 //! # Before the crests are picked
 //! An optional offset removal ([`Detrend`]) and an optional zero-phase Butterworth low-pass
 //! ([`crate::filter`]) that does not change `sigma` or `T_d` (a damped exponential is an
-//! eigenfunction of the filter). Crests within the filter's settling length (`6 f_s / f_c`
-//! samples) of either end are not used. The low-pass is the cure for the ripple that alternates every
+//! eigenfunction of the filter; measured: zeta and T change by less than 4e-8 for cutoffs of
+//! 10 to 200 Hz and orders 2 to 8 on the paper's signal). Crests within the filter's settling
+//! length ([`crate::filter::Butterworth::settle_samples`], 5.8 / f_c seconds for order 4) of
+//! either end are not used. The low-pass is the cure for the ripple that alternates every
 //! step in a transient FE history (the stiffest modes, undamped by average-acceleration
 //! Newmark); raw crest picking reads that ripple as amplitude.
 //!
@@ -572,6 +574,33 @@ mod tests {
                 (fit_sq / n).sqrt(),
                 (se_sq / n).sqrt()
             );
+        }
+    }
+
+    /// What the zero-phase low-pass does to zeta and T on the clean paper signal, against the
+    /// unfiltered analysis, for several cutoffs and orders.
+    #[test]
+    #[ignore = "a study; run with --ignored --nocapture"]
+    fn lowpass_study() {
+        let sine = paper_sine(3);
+        let (time, clean) = damped_sine(&sine, 1000.0, 20.0);
+        let reference = analyze(&time, &clean, &DecrementOptions::default()).unwrap();
+        for order in [2, 4, 8] {
+            for cutoff_hz in [10.0, 20.0, 50.0, 200.0] {
+                let options = DecrementOptions {
+                    lowpass: Some(Lowpass { cutoff_hz, order }),
+                    ..DecrementOptions::default()
+                };
+                let report = analyze(&time, &clean, &options).unwrap();
+                println!(
+                    "order {order} cutoff {cutoff_hz:5} Hz: zeta_mean {:+.1e} zeta_fit {:+.1e} period {:+.1e} (relative to unfiltered), crests {} of {}",
+                    report.zeta_mean / reference.zeta_mean - 1.0,
+                    report.zeta_fit / reference.zeta_fit - 1.0,
+                    report.period_s / reference.period_s - 1.0,
+                    report.peak_count,
+                    reference.peak_count
+                );
+            }
         }
     }
 }

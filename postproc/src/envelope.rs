@@ -10,7 +10,9 @@
 //! its length: the jump from the last sample back to the first would otherwise ring into the
 //! end of the record, where a decayed oscillation is smallest (unpadded, the damping of the
 //! last windows was off by up to 1.3% in the tests; padded, by 9e-4). The start of the record
-//! still rings, so `trim_periods` periods of the dominant frequency are discarded at each end (and, after a band-pass, at least `3 / f_low` seconds, the filter's settling).
+//! still rings, so `trim_periods` periods of the dominant frequency are discarded at each end
+//! (and, after a band-pass, at least half the high-pass filter's settling length, where its
+//! end transient is down to e^-7 ~ 1e-3).
 //! A truncated damped cosine is not exactly `A e^{(-sigma + i omega) t}` after the transform:
 //! the truncation leaves a slowly varying tail in `H[x]` that decays like `1 / t` (relative
 //! size `1 / (pi omega t A(t))`, growing as the oscillation decays), and the Lorentzian line's
@@ -209,7 +211,15 @@ pub fn analyze(
         .collect();
 
     let samples_per_period = 1.0 / (f0 * step_s);
-    let settle_samples = band_hz.map_or(0, |(low, _)| (3.0 / (low * step_s)).ceil() as usize);
+    // Half the high-pass settling: its end transient is down to e^-7 ~ 1e-3 there.
+    let settle_samples = match band_hz {
+        Some((low, _)) => {
+            filter::Butterworth::new(filter::Band::Highpass, options.filter_order, low, step_s)?
+                .settle_samples()
+                / 2
+        }
+        None => 0,
+    };
     let trim_samples =
         ((options.trim_periods * samples_per_period).round() as usize).max(settle_samples);
     let window_samples = ((options.window_periods * samples_per_period).round() as usize).max(3);

@@ -21,10 +21,14 @@
 //!
 //! # Ends
 //! The record is extended at each end by its point reflection (`2 x_0 - x_k`, which keeps value
-//! and slope continuous) over `6 f_s / f_c` samples (the slowest pole's envelope decays by more
-//! than e^-14 over that length for N <= 8; capped at the record length), and each pass starts
-//! from the steady state of its first input value, as SciPy's `sosfiltfilt` does. What is
-//! left of the start-up transient is measured in the tests.
+//! and slope continuous), and each pass starts from the steady state of its first input value,
+//! as SciPy's `sosfiltfilt` does. The extension is the settling length: 14 time constants of
+//! the slowest pole, `14 / (2 pi f_c sin(pi / 2N))` seconds (its envelope falls by e^-14 ~
+//! 1e-6; 5.8 / f_c for N = 4, capped at the record length). What is left at the ends is the
+//! transient of whatever the reflection gets wrong, e.g. a step ripple at `x_0`: it dies over
+//! the same length, so [`Butterworth::settle_samples`] samples at each end of the output
+//! should not be trusted to better than the ripple (the decrement drops crests there). The
+//! tests measure it.
 
 use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
@@ -33,6 +37,9 @@ use crate::error::{PostError, Result};
 
 /// Highest order accepted (sections beyond this add nothing but round-off).
 pub const MAX_ORDER: usize = 10;
+
+/// Length of the end extension and of the settling, in time constants of the slowest pole.
+pub const SETTLE_TIME_CONSTANTS: f64 = 14.0;
 
 /// Order used when the caller gives none.
 pub const DEFAULT_ORDER: usize = 4;
@@ -137,7 +144,10 @@ impl Butterworth {
                 *b /= gain;
             }
         }
-        let settle_samples = (6.0 * rate_hz / cutoff_hz).ceil() as usize;
+        // The slowest pole, closest to the imaginary axis, has real part
+        // omega_c sin(pi / 2N): its envelope falls by e^-14 (~1e-6) in 14 time constants.
+        let time_constant_s = 1.0 / (2.0 * PI * cutoff_hz * (PI / (2 * order) as f64).sin());
+        let settle_samples = (SETTLE_TIME_CONSTANTS * time_constant_s * rate_hz).ceil() as usize;
         Ok(Butterworth {
             sections,
             step_s,
@@ -287,10 +297,11 @@ mod tests {
         assert!(interior < 1e-8, "interior error {interior:e}");
         // Ends: the reflection pivots on x[0], which carries the ripple, so the first output
         // sample keeps it (0.05); the transient then dies with the slowest pole: measured
-        // 2e-3 at 20 samples, 1.4e-4 at 40, 1e-8 at 120 = settle_samples().
+        // 2e-3 at 20 samples, 1.4e-4 at 40, 1e-8 at 117 = settle_samples().
         let filter = Butterworth::new(Band::Lowpass, 4, 50.0, step).unwrap();
         let settle = filter.settle_samples();
-        assert_eq!(settle, 120);
+        // 14 / (2 pi 50 Hz sin(pi / 8)) = 0.1164 s.
+        assert_eq!(settle, 117);
         assert!(error(0..settle).max(error(n - settle..n)) <= 0.0501);
         let after_settling = error(settle..settle + 10).max(error(n - settle - 10..n - settle));
         assert!(

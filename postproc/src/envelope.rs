@@ -6,18 +6,22 @@
 //! negative ones, transform back. The envelope is `|z|`; the instantaneous frequency is the
 //! central difference of the phase, `arg(z_{k+1} conj(z_{k-1})) / (4 pi dt)` (no unwrapping
 //! needed while the phase advances less than pi per two steps, i.e. below Nyquist/2).
-//! The FFT treats the record as periodic, so [`analyze`] first zero-pads it to at least twice
-//! its length: the jump from the last sample back to the first would otherwise ring into the
-//! end of the record, where a decayed oscillation is smallest (unpadded, the damping of the
-//! last windows was off by up to 1.3% in the tests; padded, by 9e-4). The start of the record
-//! still rings, so `trim_periods` periods of the dominant frequency are discarded at each end
-//! (and, after a band-pass, at least half the high-pass filter's settling length, where its
-//! end transient is down to e^-7 ~ 1e-3).
-//! A truncated damped cosine is not exactly `A e^{(-sigma + i omega) t}` after the transform:
-//! the truncation leaves a slowly varying tail in `H[x]` that decays like `1 / t` (relative
-//! size `1 / (pi omega t A(t))`, growing as the oscillation decays), and the Lorentzian line's
-//! tails across zero frequency add a term of relative size of order zeta. In `|z|` both show
-//! as ripples at `omega` and `2 omega`.
+//!
+//! # Ends of the record
+//! A record is a truncated oscillation, and the Hilbert kernel `1 / (pi t)` is not local: the
+//! truncation leaves in `H[x]` a slowly varying tail that decays like `1 / t` away from each
+//! end, of relative size `1 / (pi omega t A(t))`, which shows in `|z|` as a ripple at `omega`.
+//! (The FFT would moreover wrap the end of the record onto its start.) So before the transform
+//! [`analyze`] continues the record at each end by `extension_periods` periods of its
+//! second-order linear prediction (`ar2_extension`: exact for one damped sinusoid, so
+//! the record joins its continuation smoothly and the truncation moves away), then zero-pads
+//! to at least twice the length; the continuation is cut off again after the transform. What
+//! remains is discarded with `trim_periods` periods at each end (and, after a band-pass, at
+//! least half the high-pass filter's settling length, where its end transient is down to
+//! e^-7 ~ 1e-3). Measured on zeta = 0.00175 and 0.01: the damping of the first and last
+//! windows is 10 times closer with the continuation (2e-2 -> 2e-3 and 4e-3 -> 4e-4, the
+//! `edge_study` test). The Lorentzian line of a damped cosine also reaches across zero
+//! frequency, which adds a ripple at `2 omega` of relative size of order zeta.
 //!
 //! # Backbone and damping curves
 //! The trimmed record is cut into windows of `window_periods` periods with 50% overlap. In
@@ -62,6 +66,8 @@ pub struct EnvelopeOptions {
     pub window_periods: f64,
     /// Discarded at each end, periods.
     pub trim_periods: f64,
+    /// Length of the AR(2) continuation added at each end before the transform, periods.
+    pub extension_periods: f64,
 }
 
 impl Default for EnvelopeOptions {
@@ -72,6 +78,7 @@ impl Default for EnvelopeOptions {
             filter_order: filter::DEFAULT_ORDER,
             window_periods: 4.0,
             trim_periods: 2.0,
+            extension_periods: 4.0,
         }
     }
 }
@@ -195,11 +202,18 @@ pub fn analyze(
         y = filter::bandpass_zero_phase(&y, step_s, low, high, options.filter_order)?;
     }
 
-    let padded_length = (2 * y.len()).next_power_of_two();
-    let mut padded = y.clone();
+    let extension = (options.extension_periods / (f0 * step_s)).round() as usize;
+    let (before, after) = ar2_extension(&y, extension);
+    let mut padded = before.clone();
+    padded.extend_from_slice(&y);
+    padded.extend_from_slice(&after);
+    let padded_length = (2 * padded.len()).next_power_of_two();
     padded.resize(padded_length, 0.0);
-    let mut z = analytic_signal(&padded);
-    z.truncate(y.len());
+    let z: Vec<Complex64> = analytic_signal(&padded)
+        .into_iter()
+        .skip(before.len())
+        .take(y.len())
+        .collect();
     let n = z.len();
     let envelope: Vec<f64> = z.iter().map(|v| v.norm()).collect();
     let inst_frequency_hz: Vec<f64> = (0..n)
@@ -298,6 +312,56 @@ pub fn analyze(
     })
 }
 
+/// Continues `y` by `count` samples before and after with the second-order linear
+/// prediction `y[k] = a1 y[k-1] + a2 y[k-2]` fitted to the whole record by least squares. A
+/// damped sinusoid satisfies it exactly (`a1 = 2 e^{-sigma dt} cos(omega_d dt)`,
+/// `a2 = -e^{-2 sigma dt}`), so the record's ends join their continuation smoothly and the
+/// transform's truncation moves `count` samples away. Backwards the continuation grows as
+/// `e^{sigma t}`; it is cut where it would exceed ten times the record's largest magnitude.
+fn ar2_extension(y: &[f64], count: usize) -> (Vec<f64>, Vec<f64>) {
+    let n = y.len();
+    if count == 0 || n < 8 {
+        return (Vec::new(), Vec::new());
+    }
+    let (mut s11, mut s12, mut s22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for k in 2..n {
+        s11 += y[k - 1] * y[k - 1];
+        s12 += y[k - 1] * y[k - 2];
+        s22 += y[k - 2] * y[k - 2];
+        r1 += y[k] * y[k - 1];
+        r2 += y[k] * y[k - 2];
+    }
+    let det = s11 * s22 - s12 * s12;
+    let a1 = (r1 * s22 - r2 * s12) / det;
+    let a2 = (s11 * r2 - s12 * r1) / det;
+    if !(a1.is_finite() && a2.is_finite()) || a2 == 0.0 {
+        return (Vec::new(), Vec::new());
+    }
+    let limit = 10.0 * y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut after = Vec::with_capacity(count);
+    let (mut previous, mut last) = (y[n - 2], y[n - 1]);
+    for _ in 0..count {
+        let next = a1 * last + a2 * previous;
+        if !next.is_finite() || next.abs() > limit {
+            break;
+        }
+        after.push(next);
+        (previous, last) = (last, next);
+    }
+    let mut before = Vec::with_capacity(count);
+    let (mut next, mut first) = (y[1], y[0]);
+    for _ in 0..count {
+        let earlier = (next - a1 * first) / a2;
+        if !earlier.is_finite() || earlier.abs() > limit {
+            break;
+        }
+        before.push(earlier);
+        (next, first) = (first, earlier);
+    }
+    before.reverse();
+    (before, after)
+}
+
 struct LogEnvelopeFit {
     centre_s: f64,
     amplitude: f64,
@@ -365,6 +429,10 @@ mod tests {
         }
     }
 
+    /// zeta 0.01, 15 s at 1 kHz. Measured with the default options: zeta_fit 5.6e-5 off;
+    /// per window zeta within 4.4e-4, frequency within 2.4e-4 and amplitude within 2.5e-4.
+    /// Without the AR(2) continuation (`extension_periods: 0`) the end windows were 10 times
+    /// worse (`edge_study`).
     #[test]
     fn envelope_recovers_the_decay_rate() {
         let sine = DampedSine {
@@ -378,21 +446,93 @@ mod tests {
         let report = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
         let sigma_error = (report.decay_rate_per_s / sine.sigma() - 1.0).abs();
         let zeta_error = (report.zeta_fit / sine.zeta - 1.0).abs();
-        assert!(sigma_error < 5e-3, "sigma error {sigma_error:e}");
-        assert!(zeta_error < 5e-3, "zeta error {zeta_error:e}");
+        assert!(sigma_error < 2e-4, "sigma error {sigma_error:e}");
+        assert!(zeta_error < 2e-4, "zeta error {zeta_error:e}");
         let fd = 1.0 / sine.damped_period_s();
-        eprintln!("sigma error {sigma_error:e}, zeta error {zeta_error:e}");
         for point in &report.points {
-            assert!((point.zeta / sine.zeta - 1.0).abs() < 0.02, "{point:?}");
-            assert!((point.frequency_hz / fd - 1.0).abs() < 1e-3, "{point:?}");
-            assert!((point.amplitude / sine.value_envelope(point.time_s) - 1.0).abs() < 0.01);
+            assert!((point.zeta / sine.zeta - 1.0).abs() < 1e-3, "{point:?}");
+            assert!((point.frequency_hz / fd - 1.0).abs() < 5e-4, "{point:?}");
+            let envelope = sine.value_envelope(point.time_s);
+            assert!((point.amplitude / envelope - 1.0).abs() < 5e-4, "{point:?}");
         }
-        assert!(report.points.len() > 10);
+        assert!(report.points.len() > 25);
+    }
+
+    /// A band-pass around the dominant peak removes a second mode and leaves the decay rate.
+    #[test]
+    fn bandpass_isolates_the_dominant_mode() {
+        let sine = DampedSine {
+            frequency_hz: 4.35,
+            zeta: 0.002,
+            amplitude: 1.0,
+            phase: 0.5,
+            offset: 0.0,
+        };
+        let (time, mut x) = damped_sine(&sine, 1000.0, 20.0);
+        for (t, v) in time.iter().zip(&mut x) {
+            *v += 0.2 * (TAU * 61.3 * t).cos();
+        }
+        let plain = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
+        let banded = EnvelopeOptions {
+            bandpass: Some(0.5),
+            ..EnvelopeOptions::default()
+        };
+        let report = analyze(&time, &x, &banded).unwrap();
+        let (low, high) = report.band_hz.unwrap();
+        assert!((low - 0.5 * 4.35).abs() < 0.01 && (high - 1.5 * 4.35).abs() < 0.02);
+        // The second mode beats with the first in the plain envelope: its windows scatter by
+        // 17% and its zeta_fit is 18% off. Band-passed, the windows are within 2.9e-3 and
+        // zeta_fit within 1.2e-4.
+        let worst = |r: &EnvelopeReport| {
+            r.points
+                .iter()
+                .map(|p| (p.zeta / sine.zeta - 1.0).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(worst(&report) < 5e-3, "banded {:e}", worst(&report));
+        assert!((report.zeta_fit / sine.zeta - 1.0).abs() < 5e-4);
+        assert!(
+            worst(&plain) > 3.0 * worst(&report),
+            "plain {:e}",
+            worst(&plain)
+        );
     }
 
     impl DampedSine {
         fn value_envelope(&self, t: f64) -> f64 {
             self.amplitude * (-self.sigma() * t).exp()
+        }
+    }
+
+    #[test]
+    #[ignore = "a study; run with --ignored --nocapture"]
+    fn edge_study() {
+        for (zeta, seconds) in [(0.00175, 20.0), (0.01, 15.0), (0.05, 4.0)] {
+            let sine = DampedSine {
+                frequency_hz: 4.35,
+                zeta,
+                amplitude: 1.0,
+                phase: 0.5,
+                offset: 0.0,
+            };
+            let (time, x) = damped_sine(&sine, 1000.0, seconds);
+            for extension_periods in [0.0, 4.0] {
+                let options = EnvelopeOptions {
+                    extension_periods,
+                    ..EnvelopeOptions::default()
+                };
+                let report = analyze(&time, &x, &options).unwrap();
+                let errors: Vec<String> = report
+                    .points
+                    .iter()
+                    .map(|p| format!("{:+.0e}", p.zeta / zeta - 1.0))
+                    .collect();
+                println!(
+                    "zeta {zeta} extension {extension_periods}: fit {:+.1e}; windows {}",
+                    report.zeta_fit / zeta - 1.0,
+                    errors.join(" ")
+                );
+            }
         }
     }
 }

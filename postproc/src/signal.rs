@@ -164,87 +164,120 @@ pub fn read_signal_or_only(path: &Path, column: Option<&str>) -> Result<Signal> 
     }
 }
 
-fn reader_builder() -> csv::ReaderBuilder {
-    let mut builder = csv::ReaderBuilder::new();
-    builder
-        .has_headers(true)
-        .trim(csv::Trim::All)
-        .comment(Some(b'#'));
-    builder
+/// A CSV file in memory with the physical line of each record. The csv crate's own line
+/// counter skips blank lines, so records are mapped to lines here: the n-th line that is not
+/// blank and does not start with `#` holds the n-th record (cells never span lines in a
+/// numeric record).
+struct Source {
+    path: PathBuf,
+    bytes: Vec<u8>,
+    record_lines: Vec<u64>,
 }
 
-fn open_reader(path: &Path) -> Result<csv::Reader<std::fs::File>> {
-    let file = std::fs::File::open(path).map_err(|source| PostError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    Ok(reader_builder().from_reader(file))
-}
-
-fn csv_error(path: &Path, error: csv::Error) -> PostError {
-    let line = error.position().map_or(0, csv::Position::line);
-    match error.into_kind() {
-        csv::ErrorKind::Io(source) => PostError::Read {
+impl Source {
+    fn open(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|source| PostError::Read {
             path: path.to_path_buf(),
             source,
-        },
-        csv::ErrorKind::UnequalLengths {
-            expected_len, len, ..
-        } => PostError::Csv {
+        })?;
+        let record_lines = bytes
+            .split(|&b| b == b'\n')
+            .enumerate()
+            .filter(|(_, line)| {
+                let line = line.strip_suffix(b"\r").unwrap_or(line);
+                !line.is_empty() && !line.starts_with(b"#")
+            })
+            .map(|(index, _)| index as u64 + 1)
+            .collect();
+        Ok(Source {
             path: path.to_path_buf(),
-            line,
-            message: format!("expected {expected_len} fields as in the header, found {len}"),
-        },
-        csv::ErrorKind::Utf8 { err, .. } => PostError::Csv {
-            path: path.to_path_buf(),
-            line,
-            message: format!("invalid UTF-8: {err}"),
-        },
-        other => PostError::Csv {
-            path: path.to_path_buf(),
-            line,
-            message: format!("{other:?}"),
-        },
+            bytes,
+            record_lines,
+        })
+    }
+
+    fn reader(&self) -> csv::Reader<&[u8]> {
+        csv::ReaderBuilder::new()
+            .has_headers(true)
+            .trim(csv::Trim::All)
+            .comment(Some(b'#'))
+            .from_reader(self.bytes.as_slice())
+    }
+
+    /// Line of record `index` (0 is the header).
+    fn line(&self, index: u64) -> u64 {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.record_lines.get(i))
+            .copied()
+            .unwrap_or(index + 1)
+    }
+
+    fn csv_error(&self, error: csv::Error) -> PostError {
+        let path = self.path.clone();
+        let line = error.position().map_or(0, |p| self.line(p.record()));
+        match error.into_kind() {
+            csv::ErrorKind::Io(source) => PostError::Read { path, source },
+            csv::ErrorKind::UnequalLengths {
+                expected_len, len, ..
+            } => PostError::Csv {
+                path,
+                line,
+                message: format!("expected {expected_len} fields as in the header, found {len}"),
+            },
+            csv::ErrorKind::Utf8 { err, .. } => PostError::Csv {
+                path,
+                line,
+                message: format!("invalid UTF-8: {err}"),
+            },
+            other => PostError::Csv {
+                path,
+                line,
+                message: format!("{other:?}"),
+            },
+        }
+    }
+
+    /// The header names (trimmed, without a byte-order mark) and the header's line.
+    fn header(&self, reader: &mut csv::Reader<&[u8]>) -> Result<(Vec<String>, u64)> {
+        let record = reader
+            .headers()
+            .map_err(|error| self.csv_error(error))?
+            .clone();
+        if record.is_empty() || (record.len() == 1 && record[0].is_empty()) {
+            return Err(PostError::Empty {
+                path: self.path.clone(),
+            });
+        }
+        let header = record
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                // A spreadsheet may save a byte-order mark before the first name.
+                let name = if i == 0 {
+                    name.trim_start_matches('\u{feff}')
+                } else {
+                    name
+                };
+                name.trim().to_string()
+            })
+            .collect();
+        Ok((header, self.line(0)))
     }
 }
 
 fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
-    let mut reader = open_reader(path)?;
-    header_of(path, &mut reader)
-}
-
-fn header_of(path: &Path, reader: &mut csv::Reader<std::fs::File>) -> Result<(Vec<String>, u64)> {
-    let record = reader
-        .headers()
-        .map_err(|error| csv_error(path, error))?
-        .clone();
-    if record.is_empty() || (record.len() == 1 && record[0].is_empty()) {
-        return Err(PostError::Empty {
-            path: path.to_path_buf(),
-        });
-    }
-    let line = record.position().map_or(1, csv::Position::line);
-    let header = record
-        .iter()
-        .enumerate()
-        .map(|(i, name)| {
-            // A spreadsheet may save a byte-order mark before the first name.
-            let name = if i == 0 {
-                name.trim_start_matches('\u{feff}')
-            } else {
-                name
-            };
-            name.trim().to_string()
-        })
-        .collect();
-    Ok((header, line))
+    let source = Source::open(path)?;
+    let mut reader = source.reader();
+    source.header(&mut reader)
 }
 
 /// Reads `time_s` and the selected columns of a CSV file, checking every cell and the time
 /// axis. Errors name the file and line.
 pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
-    let mut reader = open_reader(path)?;
-    let (header, header_line) = header_of(path, &mut reader)?;
+    let source = Source::open(path)?;
+    let mut reader = source.reader();
+    let (header, header_line) = source.header(&mut reader)?;
 
     let mut first_field: HashMap<&str, usize> = HashMap::new();
     for (field, name) in header.iter().enumerate() {
@@ -300,9 +333,9 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
         match reader.read_record(&mut record) {
             Ok(true) => {}
             Ok(false) => break,
-            Err(error) => return Err(csv_error(path, error)),
+            Err(error) => return Err(source.csv_error(error)),
         }
-        let line = record.position().map_or(0, csv::Position::line);
+        let line = source.line(record.position().map_or(0, csv::Position::record));
         let text = &record[time_field];
         time_s.push(parse_cell(path, line, TIME_COLUMN, text)?);
         time_resolution.push(printed_resolution(text));
@@ -629,6 +662,76 @@ mod tests {
         assert!(
             mean_error > 100.0 * midline_error,
             "mean error {mean_error:e}"
+        );
+    }
+
+    fn write(folder: &Path, name: &str, text: &str) -> PathBuf {
+        let path = folder.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn reads_every_column_with_comments_spaces_and_a_byte_order_mark() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = write(
+            folder.path(),
+            "history.csv",
+            "# coil-solve history\n\u{feff}time_s, node12_uz_accel_m_s2 ,node12_uz_disp_mm\n\
+             0.000, 1.0, -12.5\n0.001, 2.0, -12.4\n\n0.002, 3.0, -12.3\n",
+        );
+        let table = read_csv(&path).unwrap();
+        assert_eq!(table.header_line, 2);
+        assert_eq!(
+            table.header,
+            ["time_s", "node12_uz_accel_m_s2", "node12_uz_disp_mm"]
+        );
+        assert_eq!(
+            table.column("node12_uz_accel_m_s2").unwrap(),
+            [1.0, 2.0, 3.0]
+        );
+        assert!((table.step_s - 0.001).abs() < 1e-15);
+        match table.column("accel") {
+            Err(PostError::MissingColumn {
+                line, available, ..
+            }) => {
+                assert_eq!(line, 2);
+                assert_eq!(available.len(), 3);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn named_columns_ignore_other_cells_but_duplicates_are_errors() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = write(
+            folder.path(),
+            "mixed.csv",
+            "time_s,accel_m_s2,note\n0,1,start\n0.5,2,\n1.0,3,end\n",
+        );
+        assert!(read_csv(&path).is_err());
+        let signal = read_signal(&path, "accel_m_s2").unwrap();
+        assert_eq!(signal.values, [1.0, 2.0, 3.0]);
+        let only = read_signal_or_only(&path, None);
+        assert!(matches!(only, Err(PostError::AmbiguousColumn { .. })));
+
+        let twice = write(
+            folder.path(),
+            "twice.csv",
+            "time_s,a,a\n0,1,1\n1,2,2\n2,3,3\n",
+        );
+        let error = read_signal(&twice, "a").unwrap_err();
+        assert!(
+            matches!(
+                error,
+                PostError::DuplicateColumn {
+                    first: 2,
+                    second: 3,
+                    ..
+                }
+            ),
+            "{error}"
         );
     }
 }

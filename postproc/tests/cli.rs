@@ -447,6 +447,12 @@ fn bad_inputs_give_located_messages_and_no_output() {
         &["decrement", &nan],
         &["nan.csv:4:", "`NaN` is not a finite number"],
     );
+    // Blank and comment lines count: the line is the one an editor shows.
+    let blank = write("blank.csv", "# rig B\ntime_s,accel_m_s2\n0,1\n\n0.01,inf\n");
+    assert_fails(
+        &["decrement", &blank],
+        &["blank.csv:5:", "`inf` is not a finite number"],
+    );
     let text = write("text.csv", "time_s,accel_m_s2\n0,1\n0.01,abc\n0.02,1\n");
     assert_fails(
         &["decrement", &text],

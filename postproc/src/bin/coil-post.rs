@@ -175,6 +175,9 @@ struct EnvelopeFlags {
     /// Discarded at each end, periods.
     #[arg(long, default_value_t = 2.0)]
     trim_periods: f64,
+    /// Linear-prediction continuation added at each end before the transform, periods.
+    #[arg(long, default_value_t = 4.0)]
+    extension_periods: f64,
     /// Offset removed first.
     #[arg(long = "envelope-detrend", value_enum, default_value = "mean")]
     envelope_detrend: DetrendArg,
@@ -187,6 +190,7 @@ impl EnvelopeFlags {
             bandpass: self.bandpass,
             window_periods: self.window_periods,
             trim_periods: self.trim_periods,
+            extension_periods: self.extension_periods,
             ..EnvelopeOptions::default()
         }
     }
@@ -264,12 +268,30 @@ fn emit(report: &Report, value: &Value, table: impl FnOnce() -> String) -> Resul
     if let Some(path) = &report.out {
         output::write_atomic(path, format!("{json}\n").as_bytes())?;
     }
-    if report.json {
-        println!("{json}");
+    let text = if report.json {
+        format!("{json}\n")
     } else if report.out.is_none() {
-        print!("{}", table());
+        table()
+    } else {
+        return Ok(());
+    };
+    print_stdout(&text)
+}
+
+/// Writes to standard output; a reader that stopped early (`| head`) is not an error.
+fn print_stdout(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => Err(PostError::Write {
+            path: PathBuf::from("<standard output>"),
+            source: error,
+        }),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 fn header(signal: &Signal) -> Value {

@@ -150,8 +150,17 @@ pub fn analyze(
     let mut edge_guard_samples = 0;
     if let Some(lowpass) = options.lowpass {
         let filter = Butterworth::new(Band::Lowpass, lowpass.order, lowpass.cutoff_hz, step_s)?;
-        y = filter.filtfilt(&y);
         edge_guard_samples = filter.settle_samples();
+        if edge_guard_samples.saturating_mul(4) >= y.len() {
+            return Err(PostError::InvalidOption(format!(
+                "--lowpass {} Hz: the filter settles over {} s at each end, more than a quarter \
+                 of the {} s record; choose a higher cutoff",
+                crate::error::show(lowpass.cutoff_hz),
+                crate::error::show(edge_guard_samples as f64 * step_s),
+                crate::error::show(y.len() as f64 * step_s)
+            )));
+        }
+        y = filter.filtfilt(&y);
     }
     let search = peaks::find_peaks(
         time_s,
@@ -164,7 +173,7 @@ pub fn analyze(
         },
     )?;
     let crests = search.peaks;
-    let needed = options.every + 1;
+    let needed = options.every.saturating_add(1);
     if crests.len() < needed.max(3) {
         return Err(PostError::TooFewPeaks {
             kind: options.polarity.noun(),

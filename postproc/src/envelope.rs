@@ -47,7 +47,7 @@ use rustfft::FftPlanner;
 use serde::Serialize;
 use std::f64::consts::TAU;
 
-use crate::error::{PostError, Result};
+use crate::error::{show, PostError, Result};
 use crate::filter;
 use crate::fit::least_squares;
 use crate::peaks::noise_rms;
@@ -166,10 +166,18 @@ pub fn analyze(
     options: &EnvelopeOptions,
 ) -> Result<EnvelopeReport> {
     let step_s = signal::uniform_step(time_s, values)?;
-    if !(options.window_periods > 0.0 && options.trim_periods >= 0.0) {
+    let finite = |v: f64| v.is_finite() && v >= 0.0;
+    if !(finite(options.window_periods)
+        && options.window_periods > 0.0
+        && finite(options.trim_periods)
+        && finite(options.extension_periods))
+    {
         return Err(PostError::InvalidOption(format!(
-            "window {} periods, trim {} periods; expected a positive window and a non-negative trim",
-            options.window_periods, options.trim_periods
+            "window {} periods, trim {} periods, extension {} periods; expected a positive \
+             window and a non-negative trim and extension",
+            show(options.window_periods),
+            show(options.trim_periods),
+            show(options.extension_periods)
         )));
     }
     let (mut y, offset_removed) = signal::remove_offset(time_s, values, options.detrend)?;
@@ -202,7 +210,10 @@ pub fn analyze(
         y = filter::bandpass_zero_phase(&y, step_s, low, high, options.filter_order)?;
     }
 
-    let extension = (options.extension_periods / (f0 * step_s)).round() as usize;
+    // A continuation longer than the record adds nothing.
+    let extension = (options.extension_periods / (f0 * step_s))
+        .round()
+        .min(y.len() as f64) as usize;
     let (before, after) = ar2_extension(&y, extension);
     let mut padded = before.clone();
     padded.extend_from_slice(&y);
@@ -234,20 +245,25 @@ pub fn analyze(
         }
         None => 0,
     };
-    let trim_samples =
-        ((options.trim_periods * samples_per_period).round() as usize).max(settle_samples);
-    let window_samples = ((options.window_periods * samples_per_period).round() as usize).max(3);
-    if n < 2 * trim_samples + window_samples {
-        return Err(PostError::TooFewPeaks {
-            kind: "periods",
-            found: (n as f64 / samples_per_period) as usize,
-            needed: (2.0 * options.trim_periods + options.window_periods).ceil() as usize,
-            hint: format!(
-                "the record holds too few periods of {f0:.4} Hz for {} trimmed at each end and a {}-period window",
-                options.trim_periods, options.window_periods
-            ),
-        });
+    let trim = (options.trim_periods * samples_per_period)
+        .round()
+        .max(settle_samples as f64);
+    let window = (options.window_periods * samples_per_period)
+        .round()
+        .max(3.0);
+    // Compared as reals: absurd options must not overflow a sample count.
+    if 2.0 * trim + window > n as f64 {
+        return Err(PostError::InvalidOption(format!(
+            "the record holds {} periods of {f0:.4} Hz; trimming {} periods at each end and a \
+             {}-period window need {}; use a longer record or smaller --trim-periods and \
+             --window-periods",
+            show(tenths(n as f64 / samples_per_period)),
+            show(tenths(trim / samples_per_period)),
+            show(options.window_periods),
+            show(tenths((2.0 * trim + window) / samples_per_period))
+        )));
     }
+    let (trim_samples, window_samples) = (trim as usize, window as usize);
     let (start, end) = (trim_samples, n - trim_samples);
     let floor = 10.0 * noise;
 
@@ -360,6 +376,11 @@ fn ar2_extension(y: &[f64], count: usize) -> (Vec<f64>, Vec<f64>) {
     }
     before.reverse();
     (before, after)
+}
+
+/// Rounded to a tenth, for messages.
+fn tenths(x: f64) -> f64 {
+    (x * 10.0).round() / 10.0
 }
 
 struct LogEnvelopeFit {

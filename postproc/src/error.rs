@@ -158,3 +158,13 @@ pub enum PostError {
 
 /// Result alias of the crate.
 pub type Result<T, E = PostError> = std::result::Result<T, E>;
+
+/// A number for a message: plain for ordinary magnitudes, with an exponent otherwise (Rust's
+/// `Display` writes 1e-300 with 300 digits).
+pub(crate) fn show(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e9).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}

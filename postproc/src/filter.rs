@@ -33,13 +33,16 @@
 use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
-use crate::error::{PostError, Result};
+use crate::error::{show, PostError, Result};
 
 /// Highest order accepted (sections beyond this add nothing but round-off).
 pub const MAX_ORDER: usize = 10;
 
 /// Length of the end extension and of the settling, in time constants of the slowest pole.
 pub const SETTLE_TIME_CONSTANTS: f64 = 14.0;
+
+/// Lowest cutoff accepted, relative to the sampling rate.
+pub const MIN_RELATIVE_CUTOFF: f64 = 1e-6;
 
 /// Order used when the caller gives none.
 pub const DEFAULT_ORDER: usize = 4;
@@ -100,10 +103,13 @@ impl Butterworth {
                 "sampling step {step_s} s; expected a positive number"
             )));
         }
-        if !(cutoff_hz > 0.0 && cutoff_hz < 0.5 * rate_hz) {
+        // Below 1e-6 of the sampling rate the poles crowd z = 1 and round-off takes over.
+        if !(cutoff_hz >= MIN_RELATIVE_CUTOFF * rate_hz && cutoff_hz < 0.5 * rate_hz) {
             return Err(PostError::InvalidOption(format!(
-                "cutoff {cutoff_hz} Hz; expected between 0 and the Nyquist frequency {} Hz",
-                0.5 * rate_hz
+                "cutoff {} Hz; expected between {} Hz and the Nyquist frequency {} Hz",
+                show(cutoff_hz),
+                show(MIN_RELATIVE_CUTOFF * rate_hz),
+                show(0.5 * rate_hz)
             )));
         }
         let two_fs = 2.0 * rate_hz;
@@ -269,6 +275,8 @@ mod tests {
         assert!(Butterworth::new(Band::Lowpass, 4, 500.0, 1e-3).is_err());
         assert!(Butterworth::new(Band::Lowpass, 0, 50.0, 1e-3).is_err());
         assert!(Butterworth::new(Band::Lowpass, 4, -1.0, 1e-3).is_err());
+        assert!(Butterworth::new(Band::Lowpass, 4, 1e-300, 1e-3).is_err());
+        assert!(Butterworth::new(Band::Lowpass, 4, f64::NAN, 1e-3).is_err());
         assert!(bandpass_zero_phase(&[0.0; 10], 1e-3, 10.0, 5.0, 4).is_err());
     }
 

@@ -78,6 +78,9 @@ pub const PROMINENCE: f64 = 2.0;
 /// Reach of the prominence test, native bins.
 pub const PROMINENCE_BINS: f64 = 3.0;
 
+/// Largest transform length accepted (2^28 points, 4 GiB of complex numbers).
+pub const MAX_FFT_LENGTH: usize = 1 << 28;
+
 /// Options of [`amplitude_spectrum`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpectrumOptions {
@@ -136,7 +139,17 @@ pub fn amplitude_spectrum(
     }
     let (y, _) = signal::remove_offset(time_s, values, options.detrend)?;
     let n = y.len();
-    let fft_length = (options.zero_pad * n).next_power_of_two();
+    let fft_length = options
+        .zero_pad
+        .checked_mul(n)
+        .and_then(usize::checked_next_power_of_two)
+        .filter(|&length| length <= MAX_FFT_LENGTH)
+        .ok_or_else(|| {
+            PostError::InvalidOption(format!(
+                "zero padding {} times {n} samples exceeds the largest transform, {MAX_FFT_LENGTH}",
+                options.zero_pad
+            ))
+        })?;
     let mut buffer = vec![Complex64::new(0.0, 0.0); fft_length];
     let mut window_sum = 0.0;
     for (k, v) in y.iter().enumerate() {

@@ -1,1 +1,32 @@
-//! stub
+//! coil's post-processor: free-decay signals to period, logarithmic decrement, damping ratio,
+//! spectra, envelopes and plots.
+//!
+//! The crate stands alone (no other coil crate): it reads any CSV with a `time_s` column
+//! ([`signal::read_csv`]) and works on plain slices, so the tuner can call it on in-memory
+//! histories. Each module documents its formulation and measured accuracy; `docs/postproc.md`
+//! gathers them.
+//!
+//! - [`signal`]: CSV reading, time-axis checks, offset removal.
+//! - [`peaks`]: crests to sub-sample accuracy.
+//! - [`decrement`]: the paper's Eqs. 2-3 and an exponential envelope fit.
+//! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
+//! - [`spectrum`]: windowed, zero-padded amplitude spectrum with interpolated peaks.
+//! - [`envelope`]: Hilbert envelope, instantaneous frequency, backbone and damping curves.
+//! - [`plot`]: PNG/SVG plots with an embedded font.
+//! - [`output`]: temp-file-and-rename writing.
+
+pub mod decrement;
+pub mod envelope;
+pub mod error;
+pub mod filter;
+mod fit;
+pub mod output;
+pub mod peaks;
+pub mod plot;
+pub mod signal;
+pub mod spectrum;
+
+#[cfg(test)]
+mod test_signals;
+
+pub use error::{PostError, Result};

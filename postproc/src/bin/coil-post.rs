@@ -1,1 +1,577 @@
-fn main() {}
+//! `coil-post`: free-decay signals to period, logarithmic decrement, damping ratio, spectra,
+//! envelopes and plots. Parses arguments, calls `coil_postproc`, maps errors to exit codes
+//! (0 success, 1 an error in the data or options, 2 a usage error reported by clap).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use serde_json::{json, Value};
+
+use coil_postproc::decrement::{self, DecrementOptions, DecrementReport, Lowpass};
+use coil_postproc::envelope::{self, EnvelopeOptions, EnvelopeReport};
+use coil_postproc::filter::DEFAULT_ORDER;
+use coil_postproc::peaks::{PeakFit, Polarity};
+use coil_postproc::signal::{self, Detrend, Signal};
+use coil_postproc::spectrum::{self, SpectralPeak, Spectrum, SpectrumOptions, Window};
+use coil_postproc::{output, plot, PostError, Result};
+
+#[derive(Parser)]
+#[command(
+    name = "coil-post",
+    version,
+    about = "Period, logarithmic decrement, damping ratio, spectra, envelopes and plots of \
+             free-decay records (CSV with a time_s column)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Crests, the paper's logarithmic decrement (Eqs. 2-3) and an exponential envelope fit.
+    Decrement(DecrementArgs),
+    /// Amplitude spectrum with interpolated peak frequencies.
+    Spectrum(SpectrumArgs),
+    /// Hilbert envelope, instantaneous frequency, backbone and damping curves.
+    Envelope(EnvelopeArgs),
+    /// PNG or SVG plot of a time history, spectrum or envelope.
+    Plot(PlotArgs),
+}
+
+#[derive(Args)]
+struct Input {
+    /// CSV file with a `time_s` column.
+    file: PathBuf,
+    /// Signal column (may be omitted when the file has only one besides `time_s`).
+    #[arg(long, short)]
+    column: Option<String>,
+}
+
+#[derive(Args)]
+struct Report {
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Write the JSON to this file (through a temporary file and a rename).
+    #[arg(long, short, value_name = "FILE")]
+    out: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DetrendArg {
+    /// Analyse the signal as given.
+    None,
+    /// Subtract the record's mean.
+    Mean,
+    /// Subtract the equilibrium line found from crest/trough triples.
+    Midline,
+}
+
+impl From<DetrendArg> for Detrend {
+    fn from(value: DetrendArg) -> Self {
+        match value {
+            DetrendArg::None => Detrend::None,
+            DetrendArg::Mean => Detrend::Mean,
+            DetrendArg::Midline => Detrend::Midline,
+        }
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PeakFitArg {
+    /// Least-squares quartic over +-1/8 period (default).
+    Lsq,
+    /// Parabola through three samples.
+    Parabola3,
+    /// The largest sample, not interpolated.
+    Raw,
+}
+
+impl From<PeakFitArg> for PeakFit {
+    fn from(value: PeakFitArg) -> Self {
+        match value {
+            PeakFitArg::Lsq => PeakFit::LeastSquares,
+            PeakFitArg::Parabola3 => PeakFit::Parabola3,
+            PeakFitArg::Raw => PeakFit::Raw,
+        }
+    }
+}
+
+#[derive(Args)]
+struct DecrementArgs {
+    #[command(flatten)]
+    input: Input,
+    #[command(flatten)]
+    report: Report,
+    /// Crest intervals per decrement span (the paper: every 10th peak).
+    #[arg(long, default_value_t = 10)]
+    every: usize,
+    /// Zero-phase Butterworth low-pass cutoff before crest picking, Hz.
+    #[arg(long, value_name = "HZ")]
+    lowpass: Option<f64>,
+    /// Order of the low-pass.
+    #[arg(long, default_value_t = DEFAULT_ORDER)]
+    lowpass_order: usize,
+    /// Offset removed before analysis.
+    #[arg(long, value_enum, default_value = "none")]
+    detrend: DetrendArg,
+    /// How crests are located between samples.
+    #[arg(long, value_enum, default_value = "lsq")]
+    peak_fit: PeakFitArg,
+    /// Also analyse the troughs.
+    #[arg(long)]
+    troughs: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum WindowArg {
+    Hann,
+    Rectangular,
+}
+
+#[derive(Args)]
+struct SpectrumArgs {
+    #[command(flatten)]
+    input: Input,
+    #[command(flatten)]
+    report: Report,
+    /// Taper before the transform.
+    #[arg(long, value_enum, default_value = "hann")]
+    window: WindowArg,
+    /// Zero padding: the transform length is the next power of two of this times the samples.
+    #[arg(long, default_value_t = 4)]
+    zero_pad: usize,
+    /// Most peaks listed.
+    #[arg(long, default_value_t = 5)]
+    peaks: usize,
+    /// Smallest peak listed, relative to the largest.
+    #[arg(long, default_value_t = 0.05)]
+    threshold: f64,
+    /// Offset removed before the transform.
+    #[arg(long, value_enum, default_value = "mean")]
+    detrend: DetrendArg,
+}
+
+#[derive(Args)]
+struct EnvelopeArgs {
+    #[command(flatten)]
+    input: Input,
+    #[command(flatten)]
+    report: Report,
+    #[command(flatten)]
+    envelope: EnvelopeFlags,
+}
+
+#[derive(Args)]
+struct EnvelopeFlags {
+    /// Band-pass around the dominant peak first: from (1 - B) f0 to (1 + B) f0.
+    #[arg(long, value_name = "B")]
+    bandpass: Option<f64>,
+    /// Length of each fit window, periods.
+    #[arg(long, default_value_t = 4.0)]
+    window_periods: f64,
+    /// Discarded at each end, periods.
+    #[arg(long, default_value_t = 2.0)]
+    trim_periods: f64,
+    /// Linear-prediction continuation added at each end before the transform, periods.
+    #[arg(long, default_value_t = 4.0)]
+    extension_periods: f64,
+    /// Offset removed first.
+    #[arg(long = "envelope-detrend", value_enum, default_value = "mean")]
+    envelope_detrend: DetrendArg,
+}
+
+impl EnvelopeFlags {
+    fn options(&self) -> EnvelopeOptions {
+        EnvelopeOptions {
+            detrend: self.envelope_detrend.into(),
+            bandpass: self.bandpass,
+            window_periods: self.window_periods,
+            trim_periods: self.trim_periods,
+            extension_periods: self.extension_periods,
+            ..EnvelopeOptions::default()
+        }
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum Kind {
+    Time,
+    Spectrum,
+    Envelope,
+}
+
+#[derive(Args)]
+struct PlotArgs {
+    #[command(flatten)]
+    input: Input,
+    /// A second record to draw beside the first.
+    #[arg(long, value_name = "FILE")]
+    compare: Option<PathBuf>,
+    /// Column of the second record (may be omitted when it has only one).
+    #[arg(long, value_name = "NAME")]
+    compare_column: Option<String>,
+    /// What to draw.
+    #[arg(long, value_enum, default_value = "time")]
+    kind: Kind,
+    /// Output picture, .png or .svg.
+    #[arg(long, short, value_name = "FILE")]
+    out: PathBuf,
+    /// Time histories in one panel instead of one panel each.
+    #[arg(long)]
+    overlay: bool,
+    /// Highest frequency of a spectrum plot, Hz.
+    #[arg(long, value_name = "HZ")]
+    fmax: Option<f64>,
+    /// Offset removed from time histories before normalising.
+    #[arg(long, value_enum, default_value = "none")]
+    detrend: DetrendArg,
+    #[command(flatten)]
+    envelope: EnvelopeFlags,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Decrement(args) => run_decrement(&args),
+        Command::Spectrum(args) => run_spectrum(&args),
+        Command::Envelope(args) => run_envelope(&args),
+        Command::Plot(args) => run_plot(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn read(file: &Path, column: Option<&str>) -> Result<Signal> {
+    signal::read_signal_or_only(file, column)
+}
+
+fn label(signal: &Signal) -> String {
+    let name = signal.source.file_name().map_or_else(
+        || signal.source.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    format!("{name}: {}", signal.column)
+}
+
+/// Prints or writes the JSON, or prints `table`.
+fn emit(report: &Report, value: &Value, table: impl FnOnce() -> String) -> Result<()> {
+    let json = serde_json::to_string_pretty(value)
+        .map_err(|e| PostError::InvalidOption(format!("cannot serialise the report: {e}")))?;
+    if let Some(path) = &report.out {
+        output::write_atomic(path, format!("{json}\n").as_bytes())?;
+    }
+    let text = if report.json {
+        format!("{json}\n")
+    } else if report.out.is_none() {
+        table()
+    } else {
+        return Ok(());
+    };
+    print_stdout(&text)
+}
+
+/// Writes to standard output; a reader that stopped early (`| head`) is not an error.
+fn print_stdout(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => Err(PostError::Write {
+            path: PathBuf::from("<standard output>"),
+            source: error,
+        }),
+        _ => Ok(()),
+    }
+}
+
+fn header(signal: &Signal) -> Value {
+    json!({
+        "file": signal.source.display().to_string(),
+        "column": signal.column,
+        "samples": signal.values.len(),
+        "step_s": signal.step_s,
+    })
+}
+
+fn merge(mut base: Value, extra: Value) -> Value {
+    if let (Some(base), Value::Object(extra)) = (base.as_object_mut(), extra) {
+        base.extend(extra);
+    }
+    base
+}
+
+fn to_value<T: serde::Serialize>(value: &T) -> Result<Value> {
+    serde_json::to_value(value)
+        .map_err(|e| PostError::InvalidOption(format!("cannot serialise the report: {e}")))
+}
+
+fn run_decrement(args: &DecrementArgs) -> Result<()> {
+    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let options = DecrementOptions {
+        every: args.every,
+        polarity: Polarity::Crests,
+        peak_fit: args.peak_fit.into(),
+        detrend: args.detrend.into(),
+        lowpass: args.lowpass.map(|cutoff_hz| Lowpass {
+            cutoff_hz,
+            order: args.lowpass_order,
+        }),
+    };
+    let analyze = |polarity| {
+        let options = DecrementOptions {
+            polarity,
+            ..options
+        };
+        decrement::analyze(&signal.time_s, &signal.values, &options)
+            .map_err(|error| signal.locate(error))
+    };
+    let crests = analyze(Polarity::Crests)?;
+    let troughs = if args.troughs {
+        Some(analyze(Polarity::Troughs)?)
+    } else {
+        None
+    };
+    let mut value = merge(header(&signal), to_value(&crests)?);
+    if let (Some(object), Some(troughs)) = (value.as_object_mut(), &troughs) {
+        object.insert("troughs".to_string(), to_value(troughs)?);
+    }
+    emit(&args.report, &value, || {
+        let mut text = decrement_table(&signal, &crests);
+        if let Some(troughs) = &troughs {
+            text.push_str("\ntroughs:\n");
+            text.push_str(&decrement_table(&signal, troughs));
+        }
+        text
+    })
+}
+
+fn decrement_table(signal: &Signal, report: &DecrementReport) -> String {
+    let mut text = format!(
+        "{} ({} samples, step {:.6e} s)\n",
+        label(signal),
+        signal.values.len(),
+        report.step_s
+    );
+    let lowpass = report.lowpass.map_or("none".to_string(), |l| {
+        format!("{} Hz, order {} (zero phase)", l.cutoff_hz, l.order)
+    });
+    text.push_str(&format!(
+        "{}: {} used, {} rejected; fit {:?} (+-{} samples); detrend {:?} (offset {:.6e}); low-pass {}\n\n",
+        report.polarity.noun(),
+        report.peak_count,
+        report.peaks_rejected,
+        report.peak_fit,
+        report.fit_half_width,
+        report.detrend,
+        report.offset_removed,
+        lowpass
+    ));
+    text.push_str("span   crests      t_first [s]   delta         zeta\n");
+    for (j, span) in report.spans.iter().enumerate() {
+        text.push_str(&format!(
+            "{:>4}   {:>4}-{:<4}   {:>11.5}   {:<12.6e}  {:.6e}\n",
+            j + 1,
+            span.first + 1,
+            span.last + 1,
+            report.peaks[span.first].time_s,
+            span.delta,
+            span.zeta
+        ));
+    }
+    text.push_str(&format!(
+        "\nzeta_mean  {:.6e}   paper's Eqs. 2-3 over every {}th crest, mean of {} spans (std {:.2e})\n",
+        report.zeta_mean,
+        report.every,
+        report.spans.len(),
+        report.zeta_span_std
+    ));
+    text.push_str(&format!(
+        "zeta_fit   {:.6e}   exponential fit of {} crest amplitudes (standard error {:.2e})\n",
+        report.zeta_fit, report.peak_count, report.zeta_fit_std_error
+    ));
+    text.push_str(&format!(
+        "period_s   {:.8}     damped frequency {:.6} Hz, natural {:.6} Hz, decay rate {:.6e} 1/s\n",
+        report.period_s, report.frequency_hz, report.natural_frequency_hz, report.decay_rate_per_s
+    ));
+    text
+}
+
+fn spectrum_of(
+    signal: &Signal,
+    options: &SpectrumOptions,
+    count: usize,
+    threshold: f64,
+) -> Result<(Spectrum, Vec<SpectralPeak>)> {
+    let spectrum = spectrum::amplitude_spectrum(&signal.time_s, &signal.values, options)
+        .map_err(|error| signal.locate(error))?;
+    let peaks = spectrum.peaks(count, threshold);
+    Ok((spectrum, peaks))
+}
+
+fn run_spectrum(args: &SpectrumArgs) -> Result<()> {
+    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let options = SpectrumOptions {
+        window: match args.window {
+            WindowArg::Hann => Window::Hann,
+            WindowArg::Rectangular => Window::Rectangular,
+        },
+        zero_pad: args.zero_pad,
+        detrend: args.detrend.into(),
+    };
+    let (spectrum, peaks) = spectrum_of(&signal, &options, args.peaks, args.threshold)?;
+    let value = merge(
+        header(&signal),
+        merge(to_value(&spectrum)?, json!({ "peaks": to_value(&peaks)? })),
+    );
+    emit(&args.report, &value, || {
+        let mut text = format!(
+            "{}: {:?} window, {} samples padded to {}, native bin {:.5} Hz, grid {:.5} Hz\n\n",
+            label(&signal),
+            spectrum.window,
+            spectrum.samples,
+            spectrum.fft_length,
+            spectrum.native_bin_hz,
+            spectrum.grid_bin_hz
+        );
+        text.push_str("peak   frequency [Hz]   amplitude\n");
+        for (j, peak) in peaks.iter().enumerate() {
+            text.push_str(&format!(
+                "{:>4}   {:>14.6}   {:.6e}\n",
+                j + 1,
+                peak.frequency_hz,
+                peak.amplitude
+            ));
+        }
+        text
+    })
+}
+
+fn run_envelope(args: &EnvelopeArgs) -> Result<()> {
+    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let report = envelope::analyze(&signal.time_s, &signal.values, &args.envelope.options())
+        .map_err(|error| signal.locate(error))?;
+    let value = merge(header(&signal), to_value(&report)?);
+    emit(&args.report, &value, || envelope_table(&signal, &report))
+}
+
+fn envelope_table(signal: &Signal, report: &EnvelopeReport) -> String {
+    let band = report.band_hz.map_or("none".to_string(), |(low, high)| {
+        format!("{low:.4} to {high:.4} Hz")
+    });
+    let mut text = format!(
+        "{}: dominant {:.6} Hz, band-pass {}, {} samples trimmed at each end, windows of {} samples\n\n",
+        label(signal),
+        report.dominant_frequency_hz,
+        band,
+        report.trim_samples,
+        report.window_samples
+    );
+    text.push_str("  time [s]    amplitude      frequency [Hz]   zeta\n");
+    for p in &report.points {
+        text.push_str(&format!(
+            "{:>10.4}    {:<12.6e}   {:>12.6}     {:.6e}\n",
+            p.time_s, p.amplitude, p.frequency_hz, p.zeta
+        ));
+    }
+    text.push_str(&format!(
+        "\nzeta_fit {:.6e}, decay rate {:.6e} 1/s, mean frequency {:.6} Hz\n",
+        report.zeta_fit, report.decay_rate_per_s, report.frequency_hz
+    ));
+    text
+}
+
+fn run_plot(args: &PlotArgs) -> Result<()> {
+    let mut signals = vec![read(&args.input.file, args.input.column.as_deref())?];
+    if let Some(other) = &args.compare {
+        signals.push(read(other, args.compare_column.as_deref())?);
+    } else if args.compare_column.is_some() {
+        return Err(PostError::InvalidOption(
+            "--compare-column needs --compare FILE".to_string(),
+        ));
+    }
+    let labels: Vec<String> = signals.iter().map(label).collect();
+    match args.kind {
+        Kind::Time => {
+            let detrended = signals
+                .iter()
+                .map(|s| {
+                    signal::remove_offset(&s.time_s, &s.values, args.detrend.into())
+                        .map(|(values, _)| values)
+                        .map_err(|error| s.locate(error))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let traces: Vec<plot::Trace<'_>> = signals
+                .iter()
+                .zip(&detrended)
+                .zip(&labels)
+                .map(|((s, values), label)| plot::Trace {
+                    label,
+                    unit: plot::unit_of(&s.column),
+                    time_s: &s.time_s,
+                    values,
+                })
+                .collect();
+            plot::time_histories(&traces, args.overlay, &args.out)
+        }
+        Kind::Spectrum => {
+            let computed = signals
+                .iter()
+                .map(|s| spectrum_of(s, &SpectrumOptions::default(), 5, 0.05))
+                .collect::<Result<Vec<_>>>()?;
+            let nyquist = 0.5 / signals[0].step_s;
+            let fmax = args.fmax.unwrap_or_else(|| {
+                let highest = computed
+                    .iter()
+                    .flat_map(|(_, peaks)| peaks.iter().map(|p| p.frequency_hz))
+                    .fold(0.0, f64::max);
+                (2.0 * highest).clamp(f64::MIN_POSITIVE, nyquist)
+            });
+            if !(fmax > 0.0 && fmax.is_finite()) {
+                return Err(PostError::InvalidOption(format!(
+                    "--fmax {fmax}; expected a positive frequency"
+                )));
+            }
+            let traces: Vec<plot::SpectrumTrace<'_>> = computed
+                .iter()
+                .zip(&labels)
+                .map(|((spectrum, peaks), label)| plot::SpectrumTrace {
+                    label,
+                    spectrum,
+                    peaks,
+                })
+                .collect();
+            plot::spectra(&traces, fmax, &args.out)
+        }
+        Kind::Envelope => {
+            let options = args.envelope.options();
+            let reports = signals
+                .iter()
+                .map(|s| {
+                    envelope::analyze(&s.time_s, &s.values, &options)
+                        .map_err(|error| s.locate(error))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let traces: Vec<plot::EnvelopeTrace<'_>> = reports
+                .iter()
+                .zip(&labels)
+                .zip(&signals)
+                .map(|((report, label), s)| plot::EnvelopeTrace {
+                    label,
+                    unit: plot::unit_of(&s.column),
+                    report,
+                })
+                .collect();
+            plot::envelopes(&traces, &args.out)
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! The one error type of the post-processor.
+//!
+//! Every variant that comes from a file names the file and, where a line is at fault, the
+//! 1-based line number as a text editor shows it (the header is line 1). Variants that come
+//! from in-memory signals name the 0-based sample index instead. Each message says what was
+//! expected, so that the person reading it knows what to fix.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while reading, analysing or writing signals.
+#[derive(Debug, thiserror::Error)]
+pub enum PostError {
+    /// The input file could not be opened or read.
+    #[error("{}: cannot read the file: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    /// The CSV syntax itself is broken (unequal field counts, bad quoting, invalid UTF-8).
+    #[error("{}:{line}: malformed CSV: {message}", path.display())]
+    Csv {
+        path: PathBuf,
+        line: u64,
+        message: String,
+    },
+
+    /// No header line at all.
+    #[error("{}: the file is empty; expected a header line such as `time_s,accel_m_s2`", path.display())]
+    Empty { path: PathBuf },
+
+    /// A requested column (or `time_s`) is not in the header.
+    #[error(
+        "{}:{line}: no column named `{column}` in the header; available columns: {}",
+        path.display(),
+        available.join(", ")
+    )]
+    MissingColumn {
+        path: PathBuf,
+        line: u64,
+        column: String,
+        available: Vec<String>,
+    },
+
+    /// The same column name appears twice, so a lookup by name is ambiguous.
+    #[error(
+        "{}:{line}: column `{column}` appears more than once in the header (fields {first} and {second}); expected unique names",
+        path.display()
+    )]
+    DuplicateColumn {
+        path: PathBuf,
+        line: u64,
+        column: String,
+        first: usize,
+        second: usize,
+    },
+
+    /// A cell does not parse as a number.
+    #[error("{}:{line}: column `{column}`: expected a number, found `{text}`", path.display())]
+    NotANumber {
+        path: PathBuf,
+        line: u64,
+        column: String,
+        text: String,
+    },
+
+    /// A cell parses as NaN or an infinity.
+    #[error("{}:{line}: column `{column}`: `{text}` is not a finite number; expected a finite value", path.display())]
+    NonFinite {
+        path: PathBuf,
+        line: u64,
+        column: String,
+        text: String,
+    },
+
+    /// `time_s` goes backwards or repeats.
+    #[error(
+        "{}:{line}: time_s = {time} s does not increase (previous sample: {previous} s); expected strictly increasing time",
+        path.display()
+    )]
+    TimeNotIncreasing {
+        path: PathBuf,
+        line: u64,
+        time: f64,
+        previous: f64,
+    },
+
+    /// `time_s` steps are not uniform (a dropped sample, a change of rate).
+    #[error(
+        "{}:{line}: time step {step_s:e} s differs from the record's median step {median_step_s:e} s by more than {tolerance_percent}% (plus print rounding); expected uniformly sampled data; resample it first",
+        path.display()
+    )]
+    NonUniformTime {
+        path: PathBuf,
+        line: u64,
+        step_s: f64,
+        median_step_s: f64,
+        tolerance_percent: f64,
+    },
+
+    /// Fewer data rows than any analysis can use.
+    #[error("{}: {found} data rows; need at least {needed}", path.display())]
+    TooFewSamples {
+        path: PathBuf,
+        found: usize,
+        needed: usize,
+    },
+
+    /// The user named no column and the file has more than one signal column.
+    #[error(
+        "{}:{line}: {} signal columns ({}); choose one with --column",
+        path.display(),
+        available.len(),
+        available.join(", ")
+    )]
+    AmbiguousColumn {
+        path: PathBuf,
+        line: u64,
+        available: Vec<String>,
+    },
+
+    /// An analysis of one column of a file failed; says which.
+    #[error("{}, column `{column}`: {error}", path.display())]
+    Analysis {
+        path: PathBuf,
+        column: String,
+        error: Box<PostError>,
+    },
+
+    /// An in-memory signal is unusable (length mismatch, non-finite value, bad time axis).
+    #[error("invalid signal at sample {index}: {what}")]
+    InvalidSignal { index: usize, what: String },
+
+    /// Not enough regular crests for the requested estimator.
+    #[error("found {found} regular {kind}, need at least {needed}: {hint}")]
+    TooFewPeaks {
+        kind: &'static str,
+        found: usize,
+        needed: usize,
+        hint: String,
+    },
+
+    /// An option value is out of its valid range.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+
+    /// Writing an output file failed; nothing was left at the destination.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    /// The plotting backend failed.
+    #[error("{}: cannot draw the plot: {message}", path.display())]
+    Plot { path: PathBuf, message: String },
+}
+
+/// Result alias of the crate.
+pub type Result<T, E = PostError> = std::result::Result<T, E>;
+
+/// A number for a message: plain for ordinary magnitudes, with an exponent otherwise (Rust's
+/// `Display` writes 1e-300 with 300 digits).
+pub(crate) fn show(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e9).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}

@@ -1,0 +1,737 @@
+//! Uniformly sampled signals: reading them from CSV, checking their time axis, removing
+//! their offset.
+//!
+//! # File format
+//! Any comma-separated file whose first line is a header naming the columns, one of them
+//! `time_s` (seconds), the others signals in whatever unit their name gives (for example
+//! `node12_uz_accel_m_s2` from `coil-solve`, or `accel_m_s2` in a measured `decay.csv`, see
+//! `shared/spec/measured-case.md`). Cells may be padded with spaces; lines starting with `#`
+//! are comments; blank lines are skipped. Every cell of `time_s` and of each requested column
+//! must be a finite number.
+//!
+//! # Time axis
+//! The estimators assume uniform sampling. A record passes when every step
+//! `t[i] - t[i-1]` is positive and within [`STEP_TOLERANCE`] of the median step, widened by
+//! the resolution to which the times were printed (the median over the cells of the decimal
+//! grid each was written on: a file that writes 1024 Hz times with four decimals has steps
+//! that jitter by up to 1e-4 s purely from rounding), at most by 45% of the step. The
+//! analyses then use the ideal grid `t[0] + i * step` with the mean step
+//! `(t[n-1] - t[0]) / (n - 1)`, so print rounding does not leak into peak times. A dropped
+//! sample (a step of twice the median) or a change of sampling rate is reported with its line.
+//!
+//! # Offsets
+//! [`Detrend`] says what constant is removed before analysis; see its variants for what each
+//! choice does to a decaying oscillation.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{PostError, Result};
+use crate::peaks::{self, PeakOptions, Polarity};
+
+/// Name of the mandatory time column.
+pub const TIME_COLUMN: &str = "time_s";
+
+/// Relative tolerance of each time step against the record's mean step (5%).
+pub const STEP_TOLERANCE: f64 = 0.05;
+
+/// The fewest rows a record may have: three samples define a step and check it once.
+pub const MIN_SAMPLES: usize = 3;
+
+/// Columns read from one CSV file, on a checked uniform time axis.
+#[derive(Debug, Clone)]
+pub struct Table {
+    /// The file the table came from (for messages).
+    pub path: PathBuf,
+    /// Line of the header (1 unless comment lines precede it).
+    pub header_line: u64,
+    /// `time_s` as read, seconds.
+    pub time_s: Vec<f64>,
+    /// Mean sampling step, seconds.
+    pub step_s: f64,
+    /// Every header name in file order (including `time_s`).
+    pub header: Vec<String>,
+    /// The parsed columns, by name, in the order they were requested.
+    pub columns: Vec<(String, Vec<f64>)>,
+}
+
+impl Table {
+    /// The values of column `name`, or a [`PostError::MissingColumn`] listing the columns
+    /// that were read.
+    pub fn column(&self, name: &str) -> Result<&[f64]> {
+        self.columns
+            .iter()
+            .find(|(column, _)| column == name)
+            .map(|(_, values)| values.as_slice())
+            .ok_or_else(|| PostError::MissingColumn {
+                path: self.path.clone(),
+                line: self.header_line,
+                column: name.to_string(),
+                available: self.header.clone(),
+            })
+    }
+
+    /// One column as a [`Signal`].
+    pub fn signal(&self, name: &str) -> Result<Signal> {
+        Ok(Signal {
+            source: self.path.clone(),
+            column: name.to_string(),
+            time_s: self.time_s.clone(),
+            step_s: self.step_s,
+            values: self.column(name)?.to_vec(),
+        })
+    }
+}
+
+/// One named column with its time axis.
+#[derive(Debug, Clone)]
+pub struct Signal {
+    /// The file it came from.
+    pub source: PathBuf,
+    /// Its column name.
+    pub column: String,
+    /// Time, seconds.
+    pub time_s: Vec<f64>,
+    /// Mean sampling step, seconds.
+    pub step_s: f64,
+    /// The values, in the unit the column name gives.
+    pub values: Vec<f64>,
+}
+
+/// Which columns to parse.
+#[derive(Debug, Clone, Copy)]
+pub enum Columns<'a> {
+    /// Every column of the header must be numeric.
+    All,
+    /// Only these (plus `time_s`); other columns may hold anything.
+    Named(&'a [&'a str]),
+}
+
+impl Signal {
+    /// Wraps an analysis error with this signal's file and column.
+    pub fn locate(&self, error: PostError) -> PostError {
+        match error {
+            PostError::TooFewPeaks { .. }
+            | PostError::InvalidSignal { .. }
+            | PostError::InvalidOption(_) => PostError::Analysis {
+                path: self.source.clone(),
+                column: self.column.clone(),
+                error: Box::new(error),
+            },
+            other => other,
+        }
+    }
+}
+
+/// Reads every column of a CSV file (all must be numeric).
+pub fn read_csv(path: &Path) -> Result<Table> {
+    read_csv_columns(path, Columns::All)
+}
+
+/// Reads one column of a CSV file as a [`Signal`].
+pub fn read_signal(path: &Path, column: &str) -> Result<Signal> {
+    read_csv_columns(path, Columns::Named(&[column]))?.signal(column)
+}
+
+/// Reads `column`, or, when it is `None`, the only column besides `time_s`
+/// ([`PostError::AmbiguousColumn`] when there are several).
+pub fn read_signal_or_only(path: &Path, column: Option<&str>) -> Result<Signal> {
+    if let Some(column) = column {
+        return read_signal(path, column);
+    }
+    let (header, header_line) = read_header(path)?;
+    if !header.iter().any(|name| name == TIME_COLUMN) {
+        return Err(PostError::MissingColumn {
+            path: path.to_path_buf(),
+            line: header_line,
+            column: TIME_COLUMN.to_string(),
+            available: header,
+        });
+    }
+    let signals: Vec<String> = header
+        .into_iter()
+        .filter(|name| name != TIME_COLUMN)
+        .collect();
+    match signals.as_slice() {
+        [only] => read_signal(path, only),
+        _ => Err(PostError::AmbiguousColumn {
+            path: path.to_path_buf(),
+            line: header_line,
+            available: signals,
+        }),
+    }
+}
+
+/// A CSV file in memory with the physical line of each record. The csv crate's own line
+/// counter skips blank lines, so records are mapped to lines here: the n-th line that is not
+/// blank and does not start with `#` holds the n-th record (cells never span lines in a
+/// numeric record).
+struct Source {
+    path: PathBuf,
+    bytes: Vec<u8>,
+    record_lines: Vec<u64>,
+}
+
+impl Source {
+    fn open(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|source| PostError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let record_lines = bytes
+            .split(|&b| b == b'\n')
+            .enumerate()
+            .filter(|(_, line)| {
+                let line = line.strip_suffix(b"\r").unwrap_or(line);
+                !line.is_empty() && !line.starts_with(b"#")
+            })
+            .map(|(index, _)| index as u64 + 1)
+            .collect();
+        Ok(Source {
+            path: path.to_path_buf(),
+            bytes,
+            record_lines,
+        })
+    }
+
+    fn reader(&self) -> csv::Reader<&[u8]> {
+        csv::ReaderBuilder::new()
+            .has_headers(true)
+            .trim(csv::Trim::All)
+            .comment(Some(b'#'))
+            .from_reader(self.bytes.as_slice())
+    }
+
+    /// Line of record `index` (0 is the header).
+    fn line(&self, index: u64) -> u64 {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.record_lines.get(i))
+            .copied()
+            .unwrap_or(index + 1)
+    }
+
+    fn csv_error(&self, error: csv::Error) -> PostError {
+        let path = self.path.clone();
+        let line = error.position().map_or(0, |p| self.line(p.record()));
+        match error.into_kind() {
+            csv::ErrorKind::Io(source) => PostError::Read { path, source },
+            csv::ErrorKind::UnequalLengths {
+                expected_len, len, ..
+            } => PostError::Csv {
+                path,
+                line,
+                message: format!("expected {expected_len} fields as in the header, found {len}"),
+            },
+            csv::ErrorKind::Utf8 { err, .. } => PostError::Csv {
+                path,
+                line,
+                message: format!("invalid UTF-8: {err}"),
+            },
+            other => PostError::Csv {
+                path,
+                line,
+                message: format!("{other:?}"),
+            },
+        }
+    }
+
+    /// The header names (trimmed, without a byte-order mark) and the header's line.
+    fn header(&self, reader: &mut csv::Reader<&[u8]>) -> Result<(Vec<String>, u64)> {
+        let record = reader
+            .headers()
+            .map_err(|error| self.csv_error(error))?
+            .clone();
+        if record.is_empty() || (record.len() == 1 && record[0].is_empty()) {
+            return Err(PostError::Empty {
+                path: self.path.clone(),
+            });
+        }
+        let header = record
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                // A spreadsheet may save a byte-order mark before the first name.
+                let name = if i == 0 {
+                    name.trim_start_matches('\u{feff}')
+                } else {
+                    name
+                };
+                name.trim().to_string()
+            })
+            .collect();
+        Ok((header, self.line(0)))
+    }
+}
+
+fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
+    let source = Source::open(path)?;
+    let mut reader = source.reader();
+    source.header(&mut reader)
+}
+
+/// Reads `time_s` and the selected columns of a CSV file, checking every cell and the time
+/// axis. Errors name the file and line.
+pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
+    let source = Source::open(path)?;
+    let mut reader = source.reader();
+    let (header, header_line) = source.header(&mut reader)?;
+
+    let mut first_field: HashMap<&str, usize> = HashMap::new();
+    for (field, name) in header.iter().enumerate() {
+        if let Some(&first) = first_field.get(name.as_str()) {
+            let requested = match columns {
+                Columns::All => true,
+                Columns::Named(names) => name == TIME_COLUMN || names.contains(&name.as_str()),
+            };
+            if requested {
+                return Err(PostError::DuplicateColumn {
+                    path: path.to_path_buf(),
+                    line: header_line,
+                    column: name.clone(),
+                    first: first + 1,
+                    second: field + 1,
+                });
+            }
+        } else {
+            first_field.insert(name, field);
+        }
+    }
+    let field_of = |name: &str| {
+        first_field
+            .get(name)
+            .copied()
+            .ok_or_else(|| PostError::MissingColumn {
+                path: path.to_path_buf(),
+                line: header_line,
+                column: name.to_string(),
+                available: header.clone(),
+            })
+    };
+    let time_field = field_of(TIME_COLUMN)?;
+    let wanted: Vec<String> = match columns {
+        Columns::All => header
+            .iter()
+            .filter(|name| name.as_str() != TIME_COLUMN)
+            .cloned()
+            .collect(),
+        Columns::Named(names) => names.iter().map(|name| name.to_string()).collect(),
+    };
+    let wanted_fields = wanted
+        .iter()
+        .map(|name| field_of(name))
+        .collect::<Result<Vec<_>>>()?;
+
+    let mut time_s = Vec::new();
+    let mut time_resolution = Vec::new();
+    let mut lines = Vec::new();
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); wanted.len()];
+    let mut record = csv::StringRecord::new();
+    loop {
+        match reader.read_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(error) => return Err(source.csv_error(error)),
+        }
+        let line = source.line(record.position().map_or(0, csv::Position::record));
+        let text = &record[time_field];
+        time_s.push(parse_cell(path, line, TIME_COLUMN, text)?);
+        time_resolution.push(printed_resolution(text));
+        lines.push(line);
+        for (column, (&field, name)) in wanted_fields.iter().zip(&wanted).enumerate() {
+            values[column].push(parse_cell(path, line, name, &record[field])?);
+        }
+    }
+
+    if time_s.len() < MIN_SAMPLES {
+        return Err(PostError::TooFewSamples {
+            path: path.to_path_buf(),
+            found: time_s.len(),
+            needed: MIN_SAMPLES,
+        });
+    }
+    // The record's print resolution is the median over its cells: "%g" drops trailing zeros
+    // ("0.1" among "0.1234"), a leading "0" has no decimals at all.
+    let rounding = crate::peaks::median(&time_resolution).unwrap_or(0.0);
+    let step_s = check_time_axis(&time_s, rounding).map_err(|fault| match fault {
+        TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
+            path: path.to_path_buf(),
+            line: lines[index],
+            time: time_s[index],
+            previous: time_s[index - 1],
+        },
+        TimeFault::NonUniform {
+            index,
+            step_s,
+            median_step_s,
+        } => PostError::NonUniformTime {
+            path: path.to_path_buf(),
+            line: lines[index],
+            step_s,
+            median_step_s,
+            tolerance_percent: STEP_TOLERANCE * 100.0,
+        },
+    })?;
+
+    Ok(Table {
+        path: path.to_path_buf(),
+        header_line,
+        time_s,
+        step_s,
+        header,
+        columns: wanted.into_iter().zip(values).collect(),
+    })
+}
+
+fn parse_cell(path: &Path, line: u64, column: &str, text: &str) -> Result<f64> {
+    let value: f64 = text.parse().map_err(|_| PostError::NotANumber {
+        path: path.to_path_buf(),
+        line,
+        column: column.to_string(),
+        text: text.to_string(),
+    })?;
+    if !value.is_finite() {
+        return Err(PostError::NonFinite {
+            path: path.to_path_buf(),
+            line,
+            column: column.to_string(),
+            text: text.to_string(),
+        });
+    }
+    Ok(value)
+}
+
+/// The spacing of the decimal grid a number was printed on: `0.0125` -> 1e-4,
+/// `1.5e-3` -> 1e-4, `20` -> 1. Printed values are exact to half of it.
+fn printed_resolution(text: &str) -> f64 {
+    let text = text.trim_start_matches(['+', '-']);
+    let (mantissa, exponent) = match text.find(['e', 'E']) {
+        Some(at) => (&text[..at], text[at + 1..].parse::<i32>().unwrap_or(0)),
+        None => (text, 0),
+    };
+    let decimals = mantissa.find('.').map_or(0, |dot| mantissa.len() - dot - 1) as i32;
+    10f64.powi(exponent - decimals)
+}
+
+enum TimeFault {
+    NotIncreasing {
+        index: usize,
+    },
+    NonUniform {
+        index: usize,
+        step_s: f64,
+        median_step_s: f64,
+    },
+}
+
+/// Checks a time axis; returns the mean step. `rounding` is the resolution to which the times
+/// were printed (0 for exact values).
+fn check_time_axis(time_s: &[f64], rounding: f64) -> std::result::Result<f64, TimeFault> {
+    for index in 1..time_s.len() {
+        if time_s[index] <= time_s[index - 1] {
+            return Err(TimeFault::NotIncreasing { index });
+        }
+    }
+    let n = time_s.len();
+    let steps: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+    // The median step is the sampling step even when a few samples are missing.
+    let median_step_s = crate::peaks::median(&steps).unwrap_or(0.0);
+    // Two printed times are each within half their resolution of the truth, so a step is
+    // within one resolution; capped so that a dropped sample (an error of one whole step) is
+    // always caught.
+    let tolerance = STEP_TOLERANCE * median_step_s + rounding.min(0.45 * median_step_s);
+    for (offset, step_s) in steps.iter().enumerate() {
+        if (step_s - median_step_s).abs() > tolerance {
+            return Err(TimeFault::NonUniform {
+                index: offset + 1,
+                step_s: *step_s,
+                median_step_s,
+            });
+        }
+    }
+    Ok((time_s[n - 1] - time_s[0]) / (n - 1) as f64)
+}
+
+/// Checks an in-memory signal (equal lengths, finite values, at least [`MIN_SAMPLES`],
+/// uniform increasing time) and returns its mean step, seconds.
+pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
+    if time_s.len() != values.len() {
+        return Err(PostError::InvalidSignal {
+            index: time_s.len().min(values.len()),
+            what: format!(
+                "time has {} samples but the signal has {}; expected equal lengths",
+                time_s.len(),
+                values.len()
+            ),
+        });
+    }
+    if time_s.len() < MIN_SAMPLES {
+        return Err(PostError::InvalidSignal {
+            index: time_s.len(),
+            what: format!("{} samples; need at least {MIN_SAMPLES}", time_s.len()),
+        });
+    }
+    for (index, (t, x)) in time_s.iter().zip(values).enumerate() {
+        if !t.is_finite() || !x.is_finite() {
+            return Err(PostError::InvalidSignal {
+                index,
+                what: format!("time {t} s, value {x}: expected finite numbers"),
+            });
+        }
+    }
+    check_time_axis(time_s, 0.0).map_err(|fault| match fault {
+        TimeFault::NotIncreasing { index } => PostError::InvalidSignal {
+            index,
+            what: format!(
+                "time {} s does not increase (previous {} s)",
+                time_s[index],
+                time_s[index - 1]
+            ),
+        },
+        TimeFault::NonUniform {
+            index,
+            step_s,
+            median_step_s,
+        } => PostError::InvalidSignal {
+            index,
+            what: format!(
+                "time step {step_s:e} s differs from the median step {median_step_s:e} s by more than {}%; expected uniform sampling",
+                STEP_TOLERANCE * 100.0
+            ),
+        },
+    })
+}
+
+/// What constant to remove from a signal before analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Detrend {
+    /// Analyse the signal as given. Right for AC-coupled accelerometer records and for FE
+    /// accelerations (zero at static equilibrium).
+    #[default]
+    None,
+    /// Subtract the record's mean. On a decaying oscillation the mean is not the midline: it
+    /// leaves a residual of order `A / (omega * T_record)` (about 0.2% of the first amplitude
+    /// for the paper's 20 s, 4.35 Hz record), enough to bias the decrement by ~0.2%. Fine for
+    /// spectra and envelopes, not recommended for the decrement.
+    Mean,
+    /// Estimate the equilibrium line from crest/trough triples: for a crest `P` between
+    /// troughs `T1` and `T2` of an exponential decay about an offset `c`,
+    /// `(P - c)^2 = (c - T1)(c - T2)`, so `c = (P^2 - T1 T2) / (2P - T1 - T2)` exactly; the
+    /// median over all cycles is subtracted. Use it for FE displacements that oscillate about
+    /// a gravity-preloaded position.
+    Midline,
+}
+
+/// Removes the offset chosen by `detrend`; returns the new signal and the constant removed.
+pub fn remove_offset(time_s: &[f64], values: &[f64], detrend: Detrend) -> Result<(Vec<f64>, f64)> {
+    let offset = match detrend {
+        Detrend::None => 0.0,
+        Detrend::Mean => mean(values),
+        Detrend::Midline => midline_offset(time_s, values)?,
+    };
+    Ok((values.iter().map(|x| x - offset).collect(), offset))
+}
+
+fn mean(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        0.0
+    } else {
+        values.iter().sum::<f64>() / values.len() as f64
+    }
+}
+
+/// The equilibrium line of a decaying oscillation from crest/trough triples (see
+/// [`Detrend::Midline`]).
+pub fn midline_offset(time_s: &[f64], values: &[f64]) -> Result<f64> {
+    // The mean is a coarse first guess, good enough to segment the signal into half-cycles.
+    let coarse = mean(values);
+    let centred: Vec<f64> = values.iter().map(|x| x - coarse).collect();
+    let options = |polarity| PeakOptions {
+        polarity,
+        ..PeakOptions::default()
+    };
+    let crests = peaks::find_peaks(time_s, &centred, &options(Polarity::Crests))?;
+    let troughs = peaks::find_peaks(time_s, &centred, &options(Polarity::Troughs))?;
+    let half_period = 0.5 * crests.period_s;
+    let mut estimates = Vec::new();
+    for crest in &crests.peaks {
+        let before = troughs
+            .peaks
+            .iter()
+            .rev()
+            .find(|trough| trough.time_s < crest.time_s);
+        let after = troughs
+            .peaks
+            .iter()
+            .find(|trough| trough.time_s > crest.time_s);
+        let (Some(before), Some(after)) = (before, after) else {
+            continue;
+        };
+        let regular = |gap: f64| (gap - half_period).abs() < 0.25 * half_period;
+        if !regular(crest.time_s - before.time_s) || !regular(after.time_s - crest.time_s) {
+            continue;
+        }
+        let p = crest.amplitude;
+        let (t1, t2) = (-before.amplitude, -after.amplitude);
+        let denominator = 2.0 * p - t1 - t2;
+        if denominator > 0.0 {
+            estimates.push((p * p - t1 * t2) / denominator);
+        }
+    }
+    if estimates.is_empty() {
+        return Err(PostError::TooFewPeaks {
+            kind: "crest/trough triples",
+            found: 0,
+            needed: 1,
+            hint: "the midline detrend needs a crest between two troughs half a period away"
+                .to_string(),
+        });
+    }
+    estimates.sort_by(f64::total_cmp);
+    let middle = estimates.len() / 2;
+    let median = if estimates.len() % 2 == 1 {
+        estimates[middle]
+    } else {
+        0.5 * (estimates[middle - 1] + estimates[middle])
+    };
+    Ok(coarse + median)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_signals::{damped_sine, DampedSine};
+
+    #[test]
+    fn printed_resolution_follows_the_text() {
+        assert_eq!(printed_resolution("20"), 1.0);
+        assert!((printed_resolution("0.0125") - 1e-4).abs() < 1e-18);
+        assert!((printed_resolution("1.5e-3") - 1e-4).abs() < 1e-18);
+        assert!((printed_resolution("-2.50E+1") - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rounded_print_of_1024_hz_passes_but_a_dropped_sample_fails() {
+        let n = 200;
+        let texts: Vec<String> = (0..n)
+            .map(|i| format!("{:.4}", i as f64 / 1024.0))
+            .collect();
+        let time: Vec<f64> = texts.iter().map(|t| t.parse().unwrap()).collect();
+        assert!(check_time_axis(&time, 1e-4).is_ok());
+        assert!(check_time_axis(&time, 0.0).is_err());
+
+        let mut dropped = time.clone();
+        dropped.remove(120);
+        match check_time_axis(&dropped, 1e-4) {
+            Err(TimeFault::NonUniform { index, .. }) => assert_eq!(index, 120),
+            _ => panic!("a dropped sample must be reported at the gap"),
+        }
+    }
+
+    #[test]
+    fn uniform_step_rejects_bad_slices() {
+        assert!(uniform_step(&[0.0, 1.0, 2.0], &[1.0, 2.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 2.0], &[1.0, f64::NAN, 2.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 1.0], &[1.0, 2.0, 3.0]).is_err());
+        assert!(uniform_step(&[0.0, 1.0, 3.0, 4.0], &[1.0, 2.0, 3.0, 4.0]).is_err());
+        let step = uniform_step(&[0.0, 0.5, 1.0, 1.5], &[1.0, 2.0, 3.0, 4.0]);
+        assert!(matches!(step, Ok(s) if (s - 0.5).abs() < 1e-15));
+    }
+
+    #[test]
+    fn midline_recovers_an_offset_exactly_where_the_mean_does_not() {
+        // zeta = 0.01 decays fast enough that the mean of 10 s misses the midline.
+        let offset = 3.7;
+        let sine = DampedSine {
+            frequency_hz: 4.35,
+            zeta: 0.01,
+            amplitude: 1.0,
+            phase: 0.3,
+            offset,
+        };
+        let (time, x) = damped_sine(&sine, 1000.0, 10.0);
+        let midline = midline_offset(&time, &x).unwrap();
+        let mean_error = (mean(&x) - offset).abs();
+        let midline_error = (midline - offset).abs();
+        // The triple formula is exact for an exponential decay; what is left comes from the
+        // crest fits (relative ~1e-7 of the amplitude).
+        assert!(midline_error < 1e-5, "midline error {midline_error:e}");
+        assert!(
+            mean_error > 100.0 * midline_error,
+            "mean error {mean_error:e}"
+        );
+    }
+
+    fn write(folder: &Path, name: &str, text: &str) -> PathBuf {
+        let path = folder.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn reads_every_column_with_comments_spaces_and_a_byte_order_mark() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = write(
+            folder.path(),
+            "history.csv",
+            "# coil-solve history\n\u{feff}time_s, node12_uz_accel_m_s2 ,node12_uz_disp_mm\n\
+             0.000, 1.0, -12.5\n0.001, 2.0, -12.4\n\n0.002, 3.0, -12.3\n",
+        );
+        let table = read_csv(&path).unwrap();
+        assert_eq!(table.header_line, 2);
+        assert_eq!(
+            table.header,
+            ["time_s", "node12_uz_accel_m_s2", "node12_uz_disp_mm"]
+        );
+        assert_eq!(
+            table.column("node12_uz_accel_m_s2").unwrap(),
+            [1.0, 2.0, 3.0]
+        );
+        assert!((table.step_s - 0.001).abs() < 1e-15);
+        match table.column("accel") {
+            Err(PostError::MissingColumn {
+                line, available, ..
+            }) => {
+                assert_eq!(line, 2);
+                assert_eq!(available.len(), 3);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn named_columns_ignore_other_cells_but_duplicates_are_errors() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = write(
+            folder.path(),
+            "mixed.csv",
+            "time_s,accel_m_s2,note\n0,1,start\n0.5,2,\n1.0,3,end\n",
+        );
+        assert!(read_csv(&path).is_err());
+        let signal = read_signal(&path, "accel_m_s2").unwrap();
+        assert_eq!(signal.values, [1.0, 2.0, 3.0]);
+        let only = read_signal_or_only(&path, None);
+        assert!(matches!(only, Err(PostError::AmbiguousColumn { .. })));
+
+        let twice = write(
+            folder.path(),
+            "twice.csv",
+            "time_s,a,a\n0,1,1\n1,2,2\n2,3,3\n",
+        );
+        let error = read_signal(&twice, "a").unwrap_err();
+        assert!(
+            matches!(
+                error,
+                PostError::DuplicateColumn {
+                    first: 2,
+                    second: 3,
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+}

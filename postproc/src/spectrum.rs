@@ -1,0 +1,338 @@
+//! One-sided amplitude spectrum with interpolated peak frequencies.
+//!
+//! # Formulation
+//! The signal (offset removed, see [`Detrend`]) of `n` samples is multiplied by a window
+//! `w_k` (periodic Hann `0.5 - 0.5 cos(2 pi k / n)` by default), zero-padded to
+//! `n_fft = next_power_of_two(pad * n)` and transformed with `rustfft`. The amplitude
+//! `A_j = 2 |X_j| / sum(w)` is scaled so that a steady sinusoid of amplitude `a` at a bin
+//! frequency reads `a` (coherent gain correction); DC and Nyquist are not doubled. The grid is
+//! `f_j = j / (n_fft dt)`; the resolution of the data is the native bin `1 / (n dt)`.
+//! Zero padding only interpolates the same spectrum on a finer grid.
+//!
+//! # Peaks
+//! A peak is a local maximum of the grid spectrum, at least `threshold` times the largest
+//! one, at least [`PROMINENCE`] times the lowest value within 3 native bins on each side
+//! (ripples on a decaying line's skirt are not peaks), and, near any larger peak already
+//! listed, outside its main lobe (+-2 native bins for Hann, 1 for the rectangular window) and
+//! above the window's side-lobe level at that distance. Its frequency and amplitude
+//! come from a parabola through the logarithms of the three grid values around it (Gaussian
+//! interpolation): near its top the Hann main lobe is close to a Gaussian, so with the 4x
+//! padding the frequency error is a small fraction of a native bin (the tests measure it).
+//! The default threshold is 5%.
+//!
+//! A decaying signal's line is a Lorentzian of half-width `sigma / 2 pi` Hz; for the paper's
+//! spring (zeta 0.00175 at 4.35 Hz, 0.0076 Hz) it is far narrower than the 0.05 Hz bin of a
+//! 20 s record, so the spectrum shows the window's shape, not the damping; use the decrement
+//! or the envelope for damping.
+
+use rustfft::num_complex::Complex64;
+use rustfft::FftPlanner;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+use crate::error::{PostError, Result};
+use crate::signal::{self, Detrend};
+
+/// Taper applied before the transform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Window {
+    /// Periodic Hann: side lobes -31.5 dB, main lobe +-2 bins.
+    #[default]
+    Hann,
+    /// No taper: the narrowest main lobe (+-1 bin) but side lobes at -13 dB.
+    Rectangular,
+}
+
+impl Window {
+    fn weight(self, k: usize, n: usize) -> f64 {
+        match self {
+            Window::Hann => 0.5 - 0.5 * (TAU * k as f64 / n as f64).cos(),
+            Window::Rectangular => 1.0,
+        }
+    }
+
+    /// Half-width of the main lobe, native bins.
+    fn main_lobe_bins(self) -> f64 {
+        match self {
+            Window::Hann => 2.0,
+            Window::Rectangular => 1.0,
+        }
+    }
+
+    /// An upper bound of the side lobes `distance` native bins from a unit peak: Hann side
+    /// lobes are -31.5, -41, -48 dB at 2.5, 3.5, 4.5 bins and fall as `d^-3`; rectangular ones
+    /// are `1 / (pi d)`.
+    fn side_lobe_level(self, distance: f64) -> f64 {
+        match self {
+            Window::Hann => 0.04 * (2.5 / distance.max(2.5)).powi(3),
+            Window::Rectangular => 1.2 / (std::f64::consts::PI * distance.max(1.5)),
+        }
+    }
+}
+
+/// A listed peak must be this many times the lowest value within [`PROMINENCE_BINS`] on
+/// each side.
+pub const PROMINENCE: f64 = 2.0;
+
+/// Reach of the prominence test, native bins.
+pub const PROMINENCE_BINS: f64 = 3.0;
+
+/// Largest transform length accepted (2^28 points, 4 GiB of complex numbers).
+pub const MAX_FFT_LENGTH: usize = 1 << 28;
+
+/// Options of [`amplitude_spectrum`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectrumOptions {
+    pub window: Window,
+    /// The transform length is the next power of two of `zero_pad * n` (at least 1).
+    pub zero_pad: usize,
+    pub detrend: Detrend,
+}
+
+impl Default for SpectrumOptions {
+    fn default() -> Self {
+        SpectrumOptions {
+            window: Window::Hann,
+            zero_pad: 4,
+            detrend: Detrend::Mean,
+        }
+    }
+}
+
+/// A one-sided amplitude spectrum.
+#[derive(Debug, Clone, Serialize)]
+pub struct Spectrum {
+    /// Grid frequencies, Hz.
+    #[serde(skip)]
+    pub frequency_hz: Vec<f64>,
+    /// Amplitudes, signal unit.
+    #[serde(skip)]
+    pub amplitude: Vec<f64>,
+    /// `1 / (n dt)`: the resolution of the data, Hz.
+    pub native_bin_hz: f64,
+    /// `1 / (n_fft dt)`: the grid spacing, Hz.
+    pub grid_bin_hz: f64,
+    pub window: Window,
+    pub samples: usize,
+    pub fft_length: usize,
+}
+
+/// An interpolated spectral peak.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SpectralPeak {
+    pub frequency_hz: f64,
+    pub amplitude: f64,
+}
+
+/// Computes the amplitude spectrum of `values` sampled at `time_s` (see the module doc).
+pub fn amplitude_spectrum(
+    time_s: &[f64],
+    values: &[f64],
+    options: &SpectrumOptions,
+) -> Result<Spectrum> {
+    let step_s = signal::uniform_step(time_s, values)?;
+    if options.zero_pad == 0 {
+        return Err(PostError::InvalidOption(
+            "zero padding factor 0; expected 1 or more".to_string(),
+        ));
+    }
+    let (y, _) = signal::remove_offset(time_s, values, options.detrend)?;
+    let n = y.len();
+    let fft_length = options
+        .zero_pad
+        .checked_mul(n)
+        .and_then(usize::checked_next_power_of_two)
+        .filter(|&length| length <= MAX_FFT_LENGTH)
+        .ok_or_else(|| {
+            PostError::InvalidOption(format!(
+                "zero padding {} times {n} samples exceeds the largest transform, {MAX_FFT_LENGTH}",
+                options.zero_pad
+            ))
+        })?;
+    let mut buffer = vec![Complex64::new(0.0, 0.0); fft_length];
+    let mut window_sum = 0.0;
+    for (k, v) in y.iter().enumerate() {
+        let w = options.window.weight(k, n);
+        window_sum += w;
+        buffer[k] = Complex64::new(w * v, 0.0);
+    }
+    FftPlanner::new()
+        .plan_fft_forward(fft_length)
+        .process(&mut buffer);
+    let half = fft_length / 2;
+    let grid_bin_hz = 1.0 / (fft_length as f64 * step_s);
+    let amplitude = (0..=half)
+        .map(|j| {
+            let scale = if j == 0 || j == half { 1.0 } else { 2.0 };
+            scale * buffer[j].norm() / window_sum
+        })
+        .collect();
+    Ok(Spectrum {
+        frequency_hz: (0..=half).map(|j| j as f64 * grid_bin_hz).collect(),
+        amplitude,
+        native_bin_hz: 1.0 / (n as f64 * step_s),
+        grid_bin_hz,
+        window: options.window,
+        samples: n,
+        fft_length,
+    })
+}
+
+impl Spectrum {
+    /// Up to `max_count` peaks of at least `threshold` times the largest, by decreasing
+    /// amplitude (see the module doc).
+    pub fn peaks(&self, max_count: usize, threshold: f64) -> Vec<SpectralPeak> {
+        let a = &self.amplitude;
+        if a.len() < 3 {
+            return Vec::new();
+        }
+        let mut maxima: Vec<usize> = (1..a.len() - 1)
+            .filter(|&j| a[j] > a[j - 1] && a[j] >= a[j + 1])
+            .collect();
+        let largest = maxima.iter().map(|&j| a[j]).fold(0.0, f64::max);
+        maxima.retain(|&j| a[j] >= threshold * largest && a[j] > 0.0);
+        maxima.sort_by(|&i, &j| a[j].total_cmp(&a[i]));
+        let bin = self.native_bin_hz;
+        let reach = (PROMINENCE_BINS * bin / self.grid_bin_hz).round() as usize;
+        let mut chosen: Vec<SpectralPeak> = Vec::new();
+        for j in maxima {
+            // Prominence: the peak must stand well above the lowest value on each side.
+            let left = a[j.saturating_sub(reach)..j]
+                .iter()
+                .copied()
+                .fold(a[j], f64::min);
+            let right = a[j + 1..(j + 1 + reach).min(a.len())]
+                .iter()
+                .copied()
+                .fold(a[j], f64::min);
+            if a[j] < PROMINENCE * left.max(right) {
+                continue;
+            }
+            let peak = self.interpolate(j);
+            let clear = chosen.iter().all(|c| {
+                let distance = (c.frequency_hz - peak.frequency_hz).abs() / bin;
+                distance > self.window.main_lobe_bins()
+                    && peak.amplitude > self.window.side_lobe_level(distance) * c.amplitude
+            });
+            if clear {
+                chosen.push(peak);
+                if chosen.len() == max_count {
+                    break;
+                }
+            }
+        }
+        chosen
+    }
+
+    /// The largest peak, if the spectrum has one.
+    pub fn dominant_peak(&self) -> Option<SpectralPeak> {
+        self.peaks(1, 0.0).into_iter().next()
+    }
+
+    /// Gaussian (log-parabolic) interpolation around grid point `j`.
+    fn interpolate(&self, j: usize) -> SpectralPeak {
+        let (l, c, r) = (
+            self.amplitude[j - 1],
+            self.amplitude[j],
+            self.amplitude[j + 1],
+        );
+        if l <= 0.0 || r <= 0.0 {
+            return SpectralPeak {
+                frequency_hz: self.frequency_hz[j],
+                amplitude: c,
+            };
+        }
+        let (l, c, r) = (l.ln(), c.ln(), r.ln());
+        let curvature = l - 2.0 * c + r;
+        let offset = if curvature < 0.0 {
+            0.5 * (l - r) / curvature
+        } else {
+            0.0
+        };
+        SpectralPeak {
+            frequency_hz: (j as f64 + offset) * self.grid_bin_hz,
+            amplitude: (c - 0.25 * (l - r) * offset).exp(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_tone(rate: f64, seconds: f64) -> (Vec<f64>, Vec<f64>) {
+        let n = (rate * seconds) as usize;
+        let time: Vec<f64> = (0..n).map(|i| i as f64 / rate).collect();
+        let x = time
+            .iter()
+            .map(|t| 1.5 + (TAU * 4.35 * t + 0.3).sin() + 0.3 * (TAU * 17.123 * t).cos())
+            .collect();
+        (time, x)
+    }
+
+    #[test]
+    fn two_tones_are_found_within_a_small_fraction_of_a_bin() {
+        let (time, x) = two_tone(1000.0, 10.0);
+        let spectrum = amplitude_spectrum(&time, &x, &SpectrumOptions::default()).unwrap();
+        let peaks = spectrum.peaks(5, 0.05);
+        assert_eq!(peaks.len(), 2, "{peaks:?}");
+        let bin = spectrum.native_bin_hz;
+        // Gaussian interpolation of a 4x padded Hann lobe: measured ~1e-3 bin.
+        assert!(
+            (peaks[0].frequency_hz - 4.35).abs() < 0.01 * bin,
+            "{:?}",
+            peaks[0]
+        );
+        assert!(
+            (peaks[1].frequency_hz - 17.123).abs() < 0.01 * bin,
+            "{:?}",
+            peaks[1]
+        );
+        // Amplitudes within the log-parabola's error on the Hann lobe (< 0.1%).
+        assert!((peaks[0].amplitude - 1.0).abs() < 1e-3, "{:?}", peaks[0]);
+        assert!((peaks[1].amplitude - 0.3).abs() < 1e-3, "{:?}", peaks[1]);
+    }
+
+    #[test]
+    fn rectangular_window_also_finds_the_strong_tone() {
+        let (time, x) = two_tone(500.0, 8.0);
+        let options = SpectrumOptions {
+            window: Window::Rectangular,
+            ..SpectrumOptions::default()
+        };
+        let spectrum = amplitude_spectrum(&time, &x, &options).unwrap();
+        let peak = spectrum.dominant_peak().unwrap();
+        assert!((peak.frequency_hz - 4.35).abs() < 0.05 * spectrum.native_bin_hz);
+    }
+
+    #[test]
+    #[ignore = "a study; run with --ignored --nocapture"]
+    fn peak_interpolation_study() {
+        for (window, pad) in [
+            (Window::Hann, 1),
+            (Window::Hann, 4),
+            (Window::Hann, 16),
+            (Window::Rectangular, 4),
+        ] {
+            let mut worst_bins = 0.0_f64;
+            let mut worst_amplitude = 0.0_f64;
+            for k in 0..20 {
+                // Sweep the tone across one native bin (0.1 Hz for 10 s).
+                let f = 4.3 + 0.005 * k as f64;
+                let time: Vec<f64> = (0..10_000).map(|i| i as f64 / 1000.0).collect();
+                let x: Vec<f64> = time.iter().map(|t| (TAU * f * t + 0.3).sin()).collect();
+                let options = SpectrumOptions {
+                    window,
+                    zero_pad: pad,
+                    ..SpectrumOptions::default()
+                };
+                let spectrum = amplitude_spectrum(&time, &x, &options).unwrap();
+                let peak = spectrum.dominant_peak().unwrap();
+                worst_bins = worst_bins.max((peak.frequency_hz - f).abs() / spectrum.native_bin_hz);
+                worst_amplitude = worst_amplitude.max((peak.amplitude - 1.0).abs());
+            }
+            println!("{window:?} pad {pad}: frequency error <= {worst_bins:.1e} bins, amplitude error <= {worst_amplitude:.1e}");
+        }
+    }
+}

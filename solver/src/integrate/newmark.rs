@@ -33,7 +33,10 @@
 //! `a_0` solves `M a_0 = f(t_0) - C v_0 - K u_0` ([`Stepper::initial_state`]). A DOF
 //! whose mass column is identically zero (a lumped mass without rotary inertia) gets
 //! `a_0 = 0`: its row of the balance holds no inertia, so `a_0` there is not defined
-//! by the equation; the scheme fixes it from the first step on. The mass matrix on
+//! by the equation. Their displacements and velocities then follow the constraint
+//! exactly; their accelerations carry the mismatch with the constraint's true
+//! acceleration, which average acceleration keeps as a ripple alternating every step
+//! (HHT and generalised-alpha damp it like any unresolved mode). The mass matrix on
 //! the remaining DOFs must be positive definite; otherwise the error names the DOF
 //! whose pivot failed.
 //!
@@ -246,11 +249,10 @@ pub struct Stepper {
     /// successful [`Stepper::set_step`].
     factor_error: Option<IntegrateError>,
     mass: Option<MassFactor>,
-    // Step buffers: load blend, predictor combinations, right-hand side / a_{n+1}.
+    // Step buffers: load blend, the vectors multiplying [M, C, K] interleaved per
+    // DOF, right-hand side / a_{n+1}.
     f_blend: Vec<f64>,
-    x_m: Vec<f64>,
-    x_c: Vec<f64>,
-    x_k: Vec<f64>,
+    xyz: Vec<[f64; 3]>,
     rhs: Vec<f64>,
 }
 
@@ -273,7 +275,7 @@ impl Stepper {
             "effective matrix S = (1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K",
             ops.pattern(),
         )?;
-        let nnz = ops.pattern().row_idx().len();
+        let nnz = ops.nnz();
         let mut stepper = Self {
             ops,
             scheme,
@@ -284,9 +286,7 @@ impl Stepper {
             factor_error: None,
             mass: None,
             f_blend: vec![0.0; n],
-            x_m: vec![0.0; n],
-            x_c: vec![0.0; n],
-            x_k: vec![0.0; n],
+            xyz: vec![[0.0; 3]; n],
             rhs: vec![0.0; n],
         };
         stepper.refactor()?;
@@ -358,8 +358,10 @@ impl Stepper {
         if self.mass.is_none() {
             self.mass = Some(self.factor_mass()?);
         }
-        self.x_m.fill(0.0);
-        self.ops.residual_into(f0, &self.x_m, v0, u0, &mut self.rhs);
+        for ((x, &v), &u) in self.xyz.iter_mut().zip(v0).zip(u0) {
+            *x = [0.0, v, u];
+        }
+        self.ops.residual_into(f0, &self.xyz, false, &mut self.rhs);
         let mut a = vec![0.0; n];
         if let Some(mass) = &mut self.mass {
             let mut r: Vec<f64> = mass.massive.iter().map(|&i| self.rhs[i]).collect();
@@ -449,18 +451,11 @@ impl Stepper {
         let c_va = du * dt * (1.0 - gamma);
         for i in 0..n {
             let (u, v, a) = (state.u[i], state.v[i], state.a[i]);
-            self.x_k[i] = u + c_uv * v + c_ua * a;
-            self.x_c[i] = v + c_va * a;
-            self.x_m[i] = am * a;
+            self.xyz[i] = [am * a, v + c_va * a, u + c_uv * v + c_ua * a];
             self.f_blend[i] = du * f_next[i] + af * f_n[i];
         }
-        self.ops.residual_into(
-            &self.f_blend,
-            &self.x_m,
-            &self.x_c,
-            &self.x_k,
-            &mut self.rhs,
-        );
+        self.ops
+            .residual_into(&self.f_blend, &self.xyz, am != 0.0, &mut self.rhs);
         self.factor.solve_in_place(&mut self.rhs);
 
         // Corrector.

@@ -394,5 +394,23 @@ mod tests {
             }
             assert!(!f.is_factored());
         }
+        // An arrowhead (hub = DOF 0) makes AMD reorder (the hub last); a leaf with a
+        // negative diagonal fails first, and must be reported in the caller's numbering.
+        let n = 30;
+        for bad in [3, 17] {
+            let mut t = vec![Triplet::new(0, 0, 100.0)];
+            for i in 1..n {
+                t.push(Triplet::new(i, i, if i == bad { -1.0 } else { 4.0 }));
+                t.push(Triplet::new(0, i, 1.0));
+                t.push(Triplet::new(i, 0, 1.0));
+            }
+            let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+            let mut f = SpdFactor::analyse("test", a.symbolic()).unwrap();
+            assert_ne!(f.perm[n - 1], n - 1, "expected a reordering");
+            match f.factor(a.as_ref()) {
+                Err(IntegrateError::NotPositiveDefinite { dof, .. }) => assert_eq!(dof, bad),
+                other => panic!("expected a pivot failure, got {other:?}"),
+            }
+        }
     }
 }

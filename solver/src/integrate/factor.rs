@@ -9,13 +9,16 @@
 //! faer's `factorize_symbolic_cholesky` computes the AMD fill-reducing ordering and
 //! the factor's pattern once; `factorize_numeric_llt` then only needs the values. Only
 //! the lower triangle of the matrix is read (`Side::Lower`). The factor is forced
-//! simplicial (one sparse column per column, diagonal first): a transient solves
-//! with it tens of thousands of times, and on the narrow-banded beam systems here a
-//! plain column-oriented triangular solve over the simplicial factor, written below
-//! with 32-bit indices and a precomputed inverse diagonal, is several times faster
-//! than the supernodal solve, whose per-supernode overhead dominates for 6- to
-//! 12-column supernodes. Everything runs sequentially (`Par::Seq`): threading costs
-//! more than it gains at this size, and the machine is shared.
+//! simplicial (one sparse column per column): a transient solves with it tens of
+//! thousands of times, and on the narrow-banded beam systems here the supernodal
+//! solve's per-supernode overhead dominates (6- to 12-column supernodes). The solves
+//! are written below rather than taken from faer: both passes in dot-product form
+//! (L by rows forward, by columns backward, so the only serial dependence is on the
+//! neighbouring unknown), 32-bit indices, a precomputed inverse diagonal, no scratch
+//! allocation. On the 4000-DOF benchmark chain they take about 50 us against about
+//! 90 us for faer's simplicial solve and 210 us for its supernodal one. Everything
+//! runs sequentially (`Par::Seq`): threading costs more than it gains at this size,
+//! and the machine is shared.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};

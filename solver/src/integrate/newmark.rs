@@ -203,7 +203,6 @@ impl Coefficients {
     }
 
     /// Scale factors `(cm, cc, ck)` of `S = cm M + cc C + ck K`.
-    #[allow(non_snake_case)]
     fn effective(&self, dt: f64) -> (f64, f64, f64) {
         let (am, af, beta, gamma) = (self.alpha_m, self.alpha_f, self.beta, self.gamma);
         (
@@ -409,7 +408,6 @@ impl Stepper {
     /// Advances `state` by one step `dt`, given the loads `f_n = f(t)` and
     /// `f_next = f(t + dt)`. `step` only labels a non-finite-state error; after that
     /// error `state` holds the non-finite step for inspection. No allocation.
-    #[allow(non_snake_case)]
     pub fn step(
         &mut self,
         state: &mut State,
@@ -517,7 +515,7 @@ impl Stepper {
     }
 }
 
-/// Integrates `M a + C v + K u = f(t)` from rest-or-not at `t = 0`: builds a
+/// Integrates `M a + C v + K u = f(t)` from `u0`, `v0` at `t = 0`: builds a
 /// [`Stepper`], computes `a_0` from `u0`, `v0` and `f(0)`, and runs `n_steps` steps of
 /// `dt`. `force(t, f)` writes the load at `t` into the zeroed `f`; `observer(k, t,
 /// state)` sees step `k = 0..=n_steps`. Returns the final state.

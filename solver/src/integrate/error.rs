@@ -1,0 +1,93 @@
+//! Errors of the time integrators.
+//!
+//! DOF indices are the operator's row/column indices (the engine's free-DOF numbering
+//! after constraint elimination), 0-based. Times are in the operator's time unit (s in
+//! coil).
+
+/// Any failure of a time integrator. Each variant says where it happened and what to
+/// check next; none of them is a panic.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IntegrateError {
+    /// The time step is zero, negative or not finite.
+    #[error("time step dt = {dt} must be finite and > 0")]
+    InvalidTimeStep { dt: f64 },
+
+    /// A scheme parameter lies outside the range where the scheme is unconditionally
+    /// stable and second-order accurate.
+    #[error("{scheme}: {name} = {value} is outside [{min}, {max}]")]
+    InvalidParameter {
+        scheme: &'static str,
+        name: &'static str,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+
+    /// A matrix or vector has the wrong size.
+    #[error("{what} has size {found}, expected {expected}")]
+    DimensionMismatch {
+        what: &'static str,
+        expected: usize,
+        found: usize,
+    },
+
+    /// An operator matrix is not symmetric: entry (row, col) differs from (col, row)
+    /// by more than round-off.
+    #[error(
+        "{matrix} is not symmetric: entry ({row}, {col}) = {value:e} but ({col}, {row}) = \
+         {transposed:e}; the integrators need symmetric M, C, K with both triangles stored"
+    )]
+    NotSymmetric {
+        matrix: &'static str,
+        row: usize,
+        col: usize,
+        value: f64,
+        transposed: f64,
+    },
+
+    /// An input holds NaN or infinity.
+    #[error("{what} holds a non-finite value at index {index}")]
+    NonFiniteInput { what: &'static str, index: usize },
+
+    /// An operator matrix holds NaN or infinity.
+    #[error("{matrix} holds a non-finite value at ({row}, {col})")]
+    NonFiniteEntry {
+        matrix: &'static str,
+        row: usize,
+        col: usize,
+    },
+
+    /// A Cholesky pivot was not positive: the matrix is singular or indefinite.
+    #[error(
+        "{matrix} is not positive definite (Cholesky pivot failed at DOF {dof}); look for an \
+         unconstrained mechanism, a DOF with neither mass nor stiffness, or negative \
+         mass/stiffness near that DOF"
+    )]
+    NotPositiveDefinite { matrix: &'static str, dof: usize },
+
+    /// The sparse factorisation could not run (out of memory, index overflow).
+    #[error("sparse factorisation of {matrix} failed: {message}")]
+    Factorization {
+        matrix: &'static str,
+        message: String,
+    },
+
+    /// The state became NaN or infinite during stepping (diverging force, overflow).
+    #[error(
+        "non-finite state at t = {time} (step {step}), DOF {dof}; check the applied force \
+         history at that time"
+    )]
+    NonFiniteState { step: usize, time: f64, dof: usize },
+
+    /// A modal frequency or damping ratio is negative or not finite.
+    #[error("mode {mode}: {name} = {value} must be finite and >= 0")]
+    InvalidMode {
+        mode: usize,
+        name: &'static str,
+        value: f64,
+    },
+
+    /// A requested output DOF lies outside the mode shapes.
+    #[error("output DOF {dof} is out of range (mode shapes have {n_dofs} rows)")]
+    DofOutOfRange { dof: usize, n_dofs: usize },
+}

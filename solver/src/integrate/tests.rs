@@ -1,0 +1,443 @@
+//! Tests across the integrators (modal superposition against direct integration,
+//! error paths) and the helpers shared with the per-module tests.
+
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Mat;
+
+use super::modal::{
+    integrate_modal, modal_coordinates, modal_damping_ratios, project, rayleigh_damping_ratios,
+    ModalBasis, ModalState,
+};
+use super::*;
+
+/// A sparse matrix from a dense row-major table, zeros left out.
+pub(super) fn sparse(rows: &[&[f64]]) -> SparseColMat<usize, f64> {
+    let n = rows.len();
+    let mut t = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            if v != 0.0 {
+                t.push(Triplet::new(i, j, v));
+            }
+        }
+    }
+    SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
+}
+
+/// Runs `scheme` on `ops` from `u0`, `v0` without load and returns the history of
+/// DOF `dof`.
+pub(super) fn free_history(
+    ops: Operators<'_>,
+    scheme: Scheme,
+    dt: f64,
+    n_steps: usize,
+    u0: &[f64],
+    v0: &[f64],
+    dof: usize,
+) -> Vec<f64> {
+    let mut history = Vec::with_capacity(n_steps + 1);
+    integrate(
+        ops,
+        scheme,
+        dt,
+        n_steps,
+        u0,
+        v0,
+        &mut |_, _| {},
+        &mut |_, _, s| history.push(s.u[dof]),
+    )
+    .unwrap();
+    history
+}
+
+/// Upward zero crossings, linearly interpolated, as fractional step indices.
+pub(super) fn upward_crossings(u: &[f64]) -> Vec<f64> {
+    u.windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0] < 0.0 && w[1] >= 0.0)
+        .map(|(n, w)| n as f64 + w[0] / (w[0] - w[1]))
+        .collect()
+}
+
+/// Mean period in steps between the first and last upward crossing.
+pub(super) fn period_in_steps(u: &[f64]) -> f64 {
+    let c = upward_crossings(u);
+    (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64
+}
+
+/// `ln |L|` per step of a sampled damped sinusoid `u_n = A r^n cos(theta n + phi)`,
+/// from the Casorati invariant `u_n^2 - u_{n-1} u_{n+1} = A^2 r^{2n} sin^2(theta)`,
+/// which is exactly geometric whatever the phase (no peak picking, no interpolation).
+pub(super) fn log_decay_per_step(u: &[f64], from: usize, to: usize) -> f64 {
+    let e = |n: usize| u[n] * u[n] - u[n - 1] * u[n + 1];
+    (e(to) / e(from)).ln() / (2.0 * (to - from) as f64)
+}
+
+/// Two-DOF chain with classical Rayleigh damping: the test system of the modal
+/// comparison. Returns (M, K, alpha, beta).
+fn two_dof() -> (SparseColMat<usize, f64>, SparseColMat<usize, f64>, f64, f64) {
+    let m = sparse(&[&[2.0, 0.0], &[0.0, 1.0]]);
+    let k = sparse(&[&[600.0, -200.0], &[-200.0, 200.0]]);
+    (m, k, 0.5, 1e-3)
+}
+
+/// Eigenpairs of the 2x2 problem `K phi = w^2 M phi` (M diagonal), shapes mass-normalised.
+fn two_dof_modes(m: [f64; 2], k: [[f64; 2]; 2]) -> (Vec<f64>, Mat<f64>) {
+    // det(K - l M) = m0 m1 l^2 - (k00 m1 + k11 m0) l + det K
+    let (a, b, c) = (
+        m[0] * m[1],
+        -(k[0][0] * m[1] + k[1][1] * m[0]),
+        k[0][0] * k[1][1] - k[0][1] * k[1][0],
+    );
+    let disc = (b * b - 4.0 * a * c).sqrt();
+    let lambdas = [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)];
+    let mut shapes = Mat::zeros(2, 2);
+    let mut omega = Vec::new();
+    for (j, &l) in lambdas.iter().enumerate() {
+        // First row of (K - l M) phi = 0.
+        let phi = [-k[0][1], k[0][0] - l * m[0]];
+        let norm = (m[0] * phi[0] * phi[0] + m[1] * phi[1] * phi[1]).sqrt();
+        shapes[(0, j)] = phi[0] / norm;
+        shapes[(1, j)] = phi[1] / norm;
+        omega.push(l.sqrt());
+    }
+    (omega, shapes)
+}
+
+/// A triangular pulse on DOF 1: 0 -> 100 -> 0 over [0, 0.02] s, kinks at sample
+/// times for the steps used, so both methods see it exactly as piecewise linear.
+fn pulse(t: f64) -> f64 {
+    let peak = 100.0;
+    if t <= 0.01 {
+        peak * t / 0.01
+    } else if t <= 0.02 {
+        peak * (0.02 - t) / 0.01
+    } else {
+        0.0
+    }
+}
+
+#[test]
+fn modal_superposition_matches_direct_integration_to_second_order() {
+    let (m, k, alpha, beta) = two_dof();
+    let c = sparse(&[
+        &[alpha * 2.0 + beta * 600.0, -beta * 200.0],
+        &[-beta * 200.0, alpha * 1.0 + beta * 200.0],
+    ]);
+    let (omega, shapes) = two_dof_modes([2.0, 1.0], [[600.0, -200.0], [-200.0, 200.0]]);
+    let zeta = rayleigh_damping_ratios(&omega, alpha, beta);
+    // Classical damping: the general phi^T C phi / 2w must agree with Rayleigh's formula.
+    let zeta_general = modal_damping_ratios(shapes.as_ref(), &omega, c.as_ref()).unwrap();
+    for (z, zg) in zeta.iter().zip(&zeta_general) {
+        assert!((z - zg).abs() < 1e-14, "{z} vs {zg}");
+    }
+
+    let u0 = [0.01, 0.02];
+    let v0 = [0.0, 0.5];
+    let t_end = 1.0;
+    let modal = |dt: f64| -> Vec<[f64; 2]> {
+        let n_steps = (t_end / dt).round() as usize;
+        let initial = ModalState {
+            t: 0.0,
+            q: modal_coordinates(shapes.as_ref(), m.as_ref(), &u0).unwrap(),
+            qd: modal_coordinates(shapes.as_ref(), m.as_ref(), &v0).unwrap(),
+        };
+        let basis = ModalBasis {
+            shapes: shapes.as_ref(),
+            omega: &omega,
+            zeta: &zeta,
+        };
+        let mut out = Vec::new();
+        let mut f = [0.0; 2];
+        integrate_modal(
+            basis,
+            dt,
+            n_steps,
+            &initial,
+            &[0, 1],
+            &mut |t, p| {
+                f[1] = pulse(t);
+                project(shapes.as_ref(), &f, p).unwrap();
+            },
+            &mut |_, _, r| out.push([r.u[0], r.u[1]]),
+        )
+        .unwrap();
+        out
+    };
+    let direct = |dt: f64| -> Vec<[f64; 2]> {
+        let n_steps = (t_end / dt).round() as usize;
+        let ops = Operators {
+            m: m.as_ref(),
+            c: Some(c.as_ref()),
+            k: k.as_ref(),
+        };
+        let mut out = Vec::new();
+        integrate(
+            ops,
+            Scheme::AverageAcceleration,
+            dt,
+            n_steps,
+            &u0,
+            &v0,
+            &mut |t, f| f[1] = pulse(t),
+            &mut |_, _, s| out.push([s.u[0], s.u[1]]),
+        )
+        .unwrap();
+        out
+    };
+    let error = |dt: f64| -> (f64, f64) {
+        let (a, b) = (modal(dt), direct(dt));
+        let amplitude = a
+            .iter()
+            .flat_map(|x| x.iter())
+            .fold(0.0f64, |s, x| s.max(x.abs()));
+        let e = a
+            .iter()
+            .zip(&b)
+            .flat_map(|(x, y)| [(x[0] - y[0]).abs(), (x[1] - y[1]).abs()])
+            .fold(0.0, f64::max);
+        (e, amplitude)
+    };
+    let dts = [1e-3, 5e-4, 2.5e-4];
+    let errors: Vec<(f64, f64)> = dts.iter().map(|&dt| error(dt)).collect();
+    let w_max = omega[1];
+    for (i, &(e, amplitude)) in errors.iter().enumerate() {
+        // Phase error of the fastest mode after t_end, the dominant term:
+        // amplitude * w t (w dt)^2 / 12; a factor 2 covers the mode mix.
+        let bound = 2.0 * amplitude * w_max * t_end * (w_max * dts[i]).powi(2) / 12.0;
+        eprintln!("modal vs direct: dt = {:e}: max |du| = {e:.3e} (bound {bound:.3e}, amplitude {amplitude:.3e})", dts[i]);
+        assert!(e < bound, "dt = {}: error {e} above {bound}", dts[i]);
+    }
+    for w in errors.windows(2) {
+        let slope = (w[0].0 / w[1].0).log2();
+        eprintln!("modal vs direct: slope {slope:.4}");
+        assert!((1.9..=2.1).contains(&slope), "slope {slope}");
+    }
+}
+
+#[test]
+fn rejects_a_bad_time_step_and_parameters() {
+    let m = sparse(&[&[1.0]]);
+    let k = sparse(&[&[1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    for dt in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        assert!(
+            matches!(
+                Stepper::new(ops, Scheme::default(), dt),
+                Err(IntegrateError::InvalidTimeStep { .. })
+            ),
+            "dt = {dt}"
+        );
+    }
+    for scheme in [
+        Scheme::Hht { alpha: 0.1 },
+        Scheme::Hht { alpha: -0.5 },
+        Scheme::GeneralizedAlpha { rho_inf: 1.5 },
+        Scheme::GeneralizedAlpha { rho_inf: f64::NAN },
+    ] {
+        assert!(
+            matches!(
+                Stepper::new(ops, scheme, 1e-3),
+                Err(IntegrateError::InvalidParameter { .. })
+            ),
+            "{scheme:?}"
+        );
+    }
+}
+
+#[test]
+fn rejects_a_non_finite_state() {
+    let m = sparse(&[&[1.0, 0.0], &[0.0, 1.0]]);
+    let k = sparse(&[&[2.0, -1.0], &[-1.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    let result = integrate(
+        ops,
+        Scheme::default(),
+        0.01,
+        100,
+        &[0.0, 0.0],
+        &[0.0, 1.0],
+        &mut |t, f| {
+            if t > 0.5 {
+                f[0] = f64::NAN;
+            }
+        },
+        &mut |_, _, _| {},
+    );
+    match result {
+        Err(IntegrateError::NonFiniteState { step, time, .. }) => {
+            assert_eq!(step, 51);
+            assert!((time - 0.51).abs() < 1e-12);
+        }
+        other => panic!("expected a non-finite state error, got {other:?}"),
+    }
+    let bad_u0 = integrate(
+        ops,
+        Scheme::default(),
+        0.01,
+        1,
+        &[f64::NAN, 0.0],
+        &[0.0, 0.0],
+        &mut |_, _| {},
+        &mut |_, _, _| {},
+    );
+    assert!(matches!(
+        bad_u0,
+        Err(IntegrateError::NonFiniteInput { index: 0, .. })
+    ));
+}
+
+#[test]
+fn rejects_a_singular_effective_matrix_and_names_the_dof() {
+    // DOF 1 has neither mass nor stiffness: S is singular whatever dt.
+    let m = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 0.0, 0.0], &[0.0, 0.0, 1.0]]);
+    let k = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 0.0, 0.0], &[0.0, 0.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    match Stepper::new(ops, Scheme::default(), 1e-3) {
+        Err(IntegrateError::NotPositiveDefinite { dof, .. }) => assert_eq!(dof, 1),
+        other => panic!("expected a singular effective matrix, got {other:?}"),
+    }
+    // A negative stiffness large enough to beat the inertia at this dt.
+    let k = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0], &[0.0, 0.0, -1e9]]);
+    let m = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0], &[0.0, 0.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    match Stepper::new(ops, Scheme::default(), 1e-3) {
+        Err(IntegrateError::NotPositiveDefinite { dof, .. }) => assert_eq!(dof, 2),
+        other => panic!("expected an indefinite effective matrix, got {other:?}"),
+    }
+}
+
+#[test]
+fn rejects_asymmetric_and_mismatched_operators() {
+    let m = sparse(&[&[1.0, 0.0], &[0.0, 1.0]]);
+    let k = sparse(&[&[2.0, -1.0], &[-1.5, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    assert!(matches!(
+        Stepper::new(ops, Scheme::default(), 1e-3),
+        Err(IntegrateError::NotSymmetric { row: 1, col: 0, .. })
+    ));
+    let k3 = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0], &[0.0, 0.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k3.as_ref(),
+    };
+    assert!(matches!(
+        Stepper::new(ops, Scheme::default(), 1e-3),
+        Err(IntegrateError::DimensionMismatch { .. })
+    ));
+}
+
+#[test]
+fn massless_dof_gets_zero_initial_acceleration_and_steps() {
+    // DOF 1 is massless but stiff (a rotation without rotary inertia): static
+    // condensation makes DOF 0 an oscillator with k_eff = 3 - 1/1 = 2, m = 1.
+    let m = sparse(&[&[1.0, 0.0], &[0.0, 0.0]]);
+    let k = sparse(&[&[3.0, -1.0], &[-1.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    let mut stepper = Stepper::new(ops, Scheme::default(), 1e-3).unwrap();
+    let state = stepper
+        .initial_state(0.0, &[1.0, 1.0], &[0.0, 0.0], &[0.0, 0.0])
+        .unwrap();
+    assert_eq!(state.a[1], 0.0);
+    assert!((state.a[0] - (-2.0)).abs() < 1e-14, "a0 = {}", state.a[0]);
+    // The massless DOF follows its constraint u1 = u0 in displacement and velocity;
+    // under average acceleration its acceleration carries the initial mismatch
+    // a1(0) - a0(0) as a ripple alternating every step (documented).
+    let mut state = state;
+    for k in 1..=6 {
+        stepper.step(&mut state, &[0.0; 2], &[0.0; 2], k).unwrap();
+        assert!((state.u[1] - state.u[0]).abs() < 1e-14, "u: {:?}", state.u);
+        assert!((state.v[1] - state.v[0]).abs() < 1e-12, "v: {:?}", state.v);
+        let ripple = state.a[1] - state.a[0];
+        let expected = if k % 2 == 1 { -2.0 } else { 2.0 };
+        assert!(
+            (ripple - expected).abs() < 1e-6,
+            "step {k}: a1 - a0 = {ripple}"
+        );
+    }
+    let history = free_history(
+        ops,
+        Scheme::default(),
+        1e-3,
+        20_000,
+        &[1.0, 1.0],
+        &[0.0, 0.0],
+        0,
+    );
+    let period = period_in_steps(&history) * 1e-3;
+    let expected = 2.0 * std::f64::consts::PI / 2f64.sqrt();
+    // Period error of average acceleration, (w dt)^2/12 ~ 2e-7, plus crossing noise.
+    assert!(
+        (period / expected - 1.0).abs() < 1e-5,
+        "period {period} vs {expected}"
+    );
+
+    // A DOF whose mass column is non-zero but singular is reported by index.
+    let m = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 1.0, 1.0], &[0.0, 1.0, 1.0]]);
+    let k = sparse(&[&[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0], &[0.0, 0.0, 1.0]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: None,
+        k: k.as_ref(),
+    };
+    let mut stepper = Stepper::new(ops, Scheme::default(), 1e-3).unwrap();
+    match stepper.initial_state(0.0, &[0.0; 3], &[0.0; 3], &[0.0; 3]) {
+        Err(IntegrateError::NotPositiveDefinite { dof, .. }) => {
+            assert!(dof == 1 || dof == 2, "dof {dof}")
+        }
+        other => panic!("expected a singular mass matrix, got {other:?}"),
+    }
+}
+
+#[test]
+fn set_step_refactors_and_matches_a_fresh_stepper() {
+    let m = sparse(&[&[1.0, 0.0], &[0.0, 2.0]]);
+    let k = sparse(&[&[300.0, -100.0], &[-100.0, 100.0]]);
+    let c = sparse(&[&[0.3, -0.1], &[-0.1, 0.1]]);
+    let ops = Operators {
+        m: m.as_ref(),
+        c: Some(c.as_ref()),
+        k: k.as_ref(),
+    };
+    let scheme = Scheme::GeneralizedAlpha { rho_inf: 0.7 };
+    let mut reused = Stepper::new(ops, Scheme::default(), 1e-2).unwrap();
+    reused.set_step(scheme, 2e-3).unwrap();
+    let mut fresh = Stepper::new(ops, scheme, 2e-3).unwrap();
+    let zero = [0.0, 0.0];
+    let mut s1 = reused
+        .initial_state(0.0, &[0.01, 0.0], &[0.0, 1.0], &zero)
+        .unwrap();
+    let mut s2 = fresh
+        .initial_state(0.0, &[0.01, 0.0], &[0.0, 1.0], &zero)
+        .unwrap();
+    for k in 1..=200 {
+        reused.step(&mut s1, &zero, &zero, k).unwrap();
+        fresh.step(&mut s2, &zero, &zero, k).unwrap();
+    }
+    assert_eq!(s1, s2);
+}

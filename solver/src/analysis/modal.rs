@@ -43,6 +43,11 @@ use faer::{Mat, Par, Side};
 /// (the eigenvalue error is of order `|r|^2 / gap`).
 pub const LANCZOS_TOLERANCE: f64 = 1e-12;
 
+/// Eigenvalue of the scaled operator (top ~ 1) below which a mode is massless: a
+/// frequency ratio above 1e7 to the first mode, and within rounding of zero for an
+/// operator of norm 1.
+const MASSLESS_MU: f64 = 1e-14;
+
 /// One mode.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mode {
@@ -240,12 +245,16 @@ pub fn solve(
 
     let mut modes = Vec::with_capacity(n_modes);
     for (index, (mu, y)) in pairs.into_iter().enumerate() {
-        // mu <= 0 would mean an infinite frequency (a massless direction).
-        if mu.is_nan() || mu <= 0.0 {
-            return Err(SolveError::EigenNotConverged {
-                case: case.to_string(),
-                requested: n_modes,
-                converged: index,
+        // The operator is scaled to mu_1 ~ 1: mu below MASSLESS_MU is an infinite
+        // frequency (a direction without mass, e.g. rotations of a lumped model with zero
+        // rotary inertia), i.e. more modes requested than the mass can carry.
+        if mu.is_nan() || mu <= MASSLESS_MU {
+            return Err(SolveError::BadInput {
+                what: format!(
+                    "load case '{case}': mode {} has no mass (infinite frequency); \
+                     the model has fewer DOFs with mass than the {n_modes} modes requested",
+                    index + 1
+                ),
             });
         }
         let mut phi = vec![0.0; n];

@@ -2,10 +2,9 @@
 //! (no deck text), in the model's units (mm, N, t, s).
 
 use coil_solver::model::{
-    Analysis, ElementType, Geometry, LoadCase, Material, Model, Node, NodeId, PointLoad, PointMass,
-    RigidTie, Section,
+    Analysis, Element, ElementType, FixedDisp, Geometry, LoadCase, Material, Model, Node, NodeId,
+    PointLoad, PointMass, RigidTie, Section,
 };
-use coil_solver::model::{Element, FixedDisp};
 
 /// Steel-like material constants used by several tests.
 pub const STEEL_E_MPA: f64 = 210_000.0;

@@ -670,6 +670,47 @@ mod tests {
         assert!(run(&empty).is_ok());
     }
 
+    /// Massless beams with one point mass carry three modes; a fourth is an error that
+    /// says so, not an infinite frequency.
+    #[test]
+    fn more_modes_than_the_mass_carries_is_an_error() {
+        let mut model = test_support::model(
+            &[
+                (1, [0.0; 3]),
+                (2, [10.0, 0.0, 0.0]),
+                (3, [20.0, 1.0, 0.0]),
+                (4, [30.0, 0.0, 2.0]),
+            ],
+            &[[1, 2], [2, 3], [3, 4]],
+        );
+        model.materials[0].density = 0.0;
+        model.fixed_disp.push(crate::model::FixedDisp {
+            dofs: (1..=6).map(|d| (d, 0.0)).collect(),
+            nodes: vec![1],
+        });
+        model.point_masses.push(PointMass {
+            node: 4,
+            mass: 1e-3,
+            inertia: [0.0; 3],
+        });
+        let system = System::new(&model).unwrap();
+        let factor = system.factor_stiffness().unwrap();
+        let three = modal::solve(&system, &factor, "three", 3).unwrap();
+        let total: f64 = three
+            .modes
+            .iter()
+            .map(|m| m.effective_mass.iter().sum::<f64>())
+            .sum();
+        assert!(
+            (total - 3e-3).abs() < 1e-12,
+            "all the mass in three modes: {total}"
+        );
+        match modal::solve(&system, &factor, "four", 4) {
+            Err(SolveError::BadInput { what }) => assert!(what.contains("no mass"), "{what}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
     #[test]
     fn tables_interpolate_and_hold_their_ends() {
         let mut model = tied_frame();

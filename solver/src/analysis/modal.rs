@@ -43,6 +43,14 @@ use faer::{Mat, Par, Side};
 /// (the eigenvalue error is of order `|r|^2 / gap`).
 pub const LANCZOS_TOLERANCE: f64 = 1e-12;
 
+/// Tolerance of the one retry after a non-converged first attempt (see [`solve`]).
+pub const LANCZOS_RETRY_TOLERANCE: f64 = 1e-10;
+
+/// Eigenvalue of the scaled operator (top ~ 1) below which a mode is massless: a
+/// frequency ratio above 1e7 to the first mode, and within rounding of zero for an
+/// operator of norm 1.
+const MASSLESS_MU: f64 = 1e-14;
+
 /// One mode.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mode {
@@ -101,6 +109,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 fn eigenpairs(
     op: &ShiftInvert,
     n_modes: usize,
+    tolerance: f64,
     case: &str,
 ) -> Result<Vec<(f64, Vec<f64>)>, SolveError> {
     let n = op.factor.dim();
@@ -152,7 +161,7 @@ fn eigenpairs(
         &mut eigvals,
         op,
         faer::ColRef::from_slice(&v0),
-        LANCZOS_TOLERANCE,
+        tolerance,
         par,
         MemStack::new(&mut mem),
         params,
@@ -220,7 +229,16 @@ pub fn solve(
         });
     }
     op.scale = 1.0 / mu_estimate;
-    let pairs = eigenpairs(&op, n_modes, case)?;
+    // The power estimate is a lower bound of mu_1; should it be far off, the absolute
+    // tolerance is relatively stricter and can fall under the rounding floor. One retry
+    // with a looser tolerance covers that; a second failure is reported.
+    let pairs = match eigenpairs(&op, n_modes, LANCZOS_TOLERANCE, case) {
+        Ok(pairs) => pairs,
+        Err(SolveError::EigenNotConverged { .. }) => {
+            eigenpairs(&op, n_modes, LANCZOS_RETRY_TOLERANCE, case)?
+        }
+        Err(e) => return Err(e),
+    };
 
     let k = system.stiffness.as_ref();
     let m = system.mass.as_ref();
@@ -240,12 +258,16 @@ pub fn solve(
 
     let mut modes = Vec::with_capacity(n_modes);
     for (index, (mu, y)) in pairs.into_iter().enumerate() {
-        // mu <= 0 would mean an infinite frequency (a massless direction).
-        if mu.is_nan() || mu <= 0.0 {
-            return Err(SolveError::EigenNotConverged {
-                case: case.to_string(),
-                requested: n_modes,
-                converged: index,
+        // The operator is scaled to mu_1 ~ 1: mu below MASSLESS_MU is an infinite
+        // frequency (a direction without mass, e.g. rotations of a lumped model with zero
+        // rotary inertia), i.e. more modes requested than the mass can carry.
+        if mu.is_nan() || mu <= MASSLESS_MU {
+            return Err(SolveError::BadInput {
+                what: format!(
+                    "load case '{case}': mode {} has no mass (infinite frequency); \
+                     the model has fewer DOFs with mass than the {n_modes} modes requested",
+                    index + 1
+                ),
             });
         }
         let mut phi = vec![0.0; n];

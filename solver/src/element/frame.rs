@@ -40,8 +40,9 @@ pub const MIN_ORIENTATION_SINE: f64 = 1e-6;
 /// Why a local frame cannot be built.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum FrameError {
-    /// Both nodes coincide (length relative to the coordinates at rounding level).
-    #[error("zero length (the two nodes coincide; length {length:e} mm)")]
+    /// Both nodes coincide (length at the rounding level of the coordinates), or a
+    /// coordinate is not finite.
+    #[error("zero or non-finite length ({length:e} mm): the two nodes coincide or a coordinate is not finite")]
     ZeroLength { length: f64 },
     /// The orientation vector is zero or not finite.
     #[error("orientation vector is zero or not finite")]

@@ -77,7 +77,12 @@ pub fn properties(
     let e = material.youngs_modulus;
     let nu = material.poisson;
     require("Young's modulus (MPa)", e, e > 0.0, "positive")?;
-    require("Poisson's ratio", nu, nu > -1.0 && nu < 0.5, "in (-1, 0.5)")?;
+    require(
+        "Poisson's ratio",
+        nu,
+        nu > -1.0 && nu <= 0.5,
+        "in (-1, 0.5]",
+    )?;
     require(
         "density (t/mm^3)",
         material.density,

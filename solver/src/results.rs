@@ -120,22 +120,12 @@ pub struct ModalEntry {
     pub modes: Vec<ModeEntry>,
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory.
+/// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
+/// in the error.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let io = |source| Error::Io {
+    crate::atomic::write_atomic(path, bytes).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        // Best effort: do not leave the temporary behind when the rename fails.
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
     })
 }
 

@@ -1,1 +1,7 @@
-//! stub
+//! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
+//!
+//! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+
+pub mod case;
+pub mod fields;
+pub mod json;

@@ -3,5 +3,12 @@
 //! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
 
 pub mod case;
+pub mod error;
+pub mod fe;
 pub mod fields;
 pub mod json;
+pub mod loops;
+pub mod output;
+
+pub use error::{Result, TuneError};
+pub mod decay;

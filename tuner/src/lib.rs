@@ -12,3 +12,4 @@ pub mod output;
 
 pub use error::{Result, TuneError};
 pub mod decay;
+pub mod grid;

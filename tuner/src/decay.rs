@@ -63,6 +63,16 @@ impl std::fmt::Display for Method {
     }
 }
 
+/// How the weight's initial velocity is spread over the spring (as the solver's
+/// `INITIAL VEL`): the quasi-static profile (no velocity jump, so no stiff-mode ripple),
+/// or the weight alone (a jump against a spring at rest).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VelocityField {
+    QuasiStatic,
+    Nodal,
+}
+
 /// Settings of a decay run and of its decrement.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DecaySettings {
@@ -73,6 +83,8 @@ pub struct DecaySettings {
     pub duration_s: f64,
     /// The weight's initial axial velocity (m/s).
     pub initial_velocity_m_s: f64,
+    /// How the initial velocity is spread over the spring.
+    pub velocity_field: VelocityField,
     /// Modes kept by the modal method.
     pub modal_modes: u32,
     /// Crest intervals per decrement span (the paper: every 10th peak).
@@ -89,6 +101,7 @@ impl Default for DecaySettings {
             dt_s: 1e-3,
             duration_s: 6.0,
             initial_velocity_m_s: 0.1,
+            velocity_field: VelocityField::QuasiStatic,
             modal_modes: 20,
             every: 10,
             lowpass_hz: Some(30.0),
@@ -231,8 +244,17 @@ impl ModalDecay {
             })
             .collect();
         let weight = weight_equation(&system)?;
+        let v_weight = units::length_from_si(decay.initial_velocity_m_s);
         let mut v0 = vec![0.0; n];
-        v0[weight] = units::length_from_si(decay.initial_velocity_m_s);
+        v0[weight] = 1.0;
+        if decay.velocity_field == VelocityField::QuasiStatic {
+            // v0 = K^-1 e_w scaled so that the weight has its velocity exactly.
+            factor.solve_in_place(&mut v0);
+            let at_weight = v0[weight];
+            v0.iter_mut().for_each(|v| *v *= v_weight / at_weight);
+        } else {
+            v0[weight] = v_weight;
+        }
         let mut m_v0 = vec![0.0; n];
         sym_upper_matvec(system.mass.as_ref(), &v0, 1.0, &mut m_v0);
         let initial_qd = solution

@@ -11,5 +11,9 @@ pub mod loops;
 pub mod output;
 
 pub use error::{Result, TuneError};
+pub mod calibrate;
+pub mod cli;
+pub mod damping;
 pub mod decay;
 pub mod grid;
+pub mod plots;

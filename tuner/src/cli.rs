@@ -1,0 +1,94 @@
+//! The `coil-tune` command line: argument parsing and dispatch. The binary only calls
+//! [`main`] and maps its error to the exit code (1 for an error in the data or a run, 2 for
+//! a usage error, as clap does).
+
+use crate::calibrate::{calibrate, CalibrateSettings, Targets};
+use crate::case::read_case;
+use crate::damping::RunControl;
+use crate::decay::Method;
+use crate::error::Result;
+use crate::output::OutDir;
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
+/// paper's tables reproduced on coil's solver.
+#[derive(Debug, Parser)]
+#[command(name = "coil-tune", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Settings shared by the commands that build and run the model.
+#[derive(Debug, Args, Clone)]
+pub struct ModelArgs {
+    /// Beams per coil of the helix.
+    #[arg(long, default_value_t = 24)]
+    pub elements_per_coil: u32,
+    /// How the grid's decay transients run: `modal` (superposition; the optimum is
+    /// re-checked by direct integration) or `direct` (every point integrated directly).
+    #[arg(long, default_value = "modal")]
+    pub method: Method,
+    /// Do not re-check the chosen point by direct integration (modal method).
+    #[arg(long)]
+    pub no_check: bool,
+    /// Stop each grid after this many new points (the journal keeps them; rerun to go on).
+    #[arg(long)]
+    pub max_points: Option<usize>,
+    /// No progress bars.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl ModelArgs {
+    /// The calibration settings these flags give.
+    pub fn settings(&self) -> CalibrateSettings {
+        let mut s = CalibrateSettings::default();
+        s.fe.elements_per_coil = self.elements_per_coil;
+        s.damping.decay.method = self.method;
+        s.damping.check_direct = !self.no_check && self.method == Method::Modal;
+        s.damping.progress = !self.quiet;
+        s
+    }
+
+    pub fn control(&self) -> RunControl {
+        RunControl {
+            max_new_points: self.max_points,
+        }
+    }
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Loops 1-3 of the paper's Figure 6 on a case (folder or case.json).
+    Calibrate {
+        case: PathBuf,
+        /// Output folder for decks, logs, grids and figures.
+        #[arg(long, default_value = "out/calibrate")]
+        out: PathBuf,
+        #[command(flatten)]
+        model: ModelArgs,
+    },
+}
+
+/// Runs the parsed command.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Calibrate { case, out, model } => {
+            let case = read_case(&case)?;
+            let targets = Targets::of(&case)?;
+            let out = OutDir::create(out)?;
+            let result = calibrate(
+                &case,
+                &targets,
+                &model.settings(),
+                Some(&out),
+                &model.control(),
+            )?;
+            print!("{}", result.summary());
+            println!("files in {}", out.root().display());
+            Ok(())
+        }
+    }
+}

@@ -70,6 +70,19 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
+    /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
+    Run {
+        procedure: PathBuf,
+        /// Output folder (overrides the file's `out`; default out/<procedure name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Only parse and check the file.
+        #[arg(long)]
+        dry_run: bool,
+        /// Stop each grid after this many new points (the journal keeps them).
+        #[arg(long)]
+        max_points: Option<usize>,
+    },
 }
 
 /// Runs the parsed command.
@@ -88,6 +101,35 @@ pub fn run(cli: Cli) -> Result<()> {
             )?;
             print!("{}", result.summary());
             println!("files in {}", out.root().display());
+            Ok(())
+        }
+        Command::Run {
+            procedure,
+            out,
+            dry_run,
+            max_points,
+        } => {
+            let parsed = crate::procedure::read(&procedure)?;
+            if dry_run {
+                println!(
+                    "{}: {} commands, no errors",
+                    procedure.display(),
+                    parsed.statements.len()
+                );
+                return Ok(());
+            }
+            let control = RunControl {
+                max_new_points: max_points,
+            };
+            let result = crate::procedure::run(&parsed, out.as_deref(), &control, &mut |line| {
+                println!("{line}")
+            })?;
+            if let Some(s) = result.state {
+                println!(
+                    "final: E = {} MPa, mass = {} kg, alpha = {} 1/s, beta = {} s",
+                    s.youngs_modulus_mpa, s.mass_kg, s.alpha, s.beta
+                );
+            }
             Ok(())
         }
     }

@@ -305,8 +305,325 @@ pub struct RunControl {
     pub max_new_points: Option<usize>,
 }
 
-/// Loop 3: sets `state.alpha` and `state.beta` to the grid's best point and reports the
-/// valley. `paper_point` is measured alongside when given.
+/// Loop 3 as a session: grids run one by one ([`Loop3::grid`]), then [`Loop3::finish`]
+/// chooses the best point, fits the plane, traces the valley, checks the chosen point
+/// and draws the figures. `calibrate` runs the settings' grids; a procedure file runs its
+/// own `grid` lines; both go through these same calls, so they agree.
+pub struct Loop3 {
+    state: SpringState,
+    fe: FeSettings,
+    settings: DampingSettings,
+    target_zeta: f64,
+    sim: Simulator,
+    modal: AxialDamping,
+    fingerprint: serde_json::Value,
+    results: Vec<GridResult>,
+    out: Option<OutDir>,
+    control: RunControl,
+}
+
+impl Loop3 {
+    /// Prepares decay runs of `state` (its alpha and beta are ignored).
+    pub fn new(
+        state: &SpringState,
+        fe: &FeSettings,
+        settings: &DampingSettings,
+        target_zeta: f64,
+        out: Option<&OutDir>,
+        control: &RunControl,
+    ) -> Result<Self> {
+        if !(target_zeta > 0.0 && target_zeta < 1.0) {
+            return Err(TuneError::Invalid(format!(
+                "loop 3: target damping ratio {target_zeta}; expected 0 < zeta < 1"
+            )));
+        }
+        let decay = &settings.decay;
+        let sim = Simulator::new(state, fe, decay)?;
+        // The modal figures of the axial mode, for the valley's theory (cheap).
+        let modal = match &sim {
+            Simulator::Modal(m) => m.axial_damping(),
+            Simulator::Direct { .. } => ModalDecay::new(state, fe, decay)?.axial_damping(),
+        };
+        let base = SpringState {
+            alpha: 0.0,
+            beta: 0.0,
+            ..*state
+        };
+        let fingerprint = serde_json::json!({ "state": base, "fe": fe, "decay": decay });
+        Ok(Loop3 {
+            state: base,
+            fe: fe.clone(),
+            settings: settings.clone(),
+            target_zeta,
+            sim,
+            modal,
+            fingerprint,
+            results: Vec::new(),
+            out: out.cloned(),
+            control: control.clone(),
+        })
+    }
+
+    /// The decay simulator (one modal basis for every point).
+    pub fn simulator(&self) -> &Simulator {
+        &self.sim
+    }
+
+    /// The model (alpha, beta zeroed) the grids run on.
+    pub fn state(&self) -> &SpringState {
+        &self.state
+    }
+
+    /// The target damping ratio.
+    pub fn target_zeta(&self) -> f64 {
+        self.target_zeta
+    }
+
+    /// Changes the target (the grids do not depend on it, only the choice does).
+    pub fn set_target_zeta(&mut self, target_zeta: f64) -> Result<()> {
+        if !(target_zeta > 0.0 && target_zeta < 1.0) {
+            return Err(TuneError::Invalid(format!(
+                "loop 3: target damping ratio {target_zeta}; expected 0 < zeta < 1"
+            )));
+        }
+        self.target_zeta = target_zeta;
+        Ok(())
+    }
+
+    /// The grids run so far.
+    pub fn grids(&self) -> &[GridResult] {
+        &self.results
+    }
+
+    /// Runs (or resumes) one grid; its CSV and journal go to the output folder.
+    pub fn grid(&mut self, spec: &GridSpec) -> Result<&GridResult> {
+        if self.results.iter().any(|g| g.spec.name == spec.name) {
+            return Err(TuneError::Invalid(format!(
+                "loop 3: a grid named {} was already run; give this one another name",
+                spec.name
+            )));
+        }
+        let options = GridOptions {
+            journal: self
+                .out
+                .as_ref()
+                .map(|o| o.path(format!("loop3_{}.journal.jsonl", spec.name))),
+            progress: self.settings.progress,
+            max_new_points: self.control.max_new_points,
+        };
+        let (sim, decay) = (&self.sim, &self.settings.decay);
+        let result = run_grid(spec, self.fingerprint.clone(), &options, |alpha, beta| {
+            measure_with(sim, decay, alpha, beta)
+        })?;
+        if let Some(out) = &self.out {
+            out.write(format!("loop3_{}.csv", spec.name), result.csv().as_bytes())?;
+        }
+        self.results.push(result);
+        self.results.last().ok_or_else(|| TuneError::Missing {
+            context: "loop 3".into(),
+            what: "the grid just run".into(),
+        })
+    }
+
+    /// The grid point closest to the target over every grid run so far.
+    pub fn best(&self) -> Option<GridPoint> {
+        let target = self.target_zeta;
+        self.results
+            .iter()
+            .filter_map(|g| g.best(target))
+            .min_by(|x, y| {
+                let d = |p: &GridPoint| (p.zeta().unwrap_or(f64::INFINITY) - target).abs();
+                d(x).total_cmp(&d(y))
+            })
+            .cloned()
+    }
+
+    /// Chooses the best point, fits the plane, traces the valley, measures the paper's
+    /// point, checks by direct integration and writes the figures.
+    pub fn finish(&self, paper_point: Option<(f64, f64)>) -> Result<DampingReport> {
+        let target_zeta = self.target_zeta;
+        let (sim, decay, settings, out) = (
+            &self.sim,
+            &self.settings.decay,
+            &self.settings,
+            self.out.as_ref(),
+        );
+        let results = &self.results;
+        let complete = results.iter().all(GridResult::is_complete);
+        let best = self.best().ok_or_else(|| TuneError::Missing {
+            context: "loop 3".into(),
+            what: "no grid point gave a damping ratio (no grid run, or every decrement failed; \
+                   see the grid CSVs)"
+                .into(),
+        })?;
+        let triples: Vec<(f64, f64, f64)> = results
+            .iter()
+            .flat_map(|g| g.points.iter())
+            .filter_map(|p| p.zeta().map(|z| (p.alpha, p.beta, z)))
+            .collect();
+        let plane = fit_plane(&triples);
+
+        let mut grids = Vec::new();
+        for (index, result) in results.iter().enumerate() {
+            let spec = &result.spec;
+            let heat_map = match out {
+                Some(out) => {
+                    let name = match index {
+                        0 => format!("fig8_{}.png", spec.name),
+                        1 => format!("fig9_{}.png", spec.name),
+                        _ => format!("fig_{}.png", spec.name),
+                    };
+                    let marks = HeatMapMarks {
+                        target_zeta,
+                        paper: paper_point,
+                        valley: plane.map(|p| (p.z0, p.a, p.b)),
+                    };
+                    plots::heat_map(result, &marks, &out.path(&name))?;
+                    Some(name)
+                }
+                None => None,
+            };
+            grids.push(GridSummary {
+                name: spec.name.clone(),
+                alpha: spec.alpha.to_string(),
+                beta: spec.beta.to_string(),
+                runs: result.points.len(),
+                computed: result.computed,
+                resumed: result.resumed,
+                failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
+                elapsed_s: result.elapsed_s,
+                best: result
+                    .best(target_zeta)
+                    .cloned()
+                    .unwrap_or_else(|| best.clone()),
+                csv: format!("loop3_{}.csv", spec.name),
+                heat_map,
+            });
+        }
+
+        let state = &self.state;
+        let fe = &self.fe;
+        let shares = |alpha: f64, beta: f64, zeta: f64| match plane {
+            Some(p) if zeta > 0.0 => (p.a * alpha / zeta, p.b * beta / zeta),
+            _ => (f64::NAN, f64::NAN),
+        };
+        let check =
+            |alpha: f64, beta: f64, measured: Option<DecayMeasure>| -> Result<CheckedPoint> {
+                let m = match measured {
+                    Some(m) => m,
+                    None => measure_with(sim, decay, alpha, beta)?,
+                };
+                let direct = if sim.method() == Method::Modal && settings.check_direct {
+                    let direct_settings = DecaySettings {
+                        method: Method::Direct,
+                        ..decay.clone()
+                    };
+                    Some(measure(
+                        &direct_decay(
+                            &SpringState {
+                                alpha,
+                                beta,
+                                ..*state
+                            },
+                            fe,
+                            &direct_settings,
+                        )?,
+                        decay,
+                    )?)
+                } else {
+                    None
+                };
+                let (alpha_share, beta_share) = shares(alpha, beta, m.zeta_mean);
+                Ok(CheckedPoint {
+                    alpha,
+                    beta,
+                    method: sim.method(),
+                    zeta: m.zeta_mean,
+                    zeta_fit: m.zeta_fit,
+                    period_s: m.period_s,
+                    direct,
+                    direct_relative_difference: direct
+                        .map(|d| (d.zeta_mean - m.zeta_mean) / m.zeta_mean),
+                    alpha_share,
+                    beta_share,
+                })
+            };
+        let chosen = check(best.alpha, best.beta, best.measure)?;
+        let paper = match paper_point {
+            Some((a, b)) => Some(check(a, b, None)?),
+            None => None,
+        };
+
+        let valley = match plane {
+            Some(plane) if plane.b > 0.0 && plane.a.is_finite() => Some(trace_valley(
+                sim,
+                decay,
+                settings,
+                target_zeta,
+                plane,
+                self.modal,
+            )?),
+            _ => None,
+        };
+
+        if let Some(out) = out {
+            if let Some(v) = &valley {
+                out.write(
+                    "loop3_valley.csv",
+                    csv(
+                        &["alpha", "beta", "zeta_mean", "alpha_share", "runs"],
+                        v.points.iter().map(|p| {
+                            vec![
+                                exact(p.alpha),
+                                exact(p.beta),
+                                exact(p.zeta),
+                                exact(p.alpha_share),
+                                p.runs.to_string(),
+                            ]
+                        }),
+                    )
+                    .as_bytes(),
+                )?;
+                let measured: Vec<(f64, f64, f64)> =
+                    v.points.iter().map(|p| (p.alpha, p.beta, p.zeta)).collect();
+                let alpha_max = v.points.iter().fold(best.alpha, |m, p| m.max(p.alpha));
+                plots::valley_figure(
+                    &ValleyPlot {
+                        target_zeta,
+                        plane: (v.plane.z0, v.plane.a, v.plane.b),
+                        points: &measured,
+                        alpha_max: alpha_max.max(1e-6),
+                    },
+                    &out.path("loop3_valley.png"),
+                )?;
+            }
+            let chosen_state = SpringState {
+                alpha: best.alpha,
+                beta: best.beta,
+                ..*state
+            };
+            let model = decay_model(&chosen_state, fe, decay)?;
+            out.write(
+                "loop3/chosen.dat",
+                coil_solver::deck::write(&model).as_bytes(),
+            )?;
+        }
+
+        Ok(DampingReport {
+            target_zeta,
+            method: sim.method(),
+            grids,
+            chosen,
+            paper_point: paper,
+            valley,
+            transient_period_s: best.measure.map_or(f64::NAN, |m| m.period_s),
+            complete,
+        })
+    }
+}
+
+/// Loop 3 with the settings' grids: sets `state.alpha` and `state.beta` to the best grid
+/// point and reports the valley. `paper_point` is measured alongside when given.
 pub fn tune_damping(
     state: &mut SpringState,
     fe: &FeSettings,
@@ -316,219 +633,17 @@ pub fn tune_damping(
     out: Option<&OutDir>,
     control: &RunControl,
 ) -> Result<DampingReport> {
-    if !(target_zeta > 0.0 && target_zeta < 1.0) {
-        return Err(TuneError::Invalid(format!(
-            "loop 3: target damping ratio {target_zeta}; expected 0 < zeta < 1"
-        )));
-    }
     if settings.grids.is_empty() {
         return Err(TuneError::Invalid("loop 3: no grid to run".into()));
     }
-    let decay = &settings.decay;
-    let sim = Simulator::new(state, fe, decay)?;
-    // The modal figures of the axial mode, for the valley's theory (cheap).
-    let modal = match &sim {
-        Simulator::Modal(m) => m.axial_damping(),
-        Simulator::Direct { .. } => ModalDecay::new(state, fe, decay)?.axial_damping(),
-    };
-    let fingerprint = serde_json::json!({
-        "state": SpringState { alpha: 0.0, beta: 0.0, ..*state },
-        "fe": fe,
-        "decay": decay,
-    });
-
-    let mut grids = Vec::new();
-    let mut results: Vec<GridResult> = Vec::new();
-    for (index, spec) in settings.grids.iter().enumerate() {
-        let options = GridOptions {
-            journal: out.map(|o| o.path(format!("loop3_{}.journal.jsonl", spec.name))),
-            progress: settings.progress,
-            max_new_points: control.max_new_points,
-        };
-        let result = run_grid(spec, fingerprint.clone(), &options, |alpha, beta| {
-            measure_with(&sim, decay, alpha, beta)
-        })?;
-        let csv_name = format!("loop3_{}.csv", spec.name);
-        if let Some(out) = out {
-            out.write(&csv_name, result.csv().as_bytes())?;
-        }
-        let _ = index;
-        results.push(result);
+    let mut session = Loop3::new(state, fe, settings, target_zeta, out, control)?;
+    for spec in &settings.grids {
+        session.grid(spec)?;
     }
-    let complete = results.iter().all(GridResult::is_complete);
-
-    let triples: Vec<(f64, f64, f64)> = results
-        .iter()
-        .flat_map(|g| g.points.iter())
-        .filter_map(|p| p.zeta().map(|z| (p.alpha, p.beta, z)))
-        .collect();
-    let best = results
-        .iter()
-        .filter_map(|g| g.best(target_zeta))
-        .min_by(|x, y| {
-            let d = |p: &GridPoint| (p.zeta().unwrap_or(f64::INFINITY) - target_zeta).abs();
-            d(x).total_cmp(&d(y))
-        })
-        .cloned()
-        .ok_or_else(|| TuneError::Missing {
-            context: "loop 3".into(),
-            what: "no grid point gave a damping ratio (every decrement failed; see the grid CSVs)"
-                .into(),
-        })?;
-    let plane = fit_plane(&triples);
-
-    for (index, (spec, result)) in settings.grids.iter().zip(&results).enumerate() {
-        let heat_map = match out {
-            Some(out) => {
-                let name = match index {
-                    0 => format!("fig8_{}.png", spec.name),
-                    1 => format!("fig9_{}.png", spec.name),
-                    _ => format!("fig_{}.png", spec.name),
-                };
-                let marks = HeatMapMarks {
-                    target_zeta,
-                    paper: paper_point,
-                    valley: plane.map(|p| (p.z0, p.a, p.b)),
-                };
-                plots::heat_map(result, &marks, &out.path(&name))?;
-                Some(name)
-            }
-            None => None,
-        };
-        grids.push(GridSummary {
-            name: spec.name.clone(),
-            alpha: spec.alpha.to_string(),
-            beta: spec.beta.to_string(),
-            runs: result.points.len(),
-            computed: result.computed,
-            resumed: result.resumed,
-            failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
-            elapsed_s: result.elapsed_s,
-            best: result
-                .best(target_zeta)
-                .cloned()
-                .unwrap_or_else(|| best.clone()),
-            csv: format!("loop3_{}.csv", spec.name),
-            heat_map,
-        });
-    }
-
-    let shares = |alpha: f64, beta: f64, zeta: f64| match plane {
-        Some(p) if zeta > 0.0 => (p.a * alpha / zeta, p.b * beta / zeta),
-        _ => (f64::NAN, f64::NAN),
-    };
-    let check = |alpha: f64, beta: f64, measured: Option<DecayMeasure>| -> Result<CheckedPoint> {
-        let m = match measured {
-            Some(m) => m,
-            None => measure_with(&sim, decay, alpha, beta)?,
-        };
-        let direct = if sim.method() == Method::Modal && settings.check_direct {
-            let direct_settings = DecaySettings {
-                method: Method::Direct,
-                ..decay.clone()
-            };
-            Some(measure(
-                &direct_decay(
-                    &SpringState {
-                        alpha,
-                        beta,
-                        ..*state
-                    },
-                    fe,
-                    &direct_settings,
-                )?,
-                decay,
-            )?)
-        } else {
-            None
-        };
-        let (alpha_share, beta_share) = shares(alpha, beta, m.zeta_mean);
-        Ok(CheckedPoint {
-            alpha,
-            beta,
-            method: sim.method(),
-            zeta: m.zeta_mean,
-            zeta_fit: m.zeta_fit,
-            period_s: m.period_s,
-            direct,
-            direct_relative_difference: direct.map(|d| (d.zeta_mean - m.zeta_mean) / m.zeta_mean),
-            alpha_share,
-            beta_share,
-        })
-    };
-    let chosen = check(best.alpha, best.beta, best.measure)?;
-    let paper = match paper_point {
-        Some((a, b)) => Some(check(a, b, None)?),
-        None => None,
-    };
-    state.alpha = best.alpha;
-    state.beta = best.beta;
-
-    let valley = match plane {
-        Some(plane) if plane.b > 0.0 && plane.a.is_finite() => Some(trace_valley(
-            &sim,
-            decay,
-            settings,
-            target_zeta,
-            plane,
-            modal,
-        )?),
-        _ => None,
-    };
-
-    if let Some(out) = out {
-        if let Some(v) = &valley {
-            out.write(
-                "loop3_valley.csv",
-                csv(
-                    &["alpha", "beta", "zeta_mean", "alpha_share", "runs"],
-                    v.points.iter().map(|p| {
-                        vec![
-                            exact(p.alpha),
-                            exact(p.beta),
-                            exact(p.zeta),
-                            exact(p.alpha_share),
-                            p.runs.to_string(),
-                        ]
-                    }),
-                )
-                .as_bytes(),
-            )?;
-            let measured: Vec<(f64, f64, f64)> =
-                v.points.iter().map(|p| (p.alpha, p.beta, p.zeta)).collect();
-            let alpha_max = v.points.iter().fold(best.alpha, |m, p| m.max(p.alpha));
-            plots::valley_figure(
-                &ValleyPlot {
-                    target_zeta,
-                    plane: (v.plane.z0, v.plane.a, v.plane.b),
-                    points: &measured,
-                    alpha_max: alpha_max.max(1e-6),
-                },
-                &out.path("loop3_valley.png"),
-            )?;
-        }
-        let chosen_state = SpringState {
-            alpha: best.alpha,
-            beta: best.beta,
-            ..*state
-        };
-        let model = decay_model(&chosen_state, fe, decay)?;
-        out.write(
-            "loop3/chosen.dat",
-            coil_solver::deck::write(&model).as_bytes(),
-        )?;
-    }
-
-    Ok(DampingReport {
-        target_zeta,
-        method: sim.method(),
-        grids,
-        chosen,
-        paper_point: paper,
-        valley,
-        transient_period_s: best.measure.map_or(f64::NAN, |m| m.period_s),
-        complete,
-    })
+    let report = session.finish(paper_point)?;
+    state.alpha = report.chosen.alpha;
+    state.beta = report.chosen.beta;
+    Ok(report)
 }
 
 /// Solves beta on the valley at each of `settings.valley_alphas` by Newton's method on

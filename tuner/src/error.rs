@@ -74,6 +74,14 @@ pub enum TuneError {
         line: usize,
         message: String,
     },
+    /// A procedure step that failed, with its line.
+    #[error("{}:{line}: {source}", path.display())]
+    AtLine {
+        path: PathBuf,
+        line: usize,
+        #[source]
+        source: Box<TuneError>,
+    },
     /// A plot could not be drawn.
     #[error("{}: cannot draw the plot: {message}", path.display())]
     Plot { path: PathBuf, message: String },

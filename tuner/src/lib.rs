@@ -17,3 +17,4 @@ pub mod damping;
 pub mod decay;
 pub mod grid;
 pub mod plots;
+pub mod procedure;

@@ -8,12 +8,8 @@ fn main() -> std::process::ExitCode {
     match coil_tuner::cli::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(error) => {
+            // Every message already carries its causes (file, line, field, what was expected).
             eprintln!("coil-tune: error: {error}");
-            let mut source = std::error::Error::source(&error);
-            while let Some(cause) = source {
-                eprintln!("  caused by: {cause}");
-                source = cause.source();
-            }
             std::process::ExitCode::FAILURE
         }
     }

@@ -22,7 +22,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Helix geometry of the active coils (Table 4's n, D, d, h).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SpringGeometry {
     pub active_coils: f64,
     pub mean_diameter_mm: f64,

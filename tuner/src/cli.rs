@@ -70,6 +70,25 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
+    /// K and zeta of spring variants with the validated material (Table 4).
+    Sweep {
+        case: PathBuf,
+        /// The variants file (e.g. cases/160ect/table4.json).
+        #[arg(long)]
+        variants: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/sweep")]
+        out: PathBuf,
+        /// Take E, mass, alpha and beta from a calibration.json (`calibrate`'s output)
+        /// instead of calibrating first.
+        #[arg(long, conflicts_with = "paper_material")]
+        calibration: Option<PathBuf>,
+        /// Use the paper's Table 2 (E, alpha, beta; the mass tuned to the period) instead.
+        #[arg(long)]
+        paper_material: bool,
+        #[command(flatten)]
+        model: ModelArgs,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         procedure: PathBuf,
@@ -103,6 +122,43 @@ pub fn run(cli: Cli) -> Result<()> {
             println!("files in {}", out.root().display());
             Ok(())
         }
+        Command::Sweep {
+            case,
+            variants,
+            out,
+            calibration,
+            paper_material,
+            model,
+        } => {
+            let case = read_case(&case)?;
+            let variants = crate::case::read_variants(&variants)?;
+            let out = OutDir::create(out)?;
+            let settings = model.settings();
+            let material = if let Some(file) = calibration {
+                read_calibrated_state(&file)?
+            } else if paper_material {
+                crate::sweep::paper_material(&case, &settings)?
+            } else {
+                let targets = Targets::of(&case)?;
+                let sub = out.sub("calibration")?;
+                let result = calibrate(&case, &targets, &settings, Some(&sub), &model.control())?;
+                print!("{}", result.summary());
+                result.state
+            };
+            let result =
+                crate::sweep::sweep(&material, &variants, &settings.fe, &settings.damping.decay)?;
+            out.write("sweep.csv", result.csv().as_bytes())?;
+            let json = serde_json::to_string_pretty(&result)
+                .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
+            out.write("sweep.json", json.as_bytes())?;
+            println!(
+                "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
+                material.youngs_modulus_mpa, material.mass_kg, material.alpha, material.beta
+            );
+            print!("{}", result.table());
+            println!("files in {}", out.root().display());
+            Ok(())
+        }
         Command::Run {
             procedure,
             out,
@@ -133,4 +189,21 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// The `state` of a calibration.json.
+fn read_calibrated_state(path: &std::path::Path) -> Result<crate::fe::SpringState> {
+    let text = std::fs::read_to_string(path).map_err(|e| crate::TuneError::io(path, e))?;
+    #[derive(serde::Deserialize)]
+    struct File {
+        state: crate::fe::SpringState,
+    }
+    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Procedure {
+        path: path.to_path_buf(),
+        line: e.line(),
+        message: format!(
+            "{e}; expected a calibration.json written by `coil-tune calibrate` (with a `state`)"
+        ),
+    })?;
+    Ok(file.state)
 }

@@ -48,7 +48,7 @@ impl Default for FeSettings {
 }
 
 /// The calibrated quantities with the geometry they belong to.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SpringState {
     pub spring: SpringGeometry,
     pub youngs_modulus_mpa: f64,

@@ -18,3 +18,4 @@ pub mod decay;
 pub mod grid;
 pub mod plots;
 pub mod procedure;
+pub mod sweep;

@@ -89,6 +89,21 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
+    /// The paper's study: calibrate + sweep on cases/160ect, Tables 3 and 4 beside the
+    /// paper's, report.md, report.json and the figures.
+    Paper {
+        /// Output folder.
+        #[arg(long, default_value = "out/paper")]
+        out: PathBuf,
+        /// The case.
+        #[arg(long, default_value = "cases/160ect")]
+        case: PathBuf,
+        /// The variants file.
+        #[arg(long, default_value = "cases/160ect/table4.json")]
+        variants: PathBuf,
+        #[command(flatten)]
+        model: ModelArgs,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         procedure: PathBuf,
@@ -157,6 +172,39 @@ pub fn run(cli: Cli) -> Result<()> {
             );
             print!("{}", result.table());
             println!("files in {}", out.root().display());
+            Ok(())
+        }
+        Command::Paper {
+            out,
+            case,
+            variants,
+            model,
+        } => {
+            let out = OutDir::create(out)?;
+            let options = crate::paper::PaperOptions {
+                case,
+                variants,
+                settings: model.settings(),
+                control: model.control(),
+            };
+            let report = crate::paper::run_paper(&options, &out)?;
+            println!("Table 3 ({}):", report.case);
+            print!("{}", crate::report::table3(&report));
+            println!("\nTable 4:");
+            print!("{}", crate::report::table4(&report));
+            let m = &report.mesh_study;
+            println!(
+                "\nmesh bias: the paper's E = {} MPa at ~{} elements per coil; mesh-converged E = {:.0} MPa",
+                m.paper_youngs_modulus_mpa,
+                m.elements_per_coil_matching_paper
+                    .map_or("?".into(), |n| format!("{n:.1}")),
+                m.converged_youngs_modulus_mpa
+            );
+            println!(
+                "total {:.2} s; report in {}",
+                report.timings.total_s,
+                out.path("report.md").display()
+            );
             Ok(())
         }
         Command::Run {

@@ -16,6 +16,8 @@ pub mod cli;
 pub mod damping;
 pub mod decay;
 pub mod grid;
+pub mod paper;
 pub mod plots;
 pub mod procedure;
+pub mod report;
 pub mod sweep;

@@ -36,6 +36,10 @@ pub struct ModelArgs {
     /// Stop each grid after this many new points (the journal keeps them; rerun to go on).
     #[arg(long)]
     pub max_points: Option<usize>,
+    /// Replace the paper's two domains by these grids (repeatable), each as in a
+    /// procedure file: "alpha 0:0.1:2 beta 0:1e-5:2e-4 name domain2".
+    #[arg(long = "grid", value_parser = crate::procedure::parse_grid)]
+    pub grids: Vec<crate::grid::GridSpec>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -49,6 +53,9 @@ impl ModelArgs {
         s.damping.decay.method = self.method;
         s.damping.check_direct = !self.no_check && self.method == Method::Modal;
         s.damping.progress = !self.quiet;
+        if !self.grids.is_empty() {
+            s.damping.grids = self.grids.clone();
+        }
         s
     }
 

@@ -609,6 +609,22 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
     })
 }
 
+/// Parses the words of a `grid` line without the command, e.g.
+/// `alpha 0:0.1:2 beta 0:1e-5:2e-4 name domain2` (the name defaults to `grid`).
+pub fn parse_grid(text: &str) -> std::result::Result<GridSpec, String> {
+    let mut w = vec!["grid".to_string()];
+    w.extend(words(text)?);
+    match parse_step(&w)? {
+        Step::Grid(mut spec) => {
+            if spec.name.is_empty() {
+                spec.name = "grid".into();
+            }
+            Ok(spec)
+        }
+        _ => Err(format!("`{text}`: expected a grid")),
+    }
+}
+
 /// Parses a procedure's text; `path` names it in errors.
 pub fn parse(text: &str, path: &Path) -> Result<Procedure> {
     let mut statements = Vec::new();

@@ -1197,6 +1197,21 @@ mod tests {
         }
     }
 
+    /// docs/procedures.md lists every command and every setting of the tables.
+    #[test]
+    fn the_reference_documents_every_keyword() {
+        let doc = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/procedures.md"),
+        )
+        .unwrap();
+        for c in COMMANDS {
+            assert!(doc.contains(&format!("| `{}` |", c.name)), "{}", c.name);
+        }
+        for s in SETTINGS {
+            assert!(doc.contains(&format!("| `{}` |", s.name)), "{}", s.name);
+        }
+    }
+
     #[test]
     fn the_papers_procedure_parses() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/160ect/figure6.proc");

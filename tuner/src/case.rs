@@ -82,6 +82,9 @@ pub struct MeasuredCase {
     /// Decay records, resolved against the case folder (they exist).
     pub decay_files: Vec<PathBuf>,
     pub targets: Targets,
+    /// Line and column of the `targets` object (for messages about a missing target).
+    #[serde(skip)]
+    pub targets_at: Option<(usize, usize)>,
     pub tested_springs: Vec<TestedSpring>,
     pub paper: Option<PaperFigures>,
 }
@@ -203,6 +206,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
         }
     }
 
+    let targets_at = doc.get("targets").map(|t| (t.node.line, t.node.column));
     let targets = match doc.get("targets") {
         None => Targets::default(),
         Some(t) => {
@@ -282,6 +286,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
         static_files,
         decay_files,
         targets,
+        targets_at,
         tested_springs,
         paper,
     })
@@ -365,13 +370,18 @@ impl MeasuredCase {
             _ => self.targets.period_s,
         };
         value.ok_or_else(|| {
+            let (line, column) = self.targets_at.unwrap_or((1, 1));
             CaseError::Field(FieldError {
                 file: self.file.clone(),
-                line: 1,
-                column: 1,
+                line,
+                column,
                 field: format!("targets.{name}"),
-                problem: "missing".into(),
-                expected: "the target figure (or give it on the command line / in the procedure)"
+                problem: if self.targets_at.is_some() {
+                    "missing in this object".into()
+                } else {
+                    "missing: the case has no `targets`".into()
+                },
+                expected: "the target figure, or a number in place of `target` in a procedure"
                     .into(),
             })
         })

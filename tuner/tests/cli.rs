@@ -87,7 +87,7 @@ fn bad_case_files_fail_cleanly() {
         (
             "\"stiffness_n_mm\": 3.9275, ",
             "",
-            "case.json:7:15: `targets.stiffness_n_mm`: missing",
+            "case.json:7:14: `targets.stiffness_n_mm`: missing",
         ),
     ] {
         let case = dir.path().join("case");

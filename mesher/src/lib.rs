@@ -474,24 +474,28 @@ impl SpringSpec {
                     analysis: Analysis::Modal { modes: self.modes },
                     point_loads: vec![],
                 }),
+                // INITIAL VEL and HISTORY OUTPUT are model-level: one of each serves every
+                // transient case.
                 AnalysisKind::Transient => {
-                    if self.initial_velocity_m_s != 0.0 {
+                    if self.initial_velocity_m_s != 0.0 && initial_velocities.is_empty() {
                         initial_velocities.push(InitialVelocity {
                             dofs: vec![(3, units::length_from_si(self.initial_velocity_m_s))],
                             nodes: vec![WEIGHT_NODE],
                             quasi_static: self.initial_velocity_field == VelocityField::QuasiStatic,
                         });
                     }
-                    outputs.push(OutputRequest {
-                        nodes: vec![WEIGHT_NODE],
-                        dofs: vec![3],
-                        quantities: vec![
-                            Quantity::Displacement,
-                            Quantity::Velocity,
-                            Quantity::Acceleration,
-                        ],
-                        every: self.output_every,
-                    });
+                    if outputs.is_empty() {
+                        outputs.push(OutputRequest {
+                            nodes: vec![WEIGHT_NODE],
+                            dofs: vec![3],
+                            quantities: vec![
+                                Quantity::Displacement,
+                                Quantity::Velocity,
+                                Quantity::Acceleration,
+                            ],
+                            every: self.output_every,
+                        });
+                    }
                     load_cases.push(LoadCase {
                         title: "free decay".into(),
                         analysis: Analysis::Transient {

@@ -37,6 +37,11 @@
 //!   induces along the wire). The plain groups are applied after the quasi-static field.
 //! - Acceleration: `M a0 = f(0) - C v0 - K u0` (direct), the modal equations (modal).
 //!
+//! Prescribed displacements without a static case first start the free DOFs at zero,
+//! out of equilibrium under `-T^T K g`: a sudden load that reaches every mode, so direct
+//! integration converges at first order only (measured in the tests); a static case first
+//! restores second order.
+//!
 //! # Direct integration
 //! [`crate::integrate::Stepper`] (average acceleration, HHT-alpha or generalised-alpha)
 //! on `M`, `C`, `K` with both triangles stored; the effective matrix is factored once per
@@ -45,7 +50,9 @@
 //! # Modal superposition
 //! The lowest `modes` modes from [`super::modal::solve`] on the stiffness factor the
 //! static and modal cases share; mass-normalised `Phi`, `Phi^T K Phi = Omega^2`. Each mode
-//! gets its exact Rayleigh modal damping `zeta_i = phi_i^T C phi_i / (2 w_i)` and is
+//! gets its exact Rayleigh modal damping `zeta_i = phi_i^T C phi_i / (2 w_i)` (the formula
+//! of [`crate::integrate::modal::modal_damping_ratios`], taken here from the diagonal of
+//! the modal damping matrix computed anyway for the coupling below) and is
 //! integrated exactly for a load linear between steps
 //! ([`crate::integrate::modal::integrate_modal`]); initial modal coordinates are
 //! `Phi^T M u0` and `Phi^T M v0`; outputs are `T Phi q` at the requested DOFs. What the
@@ -65,6 +72,14 @@
 //! groups, then nodes, then DOFs, then quantities (a column asked twice appears once).
 //! One history has one time axis: it is sampled every `g`-th step, `g` the greatest
 //! common divisor of the groups' `every`, which holds every sample each group asked for.
+//!
+//! # References
+//! N. M. Newmark, J. Eng. Mech. Div. ASCE 85 (1959) 67-94; H. M. Hilber, T. J. R. Hughes,
+//! R. L. Taylor, Earthq. Eng. Struct. Dyn. 5 (1977) 283-292; J. Chung, G. M. Hulbert,
+//! J. Appl. Mech. 60 (1993) 371-375 (the schemes, see `crate::integrate`); N. C. Nigam,
+//! P. C. Jennings, Bull. Seismol. Soc. Am. 59 (1969) 909-922 (exact modal steps);
+//! R. J. Guyan, AIAA J. 3 (1965) 380 (the static condensation shape behind the
+//! quasi-static velocity field).
 
 use super::modal;
 use super::{table_points, SolveError, StaticSolution, System};
@@ -87,8 +102,8 @@ pub const DEFAULT_MODAL_MODES: u32 = 20;
 /// Most steps a transient case may take (a guard against a `dt` typo, e.g. 1e-9 s).
 pub const MAX_STEPS: usize = 100_000_000;
 
-/// Most values (rows times columns) a history may hold.
-pub const MAX_HISTORY_VALUES: usize = 500_000_000;
+/// Most values (rows times columns) a history may hold (800 MB in memory).
+pub const MAX_HISTORY_VALUES: usize = 100_000_000;
 
 /// One recorded signal.
 #[derive(Debug, Clone, PartialEq)]

@@ -653,7 +653,12 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     let mut given: HashMap<(u32, u8), Loc> = HashMap::new();
     let initial_velocities = dof_groups(&b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
         .into_iter()
-        .map(|(dofs, nodes)| InitialVelocity { dofs, nodes })
+        .zip(&raw.initial_velocities)
+        .map(|((dofs, nodes), g)| InitialVelocity {
+            dofs,
+            nodes,
+            quasi_static: g.quasi_static,
+        })
         .collect();
     let mut outputs = Vec::new();
     for o in &raw.outputs {

@@ -167,8 +167,12 @@ pub fn run(cli: Cli) -> Result<()> {
                 print!("{}", result.summary());
                 result.state
             };
-            let result =
-                crate::sweep::sweep(&material, &variants, &settings.fe, &settings.damping.decay)?;
+            // The table by direct integration unless checks are off (--no-check).
+            let mut decay = settings.damping.decay.clone();
+            if settings.damping.check_direct {
+                decay.method = crate::decay::Method::Direct;
+            }
+            let result = crate::sweep::sweep(&material, &variants, &settings.fe, &decay)?;
             out.write("sweep.csv", result.csv().as_bytes())?;
             let json = serde_json::to_string_pretty(&result)
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;

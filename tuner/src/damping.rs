@@ -33,6 +33,7 @@
 //! `loop3_valley.png`, `loop3/<what>.dat` (decks of the chosen point's and the valley's
 //! transients; a grid point's deck is the chosen deck with its DAMPING line changed).
 
+use crate::decay::VelocityField;
 use crate::decay::{
     measure, AxialDamping, DecayMeasure, DecayRecord, DecaySettings, Method, ModalDecay,
 };
@@ -41,7 +42,8 @@ use crate::fe::{FeSettings, SpringState};
 use crate::grid::{run_grid, GridOptions, GridPoint, GridResult, GridSpec};
 use crate::output::{csv, exact, OutDir};
 use crate::plots::{self, HeatMapMarks, ValleyPlot};
-use coil_mesher::AnalysisKind;
+use coil_mesher::{AnalysisKind, TransientScheme, WEIGHT_ACCEL_COLUMN};
+use coil_solver::analysis::{self, CaseSolution};
 use serde::Serialize;
 
 /// Settings of loop 3.
@@ -127,7 +129,8 @@ impl Simulator {
     }
 }
 
-/// A decay run's deck (transient load case, direct integration).
+/// A decay run's deck: the transient load case with the settings' step, length, initial
+/// velocity field and method (average acceleration for direct integration).
 pub fn decay_model(
     state: &SpringState,
     fe: &FeSettings,
@@ -137,19 +140,61 @@ pub fn decay_model(
     spec.dt_s = decay.dt_s;
     spec.duration_s = decay.duration_s;
     spec.initial_velocity_m_s = decay.initial_velocity_m_s;
+    spec.initial_velocity_field = match decay.velocity_field {
+        VelocityField::QuasiStatic => coil_mesher::VelocityField::QuasiStatic,
+        VelocityField::Nodal => coil_mesher::VelocityField::Nodal,
+    };
+    spec.transient_method = match decay.method {
+        Method::Direct => TransientScheme::Newmark,
+        Method::Modal => TransientScheme::Modal,
+    };
+    spec.transient_modes = decay.modal_modes;
     Ok(spec.build()?)
 }
 
-/// A direct-integration decay run through the solver's transient load case.
+/// A direct-integration decay run through the solver's transient load case
+/// (`analysis::run`), returning the weight's axial acceleration.
 pub fn direct_decay(
     state: &SpringState,
     fe: &FeSettings,
     decay: &DecaySettings,
 ) -> Result<DecayRecord> {
-    let _model = decay_model(state, fe, decay)?;
-    Err(TuneError::Invalid(
-        "direct integration needs the solver's transient load case, not in this build".into(),
-    ))
+    let settings = DecaySettings {
+        method: Method::Direct,
+        ..decay.clone()
+    };
+    let model = decay_model(state, fe, &settings)?;
+    let context = || {
+        format!(
+            "direct decay run (alpha {}, beta {})",
+            state.alpha, state.beta
+        )
+    };
+    let results = analysis::run(&model).map_err(|source| TuneError::Solve {
+        context: context(),
+        source: Box::new(source),
+    })?;
+    let history = results
+        .into_iter()
+        .find_map(|r| match r.solution {
+            CaseSolution::Transient(t) => Some(t.history),
+            _ => None,
+        })
+        .ok_or_else(|| TuneError::Missing {
+            context: context(),
+            what: "no transient case in the run".into(),
+        })?;
+    let accel = history
+        .column(WEIGHT_ACCEL_COLUMN)
+        .ok_or_else(|| TuneError::Missing {
+            context: context(),
+            what: format!("no column {WEIGHT_ACCEL_COLUMN} in the history"),
+        })?
+        .to_vec();
+    Ok(DecayRecord {
+        time_s: history.time_s,
+        accel_m_s2: accel,
+    })
 }
 
 /// The least-squares plane `zeta = z0 + a alpha + b beta` through measured points.

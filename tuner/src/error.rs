@@ -18,7 +18,7 @@ pub enum TuneError {
     Solve {
         context: String,
         #[source]
-        source: coil_solver::analysis::SolveError,
+        source: Box<coil_solver::analysis::SolveError>,
     },
     /// A time integration failed.
     #[error("{context}: {source}")]

@@ -149,7 +149,7 @@ pub struct StaticModal {
 fn solve(model: &Model, context: &str) -> Result<Vec<analysis::CaseResult>> {
     analysis::run(model).map_err(|source| TuneError::Solve {
         context: context.to_string(),
-        source,
+        source: Box::new(source),
     })
 }
 

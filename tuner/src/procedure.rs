@@ -970,7 +970,7 @@ impl Session<'_> {
                 })?;
                 let m = measure(record, &self.settings.damping.decay)?;
                 say(&format!(
-                    "post: zeta = {:.6} (span mean, every {}th crest), zeta_fit = {:.6}, T = {:.6} s, {} crests",
+                    "post: zeta = {:.8} (span mean, every {}th crest), zeta_fit = {:.8}, T = {:.8} s, {} crests",
                     m.zeta_mean, self.settings.damping.decay.every, m.zeta_fit, m.period_s, m.crests
                 ));
             }

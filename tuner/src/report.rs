@@ -282,7 +282,8 @@ pub fn markdown(r: &PaperReport) -> String {
                 p.beta,
                 p.zeta,
                 100.0 * p.alpha_share,
-                100.0 * (1.0 - p.alpha_share),
+                // The last point has zeta a hair above the target: no "-0.0%".
+                (100.0 * (1.0 - p.alpha_share)).max(0.0),
                 p.runs
             );
         }

@@ -134,6 +134,35 @@ fn a_small_grid_resumes_from_its_journal() {
     }
 }
 
+/// The same decay by modal superposition and by direct integration (average
+/// acceleration, the solver's transient load case): the period differs by the
+/// integrator's (w dt)^2/12 (within 10%), zeta by less than 1e-3 relative.
+#[test]
+fn direct_and_modal_decays_agree() {
+    let case = read_case(&case_dir()).unwrap();
+    let mut state = SpringState::nominal(&case);
+    tune_youngs_modulus(&mut state, &coarse(), 3.9275, 1e-9, None).unwrap();
+    tune_mass(&mut state, &coarse(), 0.23, 1e-9, None).unwrap();
+    state.alpha = 1.6;
+    state.beta = 1.2e-4;
+    let decay = coil_tuner::decay::DecaySettings::default();
+    let modal = coil_tuner::decay::ModalDecay::new(&state, &coarse(), &decay).unwrap();
+    let m = coil_tuner::decay::measure(&modal.simulate(1.6, 1.2e-4).unwrap(), &decay).unwrap();
+    let record = coil_tuner::damping::direct_decay(&state, &coarse(), &decay).unwrap();
+    let d = coil_tuner::decay::measure(&record, &decay).unwrap();
+    let w_dt = std::f64::consts::TAU / 0.23 * decay.dt_s;
+    let elongation = d.period_s / m.period_s - 1.0;
+    assert!(
+        (elongation / (w_dt * w_dt / 12.0) - 1.0).abs() < 0.1,
+        "period elongation {elongation:e} vs (w dt)^2/12 = {:e}",
+        w_dt * w_dt / 12.0
+    );
+    let dz = (d.zeta_mean - m.zeta_mean) / m.zeta_mean;
+    assert!(dz.abs() < 1e-3, "direct {} vs modal {}", d.zeta_mean, m.zeta_mean);
+    // The modal record's period is the axial mode's own (damped: T / sqrt(1 - zeta^2)).
+    assert!((m.period_s - 0.23).abs() / 0.23 < 1e-5, "{}", m.period_s);
+}
+
 /// The calibration's headline numbers on the paper's case at reduced settings: K and T
 /// on target, the chosen zeta within half a grid step of the target.
 #[test]

@@ -30,8 +30,11 @@
 //! # Files (in the output folder)
 //! `loop3_<grid>.csv` (every point), `loop3_<grid>.journal.jsonl` (resumable journal),
 //! `fig8_<grid>.png` / `fig9_<grid>.png` (heat maps), `loop3_valley.csv` and
-//! `loop3_valley.png`, `loop3/<what>.dat` (decks of the chosen point's and the valley's
-//! transients; a grid point's deck is the chosen deck with its DAMPING line changed).
+//! `loop3_valley.png`, `loop3_log.csv` (every run with its relative error: the analogue of
+//! Fig. 7), `loop3/<what>.dat` (decks of the chosen point, the paper's point and the
+//! valley's transients with the grid's method, and `chosen_direct.dat` when the choice is
+//! checked by direct integration; a grid point's deck is the chosen deck with its DAMPING
+//! line changed). `coil-solve` runs them: `chosen.dat` reproduces the grid's zeta.
 
 use crate::decay::VelocityField;
 use crate::decay::{
@@ -642,15 +645,80 @@ impl Loop3 {
                     &out.path("loop3_valley.png"),
                 )?;
             }
-            let chosen_state = SpringState {
-                alpha: best.alpha,
-                beta: best.beta,
-                ..*state
-            };
-            let model = decay_model(&chosen_state, fe, decay)?;
+            // Decks of the transients that matter: the chosen point, the paper's point,
+            // the valley's points (a grid point's deck is the chosen one with its DAMPING
+            // line changed).
+            let mut decks = vec![("chosen".to_string(), best.alpha, best.beta)];
+            if let Some((a, b)) = paper_point {
+                decks.push(("paper_point".to_string(), a, b));
+            }
+            if let Some(v) = &valley {
+                for (k, p) in v.points.iter().enumerate() {
+                    decks.push((format!("valley_{:02}", k + 1), p.alpha, p.beta));
+                }
+            }
+            for (name, alpha, beta) in decks {
+                let model = decay_model(
+                    &SpringState {
+                        alpha,
+                        beta,
+                        ..*state
+                    },
+                    fe,
+                    decay,
+                )?;
+                out.write(
+                    format!("loop3/{name}.dat"),
+                    coil_solver::deck::write(&model).as_bytes(),
+                )?;
+            }
+            if chosen.direct.is_some() {
+                let direct = DecaySettings {
+                    method: Method::Direct,
+                    ..decay.clone()
+                };
+                let at = SpringState {
+                    alpha: best.alpha,
+                    beta: best.beta,
+                    ..*state
+                };
+                out.write(
+                    "loop3/chosen_direct.dat",
+                    coil_solver::deck::write(&decay_model(&at, fe, &direct)?).as_bytes(),
+                )?;
+            }
+            // The loop's log, the analogue of Fig. 7: every run with its relative error.
+            let mut rows = Vec::new();
+            for g in results {
+                for p in &g.points {
+                    rows.push(vec![
+                        g.spec.name.clone(),
+                        exact(p.alpha),
+                        exact(p.beta),
+                        p.zeta().map_or(String::new(), exact),
+                        p.zeta()
+                            .map_or(String::new(), |z| exact((z - target_zeta) / target_zeta)),
+                    ]);
+                }
+            }
+            if let Some(v) = &valley {
+                for p in &v.points {
+                    rows.push(vec![
+                        "valley".into(),
+                        exact(p.alpha),
+                        exact(p.beta),
+                        exact(p.zeta),
+                        exact((p.zeta - target_zeta) / target_zeta),
+                    ]);
+                }
+            }
             out.write(
-                "loop3/chosen.dat",
-                coil_solver::deck::write(&model).as_bytes(),
+                "loop3_log.csv",
+                csv(
+                    &["stage", "alpha", "beta", "zeta_mean", "relative_error"],
+                    rows,
+                )
+                .as_bytes(),
             )?;
         }
 

@@ -119,6 +119,8 @@ pub struct Timings {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PaperReport {
     pub case: String,
+    /// The case's tested springs (the paper's Table 1), whose means are the targets.
+    pub table1: Vec<crate::case::TestedSpring>,
     pub method: Method,
     pub table3: Table3,
     pub table3_paper: Table3Paper,
@@ -414,6 +416,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
     let rel = |a: f64, b: f64| (a - b) / b;
     let report = PaperReport {
         case: case.name.clone(),
+        table1: case.tested_springs.clone(),
         method: decay.method,
         table3,
         table3_paper,

@@ -167,6 +167,28 @@ pub fn markdown(r: &PaperReport) -> String {
             .map_or(String::new(), |f| format!(" after a {f} Hz zero-phase low-pass"))
     );
 
+    if !r.table1.is_empty() {
+        let _ = writeln!(
+            s,
+            "## Table 1: the tested springs (the targets are their means)\n"
+        );
+        let _ = writeln!(s, "| spring | K (N/mm) | zeta |");
+        let _ = writeln!(s, "|---|---:|---:|");
+        for t in &r.table1 {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} |",
+                t.name, t.stiffness_n_mm, t.damping_ratio
+            );
+        }
+        let n = r.table1.len() as f64;
+        let _ = writeln!(
+            s,
+            "| mean | {:.4} | {:.5} |\n",
+            r.table1.iter().map(|t| t.stiffness_n_mm).sum::<f64>() / n,
+            r.table1.iter().map(|t| t.damping_ratio).sum::<f64>() / n
+        );
+    }
     let _ = writeln!(s, "## Table 3: the validated model\n");
     s.push_str(&table3(r));
     let _ = writeln!(
@@ -395,7 +417,7 @@ pub fn markdown(r: &PaperReport) -> String {
         "`report.json`, `calibration.json`, `fig7_loops.png`, `fig8_*.png`, `fig9_*.png`, \
          `loop3_valley.png`, `fig10_decay.png`, `loop1_stiffness.csv` + `loop1_stiffness/*.dat`, \
          `loop2_period.csv` + `loop2_period/*.dat`, `loop3_*.csv`, `loop3_*.journal.jsonl`, \
-         `loop3/chosen.dat`, `sweep.csv`."
+         `loop3_log.csv`, `loop3_valley.csv`, `loop3/*.dat` (the chosen point, the paper's point, the valley), `sweep.csv`."
     );
     s
 }

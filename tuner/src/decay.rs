@@ -116,9 +116,10 @@ impl DecaySettings {
     /// Number of steps of a run.
     pub fn steps(&self) -> Result<usize> {
         let n = (self.duration_s / self.dt_s).round();
-        if !(self.dt_s > 0.0 && self.dt_s.is_finite() && (1.0..1e9).contains(&n)) {
+        // 1e7 samples of a record are 80 MB; more is a typo (dt in ms?), not a study.
+        if !(self.dt_s > 0.0 && self.dt_s.is_finite() && (1.0..=1e7).contains(&n)) {
             return Err(TuneError::Invalid(format!(
-                "decay run: dt = {} s, duration = {} s; expected 0 < dt <= duration and fewer than 1e9 steps",
+                "decay run: dt = {} s, duration = {} s; expected 0 < dt <= duration and at most 1e7 steps",
                 self.dt_s, self.duration_s
             )));
         }

@@ -29,6 +29,9 @@ use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
+/// Most points of one grid (a million decay runs is days of work: a typo, not a study).
+pub const MAX_POINTS: usize = 1_000_000;
+
 /// One axis of a grid.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
@@ -392,6 +395,15 @@ where
     F: Fn(f64, f64) -> Result<DecayMeasure> + Sync,
 {
     let start = std::time::Instant::now();
+    if spec.len() > MAX_POINTS {
+        return Err(TuneError::Invalid(format!(
+            "grid {}: {} x {} = {} points; expected at most {MAX_POINTS}",
+            spec.name,
+            spec.alpha.count,
+            spec.beta.count,
+            spec.len()
+        )));
+    }
     let header = Header {
         coil_grid_journal: 1,
         grid: spec.clone(),

@@ -158,7 +158,12 @@ fn direct_and_modal_decays_agree() {
         w_dt * w_dt / 12.0
     );
     let dz = (d.zeta_mean - m.zeta_mean) / m.zeta_mean;
-    assert!(dz.abs() < 1e-3, "direct {} vs modal {}", d.zeta_mean, m.zeta_mean);
+    assert!(
+        dz.abs() < 1e-3,
+        "direct {} vs modal {}",
+        d.zeta_mean,
+        m.zeta_mean
+    );
     // The modal record's period is the axial mode's own (damped: T / sqrt(1 - zeta^2)).
     assert!((m.period_s - 0.23).abs() / 0.23 < 1e-5, "{}", m.period_s);
 }

@@ -127,8 +127,13 @@ fn main() -> ExitCode {
     match run(&cli) {
         Ok(cases) => {
             if !cli.quiet {
-                print!("{}", summary(&cases));
-                println!("results in {}", cli.out.join("results.json").display());
+                // The results are already on disk; a closed stdout (`| head`) is not an
+                // error worth a panic or a failure exit.
+                use std::io::Write;
+                let mut out = std::io::stdout().lock();
+                let _ = write!(out, "{}", summary(&cases)).and_then(|()| {
+                    writeln!(out, "results in {}", cli.out.join("results.json").display())
+                });
             }
             ExitCode::SUCCESS
         }

@@ -27,8 +27,8 @@ use crate::spectrum::{SpectralPeak, Spectrum};
 /// The embedded font.
 const FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-/// Family name the font is registered under.
-const FONT: &str = "sans-serif";
+/// Family name the embedded font is registered under (use it in text styles).
+pub const FONT: &str = "sans-serif";
 
 /// Most points drawn per line.
 pub const MAX_POINTS: usize = 4000;
@@ -125,7 +125,8 @@ struct EnvelopeFigure<'a> {
     traces: &'a [EnvelopeTrace<'a>],
 }
 
-type Draw = std::result::Result<(), String>;
+/// What drawing a [`Figure`] returns: plotters errors as text.
+pub type Draw = std::result::Result<(), String>;
 
 fn text<E: std::fmt::Display>(error: E) -> String {
     error.to_string()
@@ -144,13 +145,15 @@ fn ensure_font() -> Result<()> {
     }
 }
 
-/// A picture that can be drawn on any plotters backend.
-trait Figure {
+/// A picture that can be drawn on any plotters backend; [`render`] writes it as PNG or
+/// SVG. Other crates (the tuner's figures) implement it to share the font and output.
+pub trait Figure {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
 }
 
-/// Picks the backend from the extension and draws `figure` through a temporary file.
-fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
+/// Picks the backend from the extension (`.png`, `.svg`) and draws `figure` at [`SIZE`]
+/// through a temporary file, with the embedded font registered.
+pub fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
     ensure_font()?;
     let extension = path
         .extension()

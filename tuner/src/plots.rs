@@ -6,94 +6,33 @@
 //! - the valley of (alpha, beta) pairs that give the target zeta ([`valley_figure`]);
 //! - Fig. 10 (normalised decay histories) is drawn by `coil_postproc::plot`.
 //!
-//! Text uses DejaVu Sans embedded from the post-processor's assets (the same font its
-//! plots use) and registered with plotters' `ab_glyph` table. Pictures are drawn into
-//! a temporary file and renamed.
+//! The figures implement `coil_postproc::plot::Figure` and are written by its renderer:
+//! the same embedded font (DejaVu Sans), size and atomic output as the post-processor's
+//! plots.
 
 use crate::error::{Result, TuneError};
 use crate::grid::GridResult;
 use crate::loops::LoopReport;
+use coil_postproc::plot::{self, Draw, Figure, FONT, SIZE};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::{register_font, FontStyle};
 use std::path::Path;
-use std::sync::OnceLock;
 
-const FONT_BYTES: &[u8] = include_bytes!("../../postproc/assets/DejaVuSans.ttf");
-const FONT: &str = "sans-serif";
-const SIZE: (u32, u32) = (1400, 900);
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
 const GREEN: RGBColor = RGBColor(44, 160, 44);
 
-type Draw = std::result::Result<(), String>;
-
-fn ensure_font() -> Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    if *REGISTERED.get_or_init(|| register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()) {
-        Ok(())
-    } else {
-        Err(TuneError::Plot {
-            path: "postproc/assets/DejaVuSans.ttf".into(),
-            message: "the embedded font cannot be loaded".into(),
-        })
-    }
+/// Draws `figure` into `path` (PNG or SVG) with the post-processor's renderer: same
+/// font, same size, same atomic output.
+fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
+    plot::render(path, figure).map_err(|source| TuneError::Plot {
+        path: path.to_path_buf(),
+        message: source.to_string(),
+    })
 }
 
 fn e<T: std::fmt::Display>(x: T) -> String {
     x.to_string()
-}
-
-/// A picture drawable on any backend.
-trait Figure {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
-}
-
-/// Draws `figure` into `path` (PNG or SVG) through a temporary file.
-fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
-    ensure_font()?;
-    let fail = |message: String| TuneError::Plot {
-        path: path.to_path_buf(),
-        message,
-    };
-    let extension = path
-        .extension()
-        .map(|x| x.to_string_lossy().to_ascii_lowercase());
-    let folder = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(folder).map_err(|x| TuneError::io(folder, x))?;
-    let suffix = format!(".{}", extension.clone().unwrap_or_default());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".plot").suffix(&suffix);
-    // tempfile creates 0600 files; a figure is an ordinary output, readable as the umask
-    // allows.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let temporary = builder
-        .tempfile_in(folder)
-        .map_err(|x| TuneError::io(folder, x))?;
-    match extension.as_deref() {
-        Some("png") => {
-            let root = BitMapBackend::new(temporary.path(), SIZE).into_drawing_area();
-            figure.draw(&root).map_err(fail)?;
-            root.present().map_err(|x| fail(x.to_string()))?;
-        }
-        Some("svg") => {
-            let root = SVGBackend::new(temporary.path(), SIZE).into_drawing_area();
-            figure.draw(&root).map_err(fail)?;
-            root.present().map_err(|x| fail(x.to_string()))?;
-        }
-        _ => return Err(fail("expected a .png or .svg extension".into())),
-    }
-    temporary
-        .persist(path)
-        .map_err(|x| TuneError::io(path, x.error))?;
-    Ok(())
 }
 
 /// Viridis-like colour for t in [0, 1].

@@ -20,11 +20,15 @@
 //! The derivations, parameters and measured numerical damping and period error are in
 //! `docs/integrators.md`.
 
+mod banded;
+mod blocked;
 pub mod error;
 mod factor;
 pub mod modal;
 pub mod newmark;
 mod operator;
+mod profile;
+mod sparse;
 
 #[cfg(test)]
 mod tests;

@@ -18,9 +18,9 @@ use super::error::IntegrateError;
 use super::Operators;
 
 /// Index of each operator in the interleaved value triple.
-const M: usize = 0;
-const C: usize = 1;
-const K: usize = 2;
+pub(crate) const M: usize = 0;
+pub(crate) const C: usize = 1;
+pub(crate) const K: usize = 2;
 
 /// Relative tolerance of the symmetry check: far above the round-off of an
 /// assembled element sum (~1e-16 of the largest entry), far below any genuine
@@ -157,6 +157,13 @@ impl MergedOperators {
     /// Whether a damping matrix was given.
     pub(crate) fn has_damping(&self) -> bool {
         !self.values[C].is_empty()
+    }
+
+    /// Values of operator `which` ([`M`], [`C`], [`K`]) on the lower pattern, or
+    /// `None` for an absent damping matrix.
+    pub(crate) fn values(&self, which: usize) -> Option<&[f64]> {
+        let v = &self.values[which];
+        (which != C || !v.is_empty()).then_some(v.as_slice())
     }
 
     /// Number of stored (lower-triangle) entries.

@@ -42,7 +42,7 @@
 //! (the natural order, or hubs moved last) each run is a contiguous slice on both
 //! sides and nothing is gathered.
 
-use super::blocked::{self, Blocks, Chunk};
+use super::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
 use super::error::IntegrateError;
 use super::newmark::Coefficients;
 use super::operator::{MergedOperators, C, K, M};
@@ -54,24 +54,51 @@ use super::State;
 /// How an operator enters the step.
 #[derive(Debug, Clone)]
 enum Form {
-    /// No damping matrix.
-    Absent,
     /// Only diagonal entries: its values per internal DOF.
     Diagonal(Vec<f64>),
     /// Product panels (see `blocked`).
-    Panels(Vec<Chunk>),
+    Panels(Vec<Tile>),
+}
+
+/// One of the matrices the step is built from: M, C, K, or with Rayleigh damping
+/// recognised M, K and the diagonal `D` of `C = alpha M + beta K + D`.
+#[derive(Debug, Clone)]
+struct Primitive {
+    form: Form,
+    /// Values on the envelope, to form `S`.
+    on_envelope: Vec<f64>,
+    /// Its share `(mu_M, mu_C, mu_K)` of the operators: its vector is
+    /// `mu_M x + mu_C y + mu_K z` and its scale in `S` is `mu_M cm + mu_C cc + mu_K ck`
+    /// (M is `(1, 0, 0)`; under Rayleigh damping M is `(1, alpha, 0)`, K
+    /// `(0, beta, 1)`, D `(0, 1, 0)`).
+    share: [f64; 3],
+    /// Whether its vector over its scale may be eliminated through `S` (not for K:
+    /// see the module docs).
+    eliminable: bool,
+}
+
+impl Primitive {
+    fn cost(&self) -> usize {
+        match &self.form {
+            Form::Diagonal(_) => 1,
+            Form::Panels(p) => 16 * p.len(),
+        }
+    }
 }
 
 /// The step's coefficients for the current `(scheme, dt)`.
 /// (Default: a placeholder until the first `refactor`.)
 #[derive(Debug, Clone, Default)]
 struct Plan {
-    /// Operators multiplied each step, with the `(u, v, a)` coefficients of their
-    /// vector.
+    /// Primitives multiplied each step (by index), with the `(u, v, a)`
+    /// coefficients of their vector.
     products: Vec<(usize, [f64; 3])>,
-    /// Per internal DOF, the `(u, v, a)` coefficients of the diagonal operators'
-    /// share of the right-hand side; empty when there is none.
+    /// Per internal DOF, the `(u, v, a)` coefficients of the diagonal primitives'
+    /// share of the right-hand side; empty when there is none or when it is sparse.
     diagonal: [Vec<f64>; 3],
+    /// The same share when few DOFs have one (a point mass left out of Rayleigh
+    /// damping): `(internal, caller's index, coefficients)`.
+    sparse_diagonal: Vec<(usize, usize, [f64; 3])>,
     /// Load blend `(1-af) f(t_{n+1}) + af f(t_n)`.
     load: [f64; 2],
     corrector: Corrector,
@@ -83,12 +110,10 @@ pub(crate) struct BandedEngine {
     ordering: Ordering,
     blocks: Blocks,
     fma: bool,
-    /// M, C, K on the envelope (C empty when absent), to form `S`.
-    values: [Vec<f64>; 3],
-    forms: [Form; 3],
+    primitives: Vec<Primitive>,
     s_values: Vec<f64>,
     cholesky: ProfileCholesky,
-    factor_panels: Vec<Chunk>,
+    factor_panels: FactorPanels,
     plan: Plan,
     /// Product vectors and the right-hand side / solution, in envelope order.
     vectors: [Vec<Chunk>; 3],
@@ -105,34 +130,66 @@ impl BandedEngine {
     /// The engine for `ops`, or `None` when the pattern's envelope is too wide.
     pub(crate) fn new(ops: &MergedOperators) -> Option<Self> {
         let n = ops.dim();
-        let (ordering, _, envelope) = choose_ordering(ops.pattern(), |e| Blocks::new(e).len());
+        let pattern = ops.pattern();
+        let (ordering, _, envelope) = choose_ordering(pattern, |e| Blocks::new(e).n_values());
         let blocks = Blocks::new(&envelope);
-        if 4 * blocks.len() > MAX_PANEL_RATIO * ops.nnz() + 256 {
+        if blocks.n_values() > MAX_PANEL_RATIO * ops.nnz() + 256 {
             return None;
         }
-        let mut values: [Vec<f64>; 3] = Default::default();
-        let mut forms = [Form::Absent, Form::Absent, Form::Absent];
-        for which in [M, C, K] {
-            let Some(v) = ops.values(which) else {
-                continue;
-            };
-            let pattern = ops.pattern();
-            let diagonal = (0..n).all(|j| {
+        let is_diagonal = |v: &[f64]| {
+            (0..n).all(|j| {
                 pattern
                     .col_range(j)
                     .all(|p| pattern.row_idx()[p] == j || v[p] == 0.0)
-            });
+            })
+        };
+        let primitive = |v: &[f64], share: [f64; 3], eliminable: bool| {
             let on_envelope = scatter_lower(&envelope, &ordering, pattern, v);
-            forms[which] = if diagonal {
+            let form = if is_diagonal(v) {
                 Form::Diagonal(
                     (0..n)
-                        .map(|i| *envelope.row(i, &on_envelope).last().unwrap_or(&0.0))
+                        .map(|i| envelope.row(i, &on_envelope).last().copied().unwrap_or(0.0))
                         .collect(),
                 )
             } else {
                 Form::Panels(blocks.product_panels(&envelope, &on_envelope))
             };
-            values[which] = on_envelope;
+            Primitive {
+                form,
+                on_envelope,
+                share,
+                eliminable,
+            }
+        };
+        let (m, k) = (ops.values(M)?, ops.values(K)?);
+        let damping = ops.values(C);
+        // A damping matrix that is diagonal already costs nothing; otherwise try to
+        // express it through M and K.
+        let split = damping
+            .filter(|c| !is_diagonal(c))
+            .and_then(|_| ops.rayleigh_split());
+        let mut primitives = Vec::new();
+        match split {
+            Some(split) => {
+                primitives.push(primitive(m, [1.0, split.alpha, 0.0], true));
+                primitives.push(primitive(k, [0.0, split.beta, 1.0], false));
+                let mut d = vec![0.0; ops.nnz()];
+                for j in 0..n {
+                    for p in pattern.col_range(j) {
+                        if pattern.row_idx()[p] == j {
+                            d[p] = split.diagonal[j];
+                        }
+                    }
+                }
+                primitives.push(primitive(&d, [0.0, 1.0, 0.0], true));
+            }
+            None => {
+                primitives.push(primitive(m, [1.0, 0.0, 0.0], true));
+                if let Some(c) = damping {
+                    primitives.push(primitive(c, [0.0, 1.0, 0.0], true));
+                }
+                primitives.push(primitive(k, [0.0, 0.0, 1.0], false));
+            }
         }
         let n_chunks = blocks.n_chunks();
         let gathered = if ordering.runs().is_some() {
@@ -142,13 +199,12 @@ impl BandedEngine {
         };
         Some(Self {
             s_values: vec![0.0; envelope.len()],
-            factor_panels: vec![[0.0; 4]; blocks.len()],
+            factor_panels: blocks.factor_storage(),
             cholesky: ProfileCholesky::new(envelope),
             ordering,
             blocks,
             fma: has_fma(),
-            values,
-            forms,
+            primitives,
             plan: Plan::default(),
             vectors: [
                 vec![[0.0; 4]; n_chunks],
@@ -160,6 +216,13 @@ impl BandedEngine {
         })
     }
 
+    /// Whether the damping matrix is used as `alpha M + beta K + D` (tests, docs).
+    #[cfg(test)]
+    pub(crate) fn rayleigh(&self) -> bool {
+        // [M, K, D] rather than [M, C, K]: the second one is K, not eliminable.
+        self.primitives.len() == 3 && !self.primitives[1].eliminable
+    }
+
     /// Forms and factors `S` for `(coefficients, dt)` and plans the step.
     pub(crate) fn refactor(
         &mut self,
@@ -169,9 +232,10 @@ impl BandedEngine {
     ) -> Result<(), IntegrateError> {
         let scale = effective(coefficients, dt);
         self.s_values.fill(0.0);
-        for which in [M, C, K] {
-            for (s, &v) in self.s_values.iter_mut().zip(&self.values[which]) {
-                *s += scale[which] * v;
+        for primitive in &self.primitives {
+            let s = dot3(primitive.share, scale);
+            for (target, &v) in self.s_values.iter_mut().zip(&primitive.on_envelope) {
+                *target += s * v;
             }
         }
         self.cholesky
@@ -182,7 +246,7 @@ impl BandedEngine {
         Ok(())
     }
 
-    /// Chooses the operator to eliminate and derives every coefficient of the step.
+    /// Chooses the primitive to eliminate and derives every coefficient of the step.
     fn plan_step(&self, coefficients: &Coefficients, dt: f64) -> Plan {
         let Coefficients {
             alpha_m: am,
@@ -193,74 +257,94 @@ impl BandedEngine {
         let scale = effective(coefficients, dt);
         let du = 1.0 - af;
         // (u, v, a) coefficients of x, y, z (module docs).
-        let vectors = [
+        let xyz = [
             [0.0, 0.0, am],
             [0.0, 1.0, du * dt * (1.0 - gamma)],
             [1.0, du * dt, du * dt * dt * (0.5 - beta)],
         ];
-        let present = |which: usize| !matches!(self.forms[which], Form::Absent);
-        let cost = |which: usize| match &self.forms[which] {
-            Form::Absent => 0,
-            Form::Diagonal(_) => 1,
-            Form::Panels(p) => 4 * p.len(),
+        let vector = |p: &Primitive| -> [f64; 3] {
+            std::array::from_fn(|k| (0..3).map(|o| p.share[o] * xyz[o][k]).sum())
         };
-        let reduced = |eliminated: usize| -> [[f64; 3]; 3] {
-            let w = vectors[eliminated].map(|c| c / scale[eliminated]);
-            let mut out = [[0.0; 3]; 3];
-            for which in [M, C, K] {
-                if which != eliminated {
-                    for k in 0..3 {
-                        out[which][k] = vectors[which][k] - scale[which] * w[k];
+        let primitive_scale = |p: &Primitive| dot3(p.share, scale);
+        // Vectors left after eliminating primitive `e` (None: nothing eliminated).
+        let reduced = |e: Option<usize>| -> Vec<[f64; 3]> {
+            let w = e.map_or([0.0; 3], |e| {
+                let p = &self.primitives[e];
+                vector(p).map(|c| c / primitive_scale(p))
+            });
+            self.primitives
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    if Some(i) == e {
+                        [0.0; 3]
+                    } else {
+                        let (v, s) = (vector(p), primitive_scale(p));
+                        std::array::from_fn(|k| v[k] - s * w[k])
                     }
-                }
-            }
-            out
+                })
+                .collect()
         };
-        let total = |eliminated: usize| -> usize {
-            let r = reduced(eliminated);
-            [M, C, K]
-                .into_iter()
-                .filter(|&w| present(w) && r[w] != [0.0; 3])
-                .map(cost)
+        let total = |e: Option<usize>| -> usize {
+            reduced(e)
+                .iter()
+                .zip(&self.primitives)
+                .filter(|(r, _)| **r != [0.0; 3])
+                .map(|(_, p)| p.cost())
                 .sum()
         };
-        // K is never eliminated: see the module docs (round-off).
-        let eliminated = if present(C) && total(C) < total(M) {
-            C
-        } else {
-            M
-        };
+        // Ties keep the earlier choice: no elimination, then M, then C (module docs).
+        let mut eliminated = None;
+        for (i, p) in self.primitives.iter().enumerate() {
+            if p.eliminable && total(Some(i)) < total(eliminated) {
+                eliminated = Some(i);
+            }
+        }
         let r = reduced(eliminated);
         let n = self.blocks.dim();
         let mut products = Vec::new();
         let mut diagonal: [Vec<f64>; 3] = Default::default();
-        for which in [M, C, K] {
-            if r[which] == [0.0; 3] {
+        for (i, (p, r)) in self.primitives.iter().zip(&r).enumerate() {
+            if *r == [0.0; 3] {
                 continue;
             }
-            match &self.forms[which] {
-                Form::Absent => {}
-                Form::Panels(_) => products.push((which, r[which])),
+            match &p.form {
+                Form::Panels(_) => products.push((i, *r)),
                 Form::Diagonal(d) => {
                     for (k, coefficients) in diagonal.iter_mut().enumerate() {
                         coefficients.resize(n, 0.0);
                         for (c, &dv) in coefficients.iter_mut().zip(d) {
-                            *c += dv * r[which][k];
+                            *c += dv * r[k];
                         }
                     }
                 }
             }
         }
+        // Few rows: a short list beats three more streams through the predictor.
+        let mut sparse_diagonal = Vec::new();
+        if !diagonal[0].is_empty() {
+            let rows: Vec<usize> = (0..n)
+                .filter(|&k| diagonal.iter().any(|d| d[k] != 0.0))
+                .collect();
+            if rows.len() * 16 <= n {
+                let perm = self.ordering.perm();
+                sparse_diagonal = rows
+                    .into_iter()
+                    .map(|k| (k, perm[k], [diagonal[0][k], diagonal[1][k], diagonal[2][k]]))
+                    .collect();
+                diagonal = Default::default();
+            }
+        }
+        let w = eliminated.map_or([0.0; 3], |e| {
+            let p = &self.primitives[e];
+            vector(p).map(|c| c / primitive_scale(p))
+        });
         Plan {
             products,
             diagonal,
+            sparse_diagonal,
             load: [du, af],
-            corrector: Corrector::new(
-                vectors[eliminated].map(|c| c / scale[eliminated]),
-                dt,
-                beta,
-                gamma,
-            ),
+            corrector: Corrector::new(w, dt, beta, gamma),
         }
     }
 
@@ -358,10 +442,14 @@ impl BandedEngine {
                 }
             }
         }
-        let panels: [&[Chunk]; N] =
-            std::array::from_fn(|j| match &self.forms[plan.products[j].0] {
+        let rhs = self.rhs.as_flattened_mut();
+        for &(k, i, [cu, cv, ca]) in &plan.sparse_diagonal {
+            rhs[k] -= cu * state.u[i] + cv * state.v[i] + ca * state.a[i];
+        }
+        let panels: [&[Tile]; N] =
+            std::array::from_fn(|j| match &self.primitives[plan.products[j].0].form {
                 Form::Panels(p) => p.as_slice(),
-                _ => &[],
+                Form::Diagonal(_) => &[],
             });
         let vectors: [&[Chunk]; N] = std::array::from_fn(|j| self.vectors[j].as_slice());
         blocked::subtract_product(&self.blocks, self.fma, panels, vectors, &mut self.rhs);
@@ -412,6 +500,10 @@ fn effective(coefficients: &Coefficients, dt: f64) -> [f64; 3] {
     s[C] = (1.0 - af) * gamma * dt;
     s[K] = (1.0 - af) * beta * dt * dt;
     s
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn sub_diag<'a>(diag: &[&'a [f64]; 3], range: std::ops::Range<usize>) -> [&'a [f64]; 3] {

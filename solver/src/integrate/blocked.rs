@@ -35,14 +35,26 @@ use super::profile::{Envelope, ProfileCholesky};
 /// Four consecutive values: one AVX register.
 pub(crate) type Chunk = [f64; 4];
 
+/// A 4x4 tile of a panel: `tile[r]` holds row `r` over four consecutive columns.
+pub(crate) type Tile = [Chunk; 4];
+
 /// Block panels over an envelope of `n` unknowns.
 #[derive(Debug, Clone)]
 pub(crate) struct Blocks {
     n: usize,
     /// First chunk column `s_b / 4` of each block.
     start: Vec<usize>,
-    /// Start of each block's panel (in chunks); `offset[nb]` is the total.
+    /// Start of each block's panel (in tiles); `offset[nb]` is the total.
     offset: Vec<usize>,
+}
+
+/// A factor's panels: `[G_B | D_B^{-1}]` tiles per block, and per block the columns of
+/// `G_{B,B-1}` as one tile (`adjacent[b][k]` is column `k`), zero when the block does
+/// not reach the previous one.
+#[derive(Debug, Clone)]
+pub(crate) struct FactorPanels {
+    tiles: Vec<Tile>,
+    adjacent: Vec<Tile>,
 }
 
 impl Blocks {
@@ -60,7 +72,7 @@ impl Blocks {
                 .unwrap_or(4 * b);
             let s = first / 4;
             start.push(s);
-            offset.push(offset[b] + 4 * (b + 1 - s));
+            offset.push(offset[b] + b + 1 - s);
         }
         Self { n, start, offset }
     }
@@ -75,43 +87,47 @@ impl Blocks {
         self.start.len()
     }
 
-    /// Chunks of one matrix's panels.
+    /// Tiles of one matrix's panels.
     pub(crate) fn len(&self) -> usize {
         self.offset[self.n_blocks()]
     }
 
-    /// Row `r` of block `b`'s panel: chunk range in a value array.
-    fn row(&self, b: usize, r: usize) -> std::ops::Range<usize> {
-        let width = b + 1 - self.start[b];
-        let from = self.offset[b] + r * width;
-        from..from + width
+    /// Stored values of one matrix's panels.
+    pub(crate) fn n_values(&self) -> usize {
+        16 * self.len()
     }
 
     /// Panels of a symmetric matrix given on the envelope, with its diagonal halved
     /// (the product's `P`).
-    pub(crate) fn product_panels(&self, envelope: &Envelope, values: &[f64]) -> Vec<Chunk> {
-        let mut panels = vec![[0.0; 4]; self.len()];
+    pub(crate) fn product_panels(&self, envelope: &Envelope, values: &[f64]) -> Vec<Tile> {
+        let mut panels = vec![[[0.0; 4]; 4]; self.len()];
         for row in 0..self.n {
             let (b, r) = (row / 4, row % 4);
-            let range = self.row(b, r);
             let s = 4 * self.start[b];
-            let entries = envelope.row(row, values);
             let first = envelope.first(row);
-            for (k, &v) in entries.iter().enumerate() {
+            for (k, &v) in envelope.row(row, values).iter().enumerate() {
                 let col = first + k;
                 let v = if col == row { 0.5 * v } else { v };
                 let at = col - s;
-                panels[range.start + at / 4][at % 4] = v;
+                panels[self.offset[b] + at / 4][r][at % 4] = v;
             }
         }
         panels
     }
 
-    /// Panels `[G_B | D_B^{-1}]` of a factored `L` (see the module docs). Padding
-    /// rows get the identity.
+    /// Zeroed storage for [`Blocks::factor_panels`].
+    pub(crate) fn factor_storage(&self) -> FactorPanels {
+        FactorPanels {
+            tiles: vec![[[0.0; 4]; 4]; self.len()],
+            adjacent: vec![[[0.0; 4]; 4]; self.n_blocks()],
+        }
+    }
+
+    /// The panels of a factored `L` (see the module docs). Padding rows get the
+    /// identity.
     // The 4x4 triangular inverse reads as the textbook index formulas.
     #[allow(clippy::needless_range_loop)]
-    pub(crate) fn factor_panels(&self, factor: &ProfileCholesky, out: &mut [Chunk]) {
+    pub(crate) fn factor_panels(&self, factor: &ProfileCholesky, out: &mut FactorPanels) {
         let envelope = factor.envelope();
         let l = factor.values();
         for b in 0..self.n_blocks() {
@@ -142,16 +158,25 @@ impl Blocks {
                     inv[r][c] = x / rows[r][diag + r];
                 }
             }
+            let tiles = &mut out.tiles[self.offset[b]..self.offset[b + 1]];
             for r in 0..4 {
-                let range = self.row(b, r);
-                let panel = &mut out[range];
                 // G = D^{-1} L_left, row r: sum_k inv[r][k] * rows[k][left].
                 for col in 0..diag {
                     let g: f64 = (0..=r).map(|k| inv[r][k] * rows[k][col]).sum();
-                    panel[col / 4][col % 4] = g;
+                    tiles[col / 4][r][col % 4] = g;
                 }
-                panel[diag / 4] = inv[r];
+                tiles[diag / 4][r] = inv[r];
             }
+            let mut adjacent = [[0.0; 4]; 4];
+            if diag >= 4 {
+                let tile = tiles[diag / 4 - 1];
+                for (r, row) in tile.iter().enumerate() {
+                    for (k, &g) in row.iter().enumerate() {
+                        adjacent[k][r] = g;
+                    }
+                }
+            }
+            out.adjacent[b] = adjacent;
         }
     }
 
@@ -342,49 +367,59 @@ macro_rules! with_quad {
 pub(crate) fn subtract_product<const N: usize>(
     blocks: &Blocks,
     fma_available: bool,
-    a: [&[Chunk]; N],
+    a: [&[Tile]; N],
     p: [&[Chunk]; N],
     out: &mut [Chunk],
 ) {
     with_quad!(fma_available, q => product_kernel(q, blocks, a, p, out))
 }
 
+/// The four rows of a tile.
+#[inline(always)]
+fn rows<Q: Quad>(q: Q, tile: &Tile) -> [Q::V; 4] {
+    [
+        q.load(&tile[0]),
+        q.load(&tile[1]),
+        q.load(&tile[2]),
+        q.load(&tile[3]),
+    ]
+}
+
+/// The four lanes of `v`, each broadcast.
+#[inline(always)]
+fn lanes<Q: Quad>(q: Q, v: Q::V) -> [Q::V; 4] {
+    [q.lane(v, 0), q.lane(v, 1), q.lane(v, 2), q.lane(v, 3)]
+}
+
+/// `sum_r rows[r] * lanes[r]` (a tile transposed times a chunk), as two pairs.
+#[inline(always)]
+fn combine<Q: Quad>(q: Q, rows: [Q::V; 4], lanes: &[Q::V; 4]) -> Q::V {
+    let t01 = q.mul_add(rows[1], lanes[1], q.mul(rows[0], lanes[0]));
+    let t23 = q.mul_add(rows[3], lanes[3], q.mul(rows[2], lanes[2]));
+    q.add(t01, t23)
+}
+
 #[inline(always)]
 fn product_kernel<Q: Quad, const N: usize>(
     q: Q,
     blocks: &Blocks,
-    a: [&[Chunk]; N],
+    a: [&[Tile]; N],
     p: [&[Chunk]; N],
     out: &mut [Chunk],
 ) {
     for b in 0..blocks.n_blocks() {
         let s = blocks.start[b];
-        let width = b + 1 - s;
-        let base = blocks.offset[b];
+        let panel = blocks.offset[b]..blocks.offset[b + 1];
         let mut acc = [q.zero(); 4];
         for m in 0..N {
-            let panel = &a[m][base..base + 4 * width];
-            let pb = q.load(&p[m][b]);
-            let bcast = [q.lane(pb, 0), q.lane(pb, 1), q.lane(pb, 2), q.lane(pb, 3)];
-            let (r0, rest) = panel.split_at(width);
-            let (r1, rest) = rest.split_at(width);
-            let (r2, r3) = rest.split_at(width);
-            let window = &p[m][s..=b];
-            let out = &mut out[s..=b];
-            for k in 0..width {
-                let rows = [
-                    q.load(&r0[k]),
-                    q.load(&r1[k]),
-                    q.load(&r2[k]),
-                    q.load(&r3[k]),
-                ];
-                // Columns (P^T): the four rows scaled by p_B, summed in two pairs.
-                let t01 = q.mul_add(rows[1], bcast[1], q.mul(rows[0], bcast[0]));
-                let t23 = q.mul_add(rows[3], bcast[3], q.mul(rows[2], bcast[2]));
-                let o = q.sub(q.sub(q.load(&out[k]), t01), t23);
-                out[k] = q.store(o);
+            let bcast = lanes(q, q.load(&p[m][b]));
+            let window = out[s..=b].iter_mut().zip(&p[m][s..=b]);
+            for (tile, (o, pk)) in a[m][panel.clone()].iter().zip(window) {
+                let rows = rows(q, tile);
+                // Columns (P^T): the tile's rows scaled by p_B.
+                *o = q.store(q.sub(q.load(o), combine(q, rows, &bcast)));
                 // Rows (P): four dot products against the window.
-                let pk = q.load(&window[k]);
+                let pk = q.load(pk);
                 for r in 0..4 {
                     acc[r] = q.mul_add(rows[r], pk, acc[r]);
                 }
@@ -395,54 +430,71 @@ fn product_kernel<Q: Quad, const N: usize>(
 }
 
 /// Solves `L L^T x = rhs` in place with factor panels. No allocation.
-pub(crate) fn solve(blocks: &Blocks, fma_available: bool, panels: &[Chunk], rhs: &mut [Chunk]) {
-    with_quad!(fma_available, q => solve_kernel(q, blocks, panels, rhs))
+pub(crate) fn solve(
+    blocks: &Blocks,
+    fma_available: bool,
+    factor: &FactorPanels,
+    rhs: &mut [Chunk],
+) {
+    with_quad!(fma_available, q => solve_kernel(q, blocks, factor, rhs))
 }
 
 #[inline(always)]
-fn solve_kernel<Q: Quad>(q: Q, blocks: &Blocks, panels: &[Chunk], y: &mut [Chunk]) {
+fn solve_kernel<Q: Quad>(q: Q, blocks: &Blocks, factor: &FactorPanels, y: &mut [Chunk]) {
     let nb = blocks.n_blocks();
-    // Forward: y_B = D^{-1} b_B - G_B y[s..B].
+    // Forward: y_B = D^{-1} b_B - G_B y[s..B]. The serial dependence is on y_{B-1}
+    // only: everything else is reduced first (rows as dot products), and the
+    // previous block enters last, by columns, straight from its register.
+    let mut previous = q.zero();
     for b in 0..nb {
         let s = blocks.start[b];
-        let width = b + 1 - s;
-        let base = blocks.offset[b];
-        let panel = &panels[base..base + 4 * width];
+        let tiles = &factor.tiles[blocks.offset[b]..blocks.offset[b + 1]];
+        let width = tiles.len();
+        let linked = width > 1;
+        let far = if linked { width - 2 } else { 0 };
         let bb = q.load(&y[b]);
-        let mut acc = [q.zero(); 4];
-        let (window, _) = y[s..].split_at(width - 1);
-        for r in 0..4 {
-            let row = &panel[r * width..(r + 1) * width];
-            let (g, d) = row.split_at(width - 1);
-            let mut a = q.mul(q.load(&d[0]), bb);
-            for (gk, yk) in g.iter().zip(window) {
-                a = q.neg_mul_add(q.load(gk), q.load(yk), a);
+        let d = rows(q, &tiles[width - 1]);
+        let mut acc = [
+            q.mul(d[0], bb),
+            q.mul(d[1], bb),
+            q.mul(d[2], bb),
+            q.mul(d[3], bb),
+        ];
+        for (tile, yk) in tiles[..far].iter().zip(&y[s..s + far]) {
+            let (g, yk) = (rows(q, tile), q.load(yk));
+            for r in 0..4 {
+                acc[r] = q.neg_mul_add(g[r], yk, acc[r]);
             }
-            acc[r] = a;
         }
-        y[b] = q.store(q.reduce(acc));
+        let mut yb = q.reduce(acc);
+        if linked {
+            let columns = rows(q, &factor.adjacent[b]);
+            yb = q.sub(yb, combine(q, columns, &lanes(q, previous)));
+        }
+        y[b] = q.store(yb);
+        previous = yb;
     }
-    // Backward: z_B final once every later block has pushed into it; x_B = D^{-T} z_B.
+    // Backward: z_B = y_B minus what the later blocks push into it; x_B = D^{-T} z_B.
+    // The push into the previous block is carried in a register (the serial
+    // dependence), the others go through memory.
+    let mut carry = q.zero();
     for b in (0..nb).rev() {
         let s = blocks.start[b];
-        let width = b + 1 - s;
-        let base = blocks.offset[b];
-        let panel = &panels[base..base + 4 * width];
-        let z = q.load(&y[b]);
-        let bcast = [q.lane(z, 0), q.lane(z, 1), q.lane(z, 2), q.lane(z, 3)];
-        let (r0, rest) = panel.split_at(width);
-        let (r1, rest) = rest.split_at(width);
-        let (r2, r3) = rest.split_at(width);
-        let (left, own) = y[s..=b].split_at_mut(width - 1);
-        for (k, o) in left.iter_mut().enumerate() {
-            let t01 = q.mul_add(q.load(&r1[k]), bcast[1], q.mul(q.load(&r0[k]), bcast[0]));
-            let t23 = q.mul_add(q.load(&r3[k]), bcast[3], q.mul(q.load(&r2[k]), bcast[2]));
-            *o = q.store(q.sub(q.sub(q.load(o), t01), t23));
+        let tiles = &factor.tiles[blocks.offset[b]..blocks.offset[b + 1]];
+        let width = tiles.len();
+        let linked = width > 1;
+        let far = if linked { width - 2 } else { 0 };
+        let z = q.sub(q.load(&y[b]), carry);
+        let bcast = lanes(q, z);
+        carry = if linked {
+            combine(q, rows(q, &tiles[width - 2]), &bcast)
+        } else {
+            q.zero()
+        };
+        for (tile, o) in tiles[..far].iter().zip(&mut y[s..s + far]) {
+            *o = q.store(q.sub(q.load(o), combine(q, rows(q, tile), &bcast)));
         }
-        let d = width - 1;
-        let x01 = q.mul_add(q.load(&r1[d]), bcast[1], q.mul(q.load(&r0[d]), bcast[0]));
-        let x23 = q.mul_add(q.load(&r3[d]), bcast[3], q.mul(q.load(&r2[d]), bcast[2]));
-        own[0] = q.store(q.add(x01, x23));
+        y[b] = q.store(combine(q, rows(q, &tiles[width - 1]), &bcast));
     }
 }
 
@@ -471,7 +523,8 @@ mod tests {
             let full = chain_with_hub(nodes, 17);
             let a = lower(&full);
             let n = a.nrows();
-            let (ordering, _, envelope) = choose_ordering(a.symbolic(), |e| Blocks::new(e).len());
+            let (ordering, _, envelope) =
+                choose_ordering(a.symbolic(), |e| Blocks::new(e).n_values());
             let perm = ordering.perm();
             let values = scatter_lower(&envelope, &ordering, a.symbolic(), a.val());
             let blocks = Blocks::new(&envelope);
@@ -496,7 +549,7 @@ mod tests {
 
             let mut factor = ProfileCholesky::new(envelope.clone());
             factor.factor(&values, "test", perm).unwrap();
-            let mut factor_panels = vec![[0.0; 4]; blocks.len()];
+            let mut factor_panels = blocks.factor_storage();
             blocks.factor_panels(&factor, &mut factor_panels);
             let mut x = to_chunks(&f_int, blocks.n_chunks());
             solve(&blocks, fma, &factor_panels, &mut x);
@@ -524,23 +577,26 @@ mod tests {
         let full = chain_with_hub(666, 1);
         let a = lower(&full);
         let n = a.nrows();
-        let (ordering, _, envelope) = choose_ordering(a.symbolic(), |e| Blocks::new(e).len());
+        let (ordering, _, envelope) = choose_ordering(a.symbolic(), |e| Blocks::new(e).n_values());
         let values = scatter_lower(&envelope, &ordering, a.symbolic(), a.val());
         let blocks = Blocks::new(&envelope);
         let fma = has_fma();
         eprintln!(
             "n = {n}, envelope {}, panels {} values, fma {fma}",
             envelope.len(),
-            4 * blocks.len()
+            blocks.n_values()
         );
-        let reps = 20_000;
+        // Best of 20 batches of 1000: the machine is shared.
         let time = |label: &str, f: &mut dyn FnMut()| {
-            let start = std::time::Instant::now();
-            for _ in 0..reps {
-                f();
+            let mut best = f64::INFINITY;
+            for _ in 0..20 {
+                let start = std::time::Instant::now();
+                for _ in 0..1000 {
+                    f();
+                }
+                best = best.min(start.elapsed().as_secs_f64() / 1000.0);
             }
-            let us = start.elapsed().as_secs_f64() / reps as f64 * 1e6;
-            eprintln!("{label}: {us:.2} us");
+            eprintln!("{label}: {:.2} us", best * 1e6);
         };
         let panels = blocks.product_panels(&envelope, &values);
         let p: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
@@ -554,7 +610,7 @@ mod tests {
         });
         let mut factor = ProfileCholesky::new(envelope);
         factor.factor(&values, "test", ordering.perm()).unwrap();
-        let mut factor_panels = vec![[0.0; 4]; blocks.len()];
+        let mut factor_panels = blocks.factor_storage();
         blocks.factor_panels(&factor, &mut factor_panels);
         let mut x = p.clone();
         time("blocked solve pair", &mut || {

@@ -324,6 +324,12 @@ impl Stepper {
         matches!(self.engine, Engine::Banded(_))
     }
 
+    /// Whether the banded path uses the damping as `alpha M + beta K + D` (tests).
+    #[cfg(test)]
+    pub(crate) fn uses_rayleigh_split(&self) -> bool {
+        matches!(&self.engine, Engine::Banded(e) if e.rayleigh())
+    }
+
     /// The current time step.
     pub fn dt(&self) -> f64 {
         self.dt

@@ -694,6 +694,8 @@ fn banded_stepper_matches_the_dense_reference_on_a_helix_with_a_hub() {
                         Stepper::new_sparse(ops, scheme, dt).unwrap()
                     };
                     assert_eq!(stepper.is_banded(), banded);
+                    // helix_like's damping is Rayleigh (without the weight's alpha).
+                    assert_eq!(stepper.uses_rayleigh_split(), banded && damped);
                     let mut f0 = vec![0.0; n];
                     load(0.0, &mut f0);
                     let mut state = stepper.initial_state(0.0, &u0, &v0, &f0).unwrap();

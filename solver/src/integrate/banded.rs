@@ -1,7 +1,9 @@
-//! The generalised-alpha step on banded operators: envelope ordering, four-row block
-//! panels, and one operator eliminated from the right-hand side through the factored
-//! effective matrix. The fast path of [`super::Stepper`]; the general sparse path
-//! (faer, AMD) remains for patterns whose envelope is too wide.
+//! The generalised-alpha step on banded operators: envelope ordering (`profile`),
+//! four-row block panels (`blocked`), and one operator eliminated from the
+//! right-hand side through the factored effective matrix. The fast path of
+//! [`super::Stepper`]; faer's general sparse path (`sparse`) remains for patterns
+//! whose envelope is too wide (more panel values than [`MAX_PANEL_RATIO`] times the
+//! stored lower triangle).
 //!
 //! # One operator fewer per step
 //! The step solves `S a_{n+1} = f_{n+1-af} - M x - C y - K z` with (the predictor
@@ -11,36 +13,49 @@
 //! z = u_n + (1-af) [dt v_n + dt^2 (1/2 - beta) a_n],   S = cm M + cc C + ck K.
 //! ```
 //! For any vector `w`, `M x + C y + K z = S w + M (x - cm w) + C (y - cc w) + K (z - ck w)`
-//! and `S^{-1} S w = w`, so with `w` = one operator's vector over its scale (say
-//! `w = z / ck` for K)
+//! and `S^{-1} S w = w`, so with `w` one operator's vector over its scale (say
+//! `w = y / cc` for C)
 //! ```text
-//! a_{n+1} = S^{-1} [f - M (x - cm w) - C (y - cc w)] - w
+//! a_{n+1} = S^{-1} [f - M (x - cm w) - K (z - ck w)] - w
 //! ```
-//! and K is never multiplied: exactly the same `a_{n+1}`, up to round-off. Which
-//! operator to eliminate is chosen per `(scheme, dt)` to leave the cheapest
-//! products: a diagonal (lumped) mass costs one multiply per DOF, a banded operator
-//! a pass over its panels, an operator whose vector vanishes (M under average
-//! acceleration and HHT, `am = 0`) nothing. With lumped mass and Rayleigh damping
-//! every scheme needs one banded product per step instead of two (three for
-//! generalised-alpha); without damping, none.
+//! and C is never multiplied: the same `a_{n+1}`, up to round-off. Average
+//! acceleration and HHT (`am = 0`) need no M product in the first place (`w = 0`
+//! eliminates M). The operator to eliminate is chosen per `(scheme, dt)` to leave the
+//! cheapest products (a diagonal operator costs one multiply per DOF, a banded one a
+//! pass over its panels).
 //!
-//! Round-off: eliminating K makes `a_{n+1}` the difference of `S^{-1}[..]` and
-//! `z / ck`, whose size is `|u| / (beta dt^2)`; the absolute error of
-//! `a_{n+1}`, `eps |u| / (beta dt^2)`, is the same as that of the unreduced form,
-//! whose `K z` carries `eps ||K|| |u|` and is divided by `S ~ ck K` in the stiff
-//! modes. Eliminating C gives `|v| / (gamma dt)` instead, smaller; ties go to M,
-//! then C, then K. The displacement and velocity follow from `a_{n+1}` by the
-//! corrector as before.
+//! **Rayleigh damping.** When `C = alpha M + beta K + D` with `D` diagonal (coil's
+//! `DAMPING` on elements, the weight's point mass left out; recognised to
+//! round-off by `MergedOperators::rayleigh_split`), the step is written over the
+//! primitives M, K, D instead: `M x + C y + K z = M (x + alpha y) + K (z + beta y) + D y`
+//! and `S = (cm + cc alpha) M + (ck + cc beta) K + cc D`. Eliminating M leaves one
+//! banded product (K) and a diagonal one (D, nonzero on the weight's DOF only) for
+//! every scheme, consistent or lumped mass: a third of the unreduced
+//! generalised-alpha step's products.
+//!
+//! **Round-off.** `g = S^{-1}[..]` carries the eliminated vector `w`, and the
+//! factor's backward error acts on `g`: the error of `a_{n+1} = g - w` grows with
+//! `|w| / |a_{n+1}|`. For M, `w = am a / (1 - am)` (or `(am a + alpha v) /
+//! (cm + cc alpha)`): no larger than `a`. For C, `w ~ v / (gamma dt)`, `1 / (w dt)`
+//! times `a` in a mode of frequency `w`. For K, `w ~ u / (beta dt^2)`,
+//! `1 / (beta (w dt)^2)` times `a`: thousands for the spring's weight, and
+//! measured, the displacement drifted from the unreduced step by 3e-12 of its size
+//! in 250 steps on the test helix (1e-14 eliminating M or C). K is therefore never
+//! eliminated; ties go to M, then C. The corrector is applied in the basis
+//! `(g, u_n, v_n, a_n)` with the coefficients collected beforehand, so that the
+//! parts of `w` that cancel the predictor exactly cancel in the coefficients, not in
+//! the sums.
 //!
 //! # Vectors
 //! Every vector the step forms is a linear combination of `u_n`, `v_n`, `a_n` with
-//! coefficients fixed per `(scheme, dt)` (per DOF for the diagonal operators), so
+//! coefficients fixed per `(scheme, dt)` (per DOF for the diagonal primitives), so
 //! the predictor is one sweep that reads the caller's state and loads in the
 //! caller's order and writes the right-hand side and the product vectors in the
 //! envelope order; the corrector reads the solution in envelope order and writes the
 //! caller's state. When the ordering is a few ascending runs of the caller's order
 //! (the natural order, or hubs moved last) each run is a contiguous slice on both
-//! sides and nothing is gathered.
+//! sides and nothing is gathered. Diagonal terms on few DOFs (the weight's `D`) are
+//! a short list applied after the sweep.
 
 use super::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
 use super::error::IntegrateError;
@@ -105,7 +120,7 @@ struct Plan {
 }
 
 /// The banded step engine (internal numbering: the envelope ordering).
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub(crate) struct BandedEngine {
     ordering: Ordering,
     blocks: Blocks,
@@ -122,9 +137,21 @@ pub(crate) struct BandedEngine {
     gathered: Vec<f64>,
 }
 
+impl std::fmt::Debug for BandedEngine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BandedEngine")
+            .field("n", &self.blocks.dim())
+            .field("ordering_runs", &self.ordering.runs().map(<[_]>::len))
+            .field("panel_values", &self.blocks.n_values())
+            .field("primitives", &self.primitives.len())
+            .field("products_per_step", &self.plan.products.len())
+            .finish()
+    }
+}
+
 /// Panels above this many times the stored lower-triangle entries (plus a small
 /// allowance) mean a pattern too wide for the envelope: the sparse path is used.
-const MAX_PANEL_RATIO: usize = 4;
+pub(crate) const MAX_PANEL_RATIO: usize = 4;
 
 impl BandedEngine {
     /// The engine for `ops`, or `None` when the pattern's envelope is too wide.
@@ -221,6 +248,23 @@ impl BandedEngine {
     pub(crate) fn rayleigh(&self) -> bool {
         // [M, K, D] rather than [M, C, K]: the second one is K, not eliminable.
         self.primitives.len() == 3 && !self.primitives[1].eliminable
+    }
+
+    /// Banded products per step, ascending runs of the ordering (`None` when it
+    /// gathers), and panel values over envelope values (tests, docs).
+    #[cfg(test)]
+    pub(crate) fn shape(&self) -> (usize, Option<usize>, f64) {
+        (
+            self.plan.products.len(),
+            self.ordering.runs().map(<[_]>::len),
+            self.blocks.n_values() as f64 / self.cholesky.envelope().len() as f64,
+        )
+    }
+
+    /// Whether vectors are gathered through the permutation (no ascending runs).
+    #[cfg(test)]
+    pub(crate) fn gathers(&self) -> bool {
+        self.ordering.runs().is_none()
     }
 
     /// Forms and factors `S` for `(coefficients, dt)` and plans the step.

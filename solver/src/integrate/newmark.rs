@@ -324,6 +324,21 @@ impl Stepper {
         matches!(self.engine, Engine::Banded(_))
     }
 
+    /// The banded path's products per step, ordering runs and panel overhead (tests).
+    #[cfg(test)]
+    pub(crate) fn banded_shape(&self) -> Option<(usize, Option<usize>, f64)> {
+        match &self.engine {
+            Engine::Banded(e) => Some(e.shape()),
+            Engine::Sparse(_) => None,
+        }
+    }
+
+    /// Whether the banded path gathers vectors through its permutation (tests).
+    #[cfg(test)]
+    pub(crate) fn gathers(&self) -> bool {
+        matches!(&self.engine, Engine::Banded(e) if e.gathers())
+    }
+
     /// Whether the banded path uses the damping as `alpha M + beta K + D` (tests).
     #[cfg(test)]
     pub(crate) fn uses_rayleigh_split(&self) -> bool {

@@ -424,6 +424,9 @@ impl BandedEngine {
             load: plan.load,
         };
         let n = self.blocks.dim();
+        // Without a load blend (af = 0) the old load is not read: the new one stands
+        // in, already in cache.
+        let f_n = if plan.load[1] == 0.0 { f_next } else { f_n };
         {
             let [p0, p1, p2] = &mut self.vectors;
             let mut out = Outputs {

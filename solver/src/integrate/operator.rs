@@ -1,6 +1,7 @@
-//! M, C and K merged onto one symmetric sparse pattern, so that the effective matrix
-//! is a value-wise linear combination and the step's right-hand side is one pass over
-//! that pattern.
+//! M, C and K merged onto one symmetric sparse pattern: the checked form of the
+//! operators every engine starts from, the effective matrix as a value-wise linear
+//! combination, the right-hand side of the general sparse path as one pass over that
+//! pattern, and the recognition of Rayleigh damping.
 //!
 //! The pattern is the union of the three input patterns. Only its lower triangle
 //! (row >= column) is kept, compressed sparse column with sorted rows: the Cholesky
@@ -8,9 +9,7 @@
 //! uses each off-diagonal entry twice (once as (i, j), once as (j, i)). The three
 //! input vectors are interleaved per DOF as `[x, y, z]`, so each entry gathers one
 //! 24-byte chunk; the values are one array per operator, so a product that does not
-//! need M (average acceleration, HHT) or has no C does not stream it. Memory traffic
-//! (the step's working set is about the size of the L2 cache) is what bounds the step
-//! time on the systems of interest (a few thousand DOFs, banded).
+//! need M (average acceleration, HHT) or has no C does not stream it.
 
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 

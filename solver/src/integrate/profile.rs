@@ -189,6 +189,9 @@ fn envelope_firsts(offsets: &[usize], neighbours: &[usize], perm: &[usize]) -> V
 /// last, or `None` when there are none or too many to call them hubs.
 fn hubs_last(offsets: &[usize], neighbours: &[usize]) -> Option<Vec<usize>> {
     let n = offsets.len() - 1;
+    if n == 0 {
+        return None;
+    }
     let span: Vec<usize> = (0..n)
         .map(|i| {
             neighbours[offsets[i]..offsets[i + 1]]

@@ -1000,3 +1000,29 @@ fn paper_spring_takes_the_banded_path_with_one_product_per_step() {
         }
     }
 }
+
+#[test]
+fn empty_operators_step_trivially() {
+    let empty = SparseColMat::<usize, f64>::try_new_from_triplets(0, 0, &[]).unwrap();
+    let ops = Operators {
+        m: empty.as_ref(),
+        c: Some(empty.as_ref()),
+        k: empty.as_ref(),
+    };
+    for scheme in COMPARED {
+        let mut count = 0;
+        let last = integrate(
+            ops,
+            scheme,
+            1e-3,
+            3,
+            &[],
+            &[],
+            &mut |_, _| {},
+            &mut |_, _, _| count += 1,
+        )
+        .unwrap();
+        assert_eq!(count, 4);
+        assert!(last.u.is_empty() && (last.t - 3e-3).abs() < 1e-15);
+    }
+}

@@ -251,7 +251,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // Modal superposition: 20 modes, shapes of unit size (only the cost matters here).
-    let (n, n_modes, weight_dof) = (2011, 20, 0);
+    let (n, n_modes, weight_dof) = (2011, 20, 1000);
     let shapes = faer::Mat::<f64>::from_fn(n, n_modes, |i, j| ((i * (j + 1)) as f64 * 1e-3).sin());
     let omega: Vec<f64> = (0..n_modes).map(|j| 27.3 * (j + 1) as f64).collect();
     let zeta: Vec<f64> = omega.iter().map(|w| 0.5 * (0.8 / w + 1.2e-4 * w)).collect();

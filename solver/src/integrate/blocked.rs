@@ -631,5 +631,16 @@ mod tests {
             x.copy_from_slice(&p);
             solve(&blocks, fma, &factor_panels, &mut x)
         });
+        // The sparse engine's factor (faer's simplicial Cholesky under AMD, with its
+        // own dot-form solves) on the same matrix.
+        let mut sparse =
+            crate::integrate::factor::SpdFactor::analyse("test", a.symbolic()).unwrap();
+        sparse.factor(a.as_ref()).unwrap();
+        let p_flat: Vec<f64> = p.iter().flatten().copied().take(n).collect();
+        let mut x_flat = p_flat.clone();
+        time("sparse engine's solve pair", &mut || {
+            x_flat.copy_from_slice(&p_flat);
+            sparse.solve_in_place(&mut x_flat)
+        });
     }
 }

@@ -67,6 +67,34 @@ pub enum AnalysisKind {
     Transient,
 }
 
+/// How the transient load case is solved (deck card `DYNAMIC CHANGE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TransientScheme {
+    /// Newmark average acceleration: no numerical damping.
+    #[default]
+    Newmark,
+    /// HHT-alpha with [`SpringSpec::hht_alpha`].
+    Hht,
+    /// Generalised-alpha with [`SpringSpec::rho_inf`].
+    Galpha,
+    /// Modal superposition over [`SpringSpec::transient_modes`] modes.
+    Modal,
+}
+
+/// The initial velocity field of the transient (deck card `INITIAL VEL`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum VelocityField {
+    /// The weight's velocity extended along the spring by the quasi-static shape
+    /// (`INITIAL VEL, QUASI STATIC`): no velocity jump, no stiff-mode ripple.
+    #[default]
+    QuasiStatic,
+    /// The weight (and the wire end tied to it) alone: a velocity jump against a spring
+    /// at rest, as a peer code given only a nodal velocity does it.
+    Nodal,
+}
+
 /// Everything `coil-mesh` needs, from flags or a JSON spec file. Field names carry units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -106,6 +134,19 @@ pub struct SpringSpec {
     pub beta: f64,
     /// Transient: record every k-th step.
     pub output_every: u32,
+    /// Transient: how the initial velocity is spread over the spring.
+    pub initial_velocity_field: VelocityField,
+    /// Transient: the time integration scheme or modal superposition.
+    pub transient_method: TransientScheme,
+    /// Transient, `hht`: alpha in [-1/3, 0].
+    pub hht_alpha: f64,
+    /// Transient, `galpha`: spectral radius at infinity in [0, 1].
+    pub rho_inf: f64,
+    /// Transient, `modal`: number of modes.
+    pub transient_modes: u32,
+    /// Rayleigh alpha on the weight's point mass too (a DAMPING entry naming node 1).
+    /// Off by default: the paper's damping is the wire's material damping.
+    pub alpha_on_weight: bool,
 }
 
 impl Default for SpringSpec {
@@ -135,6 +176,12 @@ impl Default for SpringSpec {
             alpha: 0.0,
             beta: 0.0,
             output_every: 1,
+            initial_velocity_field: VelocityField::QuasiStatic,
+            transient_method: TransientScheme::Newmark,
+            hht_alpha: -0.05,
+            rho_inf: 0.8,
+            transient_modes: 20,
+            alpha_on_weight: false,
         }
     }
 }
@@ -285,8 +332,55 @@ impl SpringSpec {
                     expected: "a positive step interval",
                 });
             }
+            match self.transient_method {
+                TransientScheme::Newmark => {}
+                TransientScheme::Hht => check(
+                    (-1.0 / 3.0..=0.0).contains(&self.hht_alpha),
+                    "hht_alpha",
+                    self.hht_alpha,
+                    "alpha in [-1/3, 0]",
+                )?,
+                TransientScheme::Galpha => check(
+                    (0.0..=1.0).contains(&self.rho_inf),
+                    "rho_inf",
+                    self.rho_inf,
+                    "rho_inf in [0, 1]",
+                )?,
+                TransientScheme::Modal => {
+                    if self.transient_modes == 0 {
+                        return Err(SpecError {
+                            field: "transient_modes",
+                            value: "0".into(),
+                            expected: "at least one mode",
+                        });
+                    }
+                }
+            }
+        }
+        if self.alpha_on_weight && self.mass_kg <= 0.0 {
+            return Err(SpecError {
+                field: "alpha_on_weight",
+                value: "true".into(),
+                expected: "a weight (mass_kg > 0) to damp",
+            });
         }
         Ok(())
+    }
+
+    /// The deck's transient method for [`SpringSpec::transient_method`].
+    pub fn transient_method(&self) -> TransientMethod {
+        match self.transient_method {
+            TransientScheme::Newmark => TransientMethod::Direct(Integrator::AverageAcceleration),
+            TransientScheme::Hht => TransientMethod::Direct(Integrator::Hht {
+                alpha: self.hht_alpha,
+            }),
+            TransientScheme::Galpha => TransientMethod::Direct(Integrator::GeneralizedAlpha {
+                rho_inf: self.rho_inf,
+            }),
+            TransientScheme::Modal => TransientMethod::Modal {
+                modes: self.transient_modes,
+            },
+        }
     }
 
     /// Builds the finite-element model.
@@ -345,12 +439,16 @@ impl SpringSpec {
 
         let mut damping = Vec::new();
         if self.alpha > 0.0 || self.beta > 0.0 {
-            // Alpha acts on the spring's own elements only, never on the weight.
+            // Alpha acts on the spring's own elements only; the weight only when asked.
             damping.push(Damping {
                 alpha: self.alpha,
                 beta: self.beta,
                 elements: all_elements.clone(),
-                mass_nodes: vec![],
+                mass_nodes: if self.alpha_on_weight && !point_masses.is_empty() {
+                    vec![WEIGHT_NODE]
+                } else {
+                    vec![]
+                },
             });
         }
 
@@ -376,29 +474,34 @@ impl SpringSpec {
                     analysis: Analysis::Modal { modes: self.modes },
                     point_loads: vec![],
                 }),
+                // INITIAL VEL and HISTORY OUTPUT are model-level: one of each serves every
+                // transient case.
                 AnalysisKind::Transient => {
-                    if self.initial_velocity_m_s != 0.0 {
+                    if self.initial_velocity_m_s != 0.0 && initial_velocities.is_empty() {
                         initial_velocities.push(InitialVelocity {
                             dofs: vec![(3, units::length_from_si(self.initial_velocity_m_s))],
                             nodes: vec![WEIGHT_NODE],
+                            quasi_static: self.initial_velocity_field == VelocityField::QuasiStatic,
                         });
                     }
-                    outputs.push(OutputRequest {
-                        nodes: vec![WEIGHT_NODE],
-                        dofs: vec![3],
-                        quantities: vec![
-                            Quantity::Displacement,
-                            Quantity::Velocity,
-                            Quantity::Acceleration,
-                        ],
-                        every: self.output_every,
-                    });
+                    if outputs.is_empty() {
+                        outputs.push(OutputRequest {
+                            nodes: vec![WEIGHT_NODE],
+                            dofs: vec![3],
+                            quantities: vec![
+                                Quantity::Displacement,
+                                Quantity::Velocity,
+                                Quantity::Acceleration,
+                            ],
+                            every: self.output_every,
+                        });
+                    }
                     load_cases.push(LoadCase {
                         title: "free decay".into(),
                         analysis: Analysis::Transient {
                             dt: self.dt_s,
                             total_time: self.duration_s,
-                            method: TransientMethod::Direct(Integrator::AverageAcceleration),
+                            method: self.transient_method(),
                         },
                         point_loads: vec![],
                     });
@@ -559,6 +662,74 @@ mod tests {
             let text = coil_solver::deck::write(&model);
             let back = coil_solver::deck::read_str(&text, "mesh.dat").unwrap();
             assert_eq!(back, model);
+        }
+    }
+
+    #[test]
+    fn transient_choices_reach_the_model() {
+        let spec = SpringSpec {
+            analyses: vec![AnalysisKind::Transient],
+            mass_kg: 5.0,
+            alpha: 0.8,
+            ..SpringSpec::default()
+        };
+        let model = spec.build().unwrap();
+        assert!(
+            model.initial_velocities[0].quasi_static,
+            "the default field"
+        );
+        assert_eq!(
+            model.load_cases[0].analysis,
+            Analysis::Transient {
+                dt: 1e-3,
+                total_time: 20.0,
+                method: TransientMethod::Direct(Integrator::AverageAcceleration)
+            }
+        );
+        let model = SpringSpec {
+            initial_velocity_field: VelocityField::Nodal,
+            transient_method: TransientScheme::Hht,
+            alpha_on_weight: true,
+            ..spec.clone()
+        }
+        .build()
+        .unwrap();
+        assert!(!model.initial_velocities[0].quasi_static);
+        assert_eq!(model.damping[0].mass_nodes, [WEIGHT_NODE]);
+        assert!(matches!(
+            model.load_cases[0].analysis,
+            Analysis::Transient {
+                method: TransientMethod::Direct(Integrator::Hht { alpha }),
+                ..
+            } if alpha == -0.05
+        ));
+        for (bad, field) in [
+            (
+                SpringSpec {
+                    transient_method: TransientScheme::Hht,
+                    hht_alpha: 0.1,
+                    ..spec.clone()
+                },
+                "hht_alpha",
+            ),
+            (
+                SpringSpec {
+                    transient_method: TransientScheme::Modal,
+                    transient_modes: 0,
+                    ..spec.clone()
+                },
+                "transient_modes",
+            ),
+            (
+                SpringSpec {
+                    alpha_on_weight: true,
+                    mass_kg: 0.0,
+                    ..spec.clone()
+                },
+                "alpha_on_weight",
+            ),
+        ] {
+            assert_eq!(bad.build().unwrap_err().field, field);
         }
     }
 

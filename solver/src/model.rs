@@ -255,6 +255,14 @@ pub struct Table {
 pub struct InitialVelocity {
     pub dofs: Vec<(u8, f64)>,
     pub nodes: Vec<NodeId>,
+    /// `INITIAL VEL, QUASI STATIC` (added for transients, append-only): the listed
+    /// velocities are extended over every free DOF by the quasi-static shape, the static
+    /// response `K^-1 E c` to forces `c` at the listed DOFs scaled so that the listed DOFs
+    /// have exactly their velocities (the velocity profile the listed motion induces
+    /// along the structure). `false`: only the listed DOFs move, every other DOF starts
+    /// at rest (a velocity jump). See `docs/transient.md`.
+    #[serde(default)]
+    pub quasi_static: bool,
 }
 
 /// What a history output records.

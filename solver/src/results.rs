@@ -1,5 +1,5 @@
-//! Result files of a run: `DIR/results.json`, `DIR/model.vtu` and one `.vtu` per static
-//! displaced shape and per mode shape.
+//! Result files of a run: `DIR/results.json`, `DIR/model.vtu`, one `.vtu` per static
+//! displaced shape and per mode shape, and one history CSV per transient load case.
 //!
 //! # results.json
 //! ```json
@@ -9,8 +9,24 @@
 //!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu"},
 //!   {"name": "...", "kind": "modal", "total_mass_kg": 5.4,
 //!    "modes": [{"mode": 1, "frequency_hz": 4.34, "period_s": 0.2304, "omega_rad_s": 27.3,
-//!               "axial_effective_mass_kg": 5.2, "effective_mass_x_kg": ..., ...}]}]}
+//!               "axial_effective_mass_kg": 5.2, "effective_mass_x_kg": ..., ...}]},
+//!   {"name": "...", "kind": "transient", "method": "newmark", "dt_s": 0.001,
+//!    "total_time_s": 20.0, "steps": 20000, "output_every": 1,
+//!    "history_file": "history.csv", "columns": ["node1_uz_disp_m", ...],
+//!    "initial_displacement_from": null, "initial_velocity_field": "quasi-static",
+//!    "modal": null, "warnings": []}]}
 //! ```
+//! A transient's `method` is `newmark`, `hht` (with `hht_alpha`), `galpha` (with
+//! `rho_inf`) or `modal` (with `modes`, and a `modal` object: each retained mode's
+//! frequency and damping ratios, the largest damping coupling neglected, what the basis
+//! captures of the initial state and loads; see
+//! [`crate::analysis::transient::ModalSummary`]).
+//!
+//! # History files
+//! The first transient load case writes `DIR/history.csv`; any further transient case
+//! writes `DIR/caseN_history.csv`, N its 1-based load case number. Header `time_s`, then
+//! one column per signal named `node{ID}_{dof}_{quantity}_{unit}` in SI units (see
+//! [`crate::analysis::transient`]); `coil-post` reads it directly.
 //! Units are in the names: the model's mm, N, N mm, rad for displacements and loads;
 //! SI for masses (kg), frequencies (Hz) and periods (s), converted here from the model's
 //! tonnes. `axial_effective_mass_kg` is the effective mass along global z, the spring
@@ -20,10 +36,11 @@
 //! Every file is written to a temporary file in the same directory and renamed, so a
 //! failed run never leaves half a file.
 
+use crate::analysis::transient::{ModalSummary, TransientSolution};
 use crate::analysis::{CaseResult, CaseSolution, ModalSolution, StaticSolution};
 use crate::dof::dof_name;
 use crate::error::Error;
-use crate::model::{units, Model, NodeId, DOFS_PER_NODE};
+use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
 use crate::vtk;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -41,6 +58,7 @@ pub struct ResultsFile {
 pub enum CaseEntry {
     Static(StaticEntry),
     Modal(ModalEntry),
+    Transient(TransientEntry),
 }
 
 /// Six displacements of a node (mm, rad).
@@ -118,6 +136,59 @@ pub struct ModalEntry {
     /// `max |phi_i^T M phi_j - delta_ij|` of the mass-normalised modes.
     pub orthonormality_error: f64,
     pub modes: Vec<ModeEntry>,
+}
+
+/// One mode of a modal superposition.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModalTermEntry {
+    pub mode: usize,
+    pub frequency_hz: f64,
+    /// `phi^T C phi / (2 w)`, the ratio the mode is integrated with.
+    pub zeta: f64,
+    /// The ratio with the full modal damping matrix of the retained modes.
+    pub zeta_coupled: Option<f64>,
+    pub axial_effective_mass_kg: f64,
+}
+
+/// What a modal superposition kept and left out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModalSummaryEntry {
+    pub modes: Vec<ModalTermEntry>,
+    /// Largest `|c_ij| / sqrt(c_ii c_jj)` of `Phi^T C Phi`, `i != j`.
+    pub max_damping_coupling: f64,
+    /// The two modes of that coupling (1-based).
+    pub coupling_pair: Option<(usize, usize)>,
+    /// Largest `|zeta_coupled / zeta - 1|`.
+    pub max_zeta_shift: Option<f64>,
+    /// Fraction of the initial strain energy in the retained modes.
+    pub initial_displacement_captured: Option<f64>,
+    /// Fraction of the initial kinetic energy in the retained modes.
+    pub initial_velocity_captured: Option<f64>,
+    /// Smallest fraction of a load pattern's static compliance in the retained modes.
+    pub load_captured: Option<f64>,
+}
+
+/// A transient load case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TransientEntry {
+    pub name: String,
+    /// `newmark`, `hht`, `galpha` or `modal`.
+    pub method: String,
+    pub hht_alpha: Option<f64>,
+    pub rho_inf: Option<f64>,
+    pub modes: Option<u32>,
+    pub dt_s: f64,
+    pub total_time_s: f64,
+    pub steps: usize,
+    pub output_every: usize,
+    pub history_file: String,
+    pub columns: Vec<String>,
+    /// The static load case the initial displacement comes from.
+    pub initial_displacement_from: Option<String>,
+    /// `rest`, `nodal`, `quasi-static` or `quasi-static + nodal`.
+    pub initial_velocity_field: String,
+    pub modal: Option<ModalSummaryEntry>,
+    pub warnings: Vec<String>,
 }
 
 /// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
@@ -214,6 +285,67 @@ fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> Stri
     }
 }
 
+fn modal_summary_entry(m: &ModalSummary) -> ModalSummaryEntry {
+    ModalSummaryEntry {
+        modes: m
+            .modes
+            .iter()
+            .enumerate()
+            .map(|(k, t)| ModalTermEntry {
+                mode: k + 1,
+                frequency_hz: t.frequency_hz,
+                zeta: t.zeta,
+                zeta_coupled: t.zeta_coupled,
+                axial_effective_mass_kg: units::mass_to_si(t.axial_effective_mass),
+            })
+            .collect(),
+        max_damping_coupling: m.max_damping_coupling,
+        coupling_pair: m.coupling_pair,
+        max_zeta_shift: m.max_zeta_shift,
+        initial_displacement_captured: m.initial_displacement_captured,
+        initial_velocity_captured: m.initial_velocity_captured,
+        load_captured: m.load_captured,
+    }
+}
+
+fn transient_entry(name: &str, t: &TransientSolution, history_file: String) -> TransientEntry {
+    let (method, hht_alpha, rho_inf, modes) = match t.method {
+        TransientMethod::Direct(Integrator::AverageAcceleration) => ("newmark", None, None, None),
+        TransientMethod::Direct(Integrator::Hht { alpha }) => ("hht", Some(alpha), None, None),
+        TransientMethod::Direct(Integrator::GeneralizedAlpha { rho_inf }) => {
+            ("galpha", None, Some(rho_inf), None)
+        }
+        TransientMethod::Modal { modes } => ("modal", None, None, Some(modes)),
+    };
+    TransientEntry {
+        name: name.to_string(),
+        method: method.to_string(),
+        hht_alpha,
+        rho_inf,
+        modes,
+        dt_s: t.dt_s,
+        total_time_s: t.total_time_s,
+        steps: t.steps,
+        output_every: t.output_every,
+        history_file,
+        columns: t.history.names(),
+        initial_displacement_from: t.initial_displacement_from.clone(),
+        initial_velocity_field: t.velocity_field.name().to_string(),
+        modal: t.modal.as_ref().map(modal_summary_entry),
+        warnings: t.warnings.clone(),
+    }
+}
+
+/// The history file of load case `case_number` (1-based): `history.csv` for the first
+/// transient case, `caseN_history.csv` for any later one.
+pub fn history_file_name(first_transient: bool, case_number: usize) -> String {
+    if first_transient {
+        "history.csv".to_string()
+    } else {
+        format!("case{case_number}_history.csv")
+    }
+}
+
 /// Builds the `results.json` content and writes every file of a run into `dir`
 /// (created if missing).
 pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
@@ -226,6 +358,7 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         vtk::unstructured_grid(model, None).as_bytes(),
     )?;
     let mut entries = Vec::with_capacity(cases.len());
+    let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
         let c = index + 1;
         match &case.solution {
@@ -247,6 +380,12 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
                     )?;
                 }
                 entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
+            }
+            CaseSolution::Transient(t) => {
+                let file = history_file_name(first_transient, c);
+                first_transient = false;
+                write_atomic(&dir.join(&file), t.history.to_csv().as_bytes())?;
+                entries.push(CaseEntry::Transient(transient_entry(&case.title, t, file)));
             }
         }
     }

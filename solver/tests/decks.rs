@@ -402,10 +402,18 @@ fn every_field_model() -> Model {
             name: "pulse".into(),
             points: vec![(0.0, 0.0), (1.0e-3, 1.0), (2.0e-3, 0.0)],
         }],
-        initial_velocities: vec![InitialVelocity {
-            dofs: vec![(3, -250.0), (6, 0.5)],
-            nodes: vec![20],
-        }],
+        initial_velocities: vec![
+            InitialVelocity {
+                dofs: vec![(3, -250.0), (6, 0.5)],
+                nodes: vec![20],
+                quasi_static: true,
+            },
+            InitialVelocity {
+                dofs: vec![(1, 4.0)],
+                nodes: vec![20],
+                quasi_static: false,
+            },
+        ],
         outputs: vec![
             OutputRequest {
                 nodes: vec![20],

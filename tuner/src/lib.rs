@@ -1,1 +1,23 @@
-//! stub
+//! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
+//!
+//! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+
+pub mod case;
+pub mod error;
+pub mod fe;
+pub mod fields;
+pub mod json;
+pub mod loops;
+pub mod output;
+
+pub use error::{Result, TuneError};
+pub mod calibrate;
+pub mod cli;
+pub mod damping;
+pub mod decay;
+pub mod grid;
+pub mod paper;
+pub mod plots;
+pub mod procedure;
+pub mod report;
+pub mod sweep;

@@ -4,7 +4,7 @@
 //! `coil_mesher::SpringSpec`), then from flags, which override the file.
 
 use clap::{Parser, ValueEnum};
-use coil_mesher::{AnalysisKind, SpringSpec, Top};
+use coil_mesher::{AnalysisKind, SpringSpec, Top, TransientScheme, VelocityField};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -20,6 +20,20 @@ enum AnalysisArg {
     Static,
     Modal,
     Transient,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum FieldArg {
+    QuasiStatic,
+    Nodal,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum MethodArg {
+    Newmark,
+    Hht,
+    Galpha,
+    Modal,
 }
 
 /// Mesh a helical spring into a coil input deck (mm, N, t, s).
@@ -102,6 +116,26 @@ struct Args {
     /// Transient: record every k-th step [default: 1].
     #[arg(long, value_name = "K")]
     output_every: Option<u32>,
+    /// Transient: the weight's velocity extended along the spring by the quasi-static
+    /// shape, or given to the weight alone (a velocity jump) [default: quasi-static].
+    #[arg(long, value_enum)]
+    initial_velocity_field: Option<FieldArg>,
+    /// Transient: Newmark average acceleration, HHT-alpha, generalised-alpha or modal
+    /// superposition [default: newmark].
+    #[arg(long, value_enum)]
+    transient_method: Option<MethodArg>,
+    /// Transient, hht: alpha in [-1/3, 0] [default: -0.05].
+    #[arg(long, allow_hyphen_values = true)]
+    hht_alpha: Option<f64>,
+    /// Transient, galpha: spectral radius at infinity in [0, 1] [default: 0.8].
+    #[arg(long)]
+    rho_inf: Option<f64>,
+    /// Transient, modal: number of modes [default: 20].
+    #[arg(long, value_name = "K")]
+    transient_modes: Option<u32>,
+    /// Apply Rayleigh alpha to the weight's mass too (off: the spring's elements only).
+    #[arg(long)]
+    alpha_on_weight: bool,
 }
 
 fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
@@ -131,7 +165,27 @@ fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
         alpha <- alpha,
         beta <- beta,
         output_every <- output_every,
+        hht_alpha <- hht_alpha,
+        rho_inf <- rho_inf,
+        transient_modes <- transient_modes,
     );
+    if args.alpha_on_weight {
+        spec.alpha_on_weight = true;
+    }
+    if let Some(field) = args.initial_velocity_field {
+        spec.initial_velocity_field = match field {
+            FieldArg::QuasiStatic => VelocityField::QuasiStatic,
+            FieldArg::Nodal => VelocityField::Nodal,
+        };
+    }
+    if let Some(method) = args.transient_method {
+        spec.transient_method = match method {
+            MethodArg::Newmark => TransientScheme::Newmark,
+            MethodArg::Hht => TransientScheme::Hht,
+            MethodArg::Galpha => TransientScheme::Galpha,
+            MethodArg::Modal => TransientScheme::Modal,
+        };
+    }
     if args.lumped {
         spec.lumped_mass = true;
     }

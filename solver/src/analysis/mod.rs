@@ -1,6 +1,6 @@
 //! Analyses of a [`Model`]: the assembled [`System`] they share, linear static
-//! ([`static_analysis`]) and modal ([`modal`]) load cases, and [`run`], which executes
-//! a model's load cases in order.
+//! ([`static_analysis`]), modal ([`modal`]) and transient ([`transient`]) load cases,
+//! and [`run`], which executes a model's load cases in order.
 //!
 //! # The shared system
 //! [`System::new`] builds, once per model, the [`DofMap`] (constraints), the global
@@ -31,13 +31,16 @@
 
 pub mod modal;
 pub mod static_analysis;
+pub mod transient;
 
 pub use modal::{ModalSolution, Mode};
 pub use static_analysis::{LoadedDof, Reaction, StaticSolution};
+pub use transient::{History, HistoryColumn, TransientSolution};
 
 use crate::assembly::Assembler;
 use crate::dof::{dof_name, DofMap};
 use crate::element::{self, ElementError, Matrix12};
+use crate::integrate::IntegrateError;
 use crate::linalg::{Cholesky, FactorError, SymbolicFactor};
 use crate::model::{Analysis, ElementId, Model, NodeId, PointLoad, DOFS_PER_NODE};
 use faer::sparse::SparseColMat;
@@ -112,6 +115,15 @@ pub enum SolveError {
     /// A failure inside the sparse linear algebra (allocation, pattern).
     #[error("linear algebra: {0}")]
     Linalg(String),
+    /// A time integrator failed (operators not positive definite, non-finite state);
+    /// `location` names the node and DOF (direct) or the mode (modal) where it can.
+    #[error("load case '{case}': {source}{location}")]
+    Integrate {
+        case: String,
+        location: String,
+        #[source]
+        source: IntegrateError,
+    },
 }
 
 impl SolveError {
@@ -402,6 +414,11 @@ impl<'m> System<'m> {
 
 /// Value of table `name` at `time`: piecewise linear, constant beyond its ends.
 pub fn table_factor(model: &Model, name: &str, time: f64) -> Result<f64, SolveError> {
+    Ok(interpolate(table_points(model, name)?, time))
+}
+
+/// The points of table `name` (case-insensitive), checked to be non-empty and finite.
+pub fn table_points<'m>(model: &'m Model, name: &str) -> Result<&'m [(f64, f64)], SolveError> {
     let table = model
         .tables
         .iter()
@@ -410,26 +427,43 @@ pub fn table_factor(model: &Model, name: &str, time: f64) -> Result<f64, SolveEr
             name: name.to_string(),
             context: "POINT LOAD".to_string(),
         })?;
-    let p = &table.points;
-    let (Some(first), Some(last)) = (p.first(), p.last()) else {
+    if table.points.is_empty() {
         return Err(SolveError::BadInput {
             what: format!("table '{name}' has no points"),
         });
+    }
+    if table
+        .points
+        .iter()
+        .any(|(t, f)| !(t.is_finite() && f.is_finite()))
+    {
+        return Err(SolveError::NonFinite {
+            what: format!("a point of table '{name}'"),
+        });
+    }
+    Ok(&table.points)
+}
+
+/// Piecewise-linear interpolation in `points` (sorted by time, at least one), holding
+/// the end values outside their range.
+pub(crate) fn interpolate(p: &[(f64, f64)], time: f64) -> f64 {
+    let (Some(first), Some(last)) = (p.first(), p.last()) else {
+        return 0.0;
     };
     if time <= first.0 {
-        return Ok(first.1);
+        return first.1;
     }
     if time >= last.0 {
-        return Ok(last.1);
+        return last.1;
     }
     let k = p.partition_point(|&(t, _)| t <= time);
     let (t0, f0) = p[k - 1];
     let (t1, f1) = p[k];
-    Ok(if t1 > t0 {
+    if t1 > t0 {
         f0 + (f1 - f0) * (time - t0) / (t1 - t0)
     } else {
         f1
-    })
+    }
 }
 
 /// What one load case produced.
@@ -437,6 +471,7 @@ pub fn table_factor(model: &Model, name: &str, time: f64) -> Result<f64, SolveEr
 pub enum CaseSolution {
     Static(StaticSolution),
     Modal(ModalSolution),
+    Transient(TransientSolution),
 }
 
 /// One load case's title and solution.
@@ -447,11 +482,15 @@ pub struct CaseResult {
 }
 
 /// Runs the model's load cases in order. The stiffness is factored at most once and
-/// shared by the static and modal cases.
+/// shared by the static, modal and modal-superposition cases (and the quasi-static
+/// initial velocity); a transient case starts from the displacement of a static case run
+/// immediately before it (see [`transient`]); direct transient cases share one stepper,
+/// refactored only when the scheme or `dt` changes.
 pub fn run(model: &Model) -> Result<Vec<CaseResult>, SolveError> {
     let system = System::new(model)?;
     let mut factor: Option<Cholesky> = None;
-    let mut out = Vec::with_capacity(model.load_cases.len());
+    let mut context = transient::Context::default();
+    let mut out: Vec<CaseResult> = Vec::with_capacity(model.load_cases.len());
     for case in &model.load_cases {
         let solution = match &case.analysis {
             Analysis::Static { time, .. } => {
@@ -468,11 +507,23 @@ pub fn run(model: &Model) -> Result<Vec<CaseResult>, SolveError> {
                 };
                 CaseSolution::Modal(modal::solve(&system, chol, &case.title, *modes as usize)?)
             }
-            Analysis::Transient { .. } => {
-                return Err(SolveError::Unsupported {
-                    case: case.title.clone(),
-                    what: "transient analysis (DYNAMIC CHANGE)".to_string(),
-                })
+            Analysis::Transient { method, .. } => {
+                let chol = if transient::needs_stiffness_factor(model, method) {
+                    Some(match &mut factor {
+                        Some(c) => &*c,
+                        None => &*factor.insert(system.factor_stiffness()?),
+                    })
+                } else {
+                    None
+                };
+                let start = match out.last() {
+                    Some(CaseResult {
+                        title,
+                        solution: CaseSolution::Static(solution),
+                    }) => Some(transient::StaticStart { title, solution }),
+                    _ => None,
+                };
+                CaseSolution::Transient(transient::solve(&system, &mut context, chol, case, start)?)
             }
         };
         out.push(CaseResult {

@@ -1,22 +1,38 @@
-//! `coil-solve deck.dat --out DIR`: reads a deck, runs its load cases, writes
-//! `DIR/results.json` and the `.vtu` files. Errors go to stderr with their location and
-//! a non-zero exit status.
+//! `coil-solve deck.dat --out DIR [--method direct|modal [--modes N]]`: reads a deck,
+//! runs its load cases, writes `DIR/results.json`, the `.vtu` files and the transient
+//! histories (`DIR/history.csv`, ...). Errors go to stderr with their location and a
+//! non-zero exit status.
 
-use clap::Parser;
+use clap::{Parser, ValueEnum};
+use coil_solver::analysis::transient::{self, override_method, MethodOverride};
 use coil_solver::analysis::{self, CaseResult, CaseSolution};
 use coil_solver::{deck, results, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Solve a coil deck (static and modal load cases of 3D beam models).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Method {
+    /// Direct time integration (the deck's scheme, or Newmark average acceleration).
+    Direct,
+    /// Modal superposition, each mode integrated exactly.
+    Modal,
+}
+
+/// Solve a coil deck (static, modal and transient load cases of 3D beam models).
 #[derive(Debug, Parser)]
 #[command(name = "coil-solve", version)]
 struct Cli {
     /// The input deck (Marc-style, see docs/deck.md).
     deck: PathBuf,
-    /// Directory for results.json and the .vtu files (created if missing).
+    /// Directory for results.json, the .vtu files and the histories (created if missing).
     #[arg(long, short)]
     out: PathBuf,
+    /// Solve every transient load case by this method instead of the deck's.
+    #[arg(long, value_enum)]
+    method: Option<Method>,
+    /// Modes of `--method modal` [default: the deck's count, else 20].
+    #[arg(long, value_name = "N", requires = "method", value_parser = clap::value_parser!(u32).range(1..))]
+    modes: Option<u32>,
     /// Print nothing on success.
     #[arg(long, short)]
     quiet: bool,
@@ -24,7 +40,8 @@ struct Cli {
 
 fn summary(cases: &[CaseResult]) -> String {
     let mut out = String::new();
-    for case in cases {
+    let mut first_transient = true;
+    for (index, case) in cases.iter().enumerate() {
         match &case.solution {
             CaseSolution::Static(s) => {
                 let k = s.stiffness_n_mm.map_or_else(
@@ -50,13 +67,52 @@ fn summary(cases: &[CaseResult]) -> String {
                     ));
                 }
             }
+            CaseSolution::Transient(t) => {
+                let file = results::history_file_name(first_transient, index + 1);
+                first_transient = false;
+                let method = transient::method_label(&t.method);
+                out.push_str(&format!(
+                    "transient '{}': {method}, {} steps of {} s, {} columns -> {file}\n",
+                    case.title,
+                    t.steps,
+                    t.dt_s,
+                    t.history.columns.len()
+                ));
+                if let Some(m) = &t.modal {
+                    let percent = |x: Option<f64>| {
+                        x.map_or_else(|| "-".to_string(), |x| format!("{:.4}%", 100.0 * x))
+                    };
+                    out.push_str(&format!(
+                        "  damping coupling neglected: {:.2e}{}, largest zeta shift {}; \
+                         captured: initial displacement {}, velocity {}, loads {}\n",
+                        m.max_damping_coupling,
+                        m.coupling_pair
+                            .map_or(String::new(), |(i, j)| format!(" (modes {i}, {j})")),
+                        m.max_zeta_shift
+                            .map_or_else(|| "-".to_string(), |x| format!("{x:.2e}")),
+                        percent(m.initial_displacement_captured),
+                        percent(m.initial_velocity_captured),
+                        percent(m.load_captured),
+                    ));
+                }
+                for w in &t.warnings {
+                    out.push_str(&format!("  warning: {w}\n"));
+                }
+            }
         }
     }
     out
 }
 
 fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
-    let model = deck::read_file(&cli.deck)?;
+    let mut model = deck::read_file(&cli.deck)?;
+    match cli.method {
+        Some(Method::Direct) => override_method(&mut model, MethodOverride::Direct),
+        Some(Method::Modal) => {
+            override_method(&mut model, MethodOverride::Modal { modes: cli.modes })
+        }
+        None => {}
+    }
     let cases = analysis::run(&model)?;
     results::write_all(&cli.out, &model, &cases)?;
     Ok(cases)
@@ -64,11 +120,20 @@ fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if cli.method == Some(Method::Direct) && cli.modes.is_some() {
+        eprintln!("error: --modes applies to --method modal only");
+        return ExitCode::from(2);
+    }
     match run(&cli) {
         Ok(cases) => {
             if !cli.quiet {
-                print!("{}", summary(&cases));
-                println!("results in {}", cli.out.join("results.json").display());
+                // The results are already on disk; a closed stdout (`| head`) is not an
+                // error worth a panic or a failure exit.
+                use std::io::Write;
+                let mut out = std::io::stdout().lock();
+                let _ = write!(out, "{}", summary(&cases)).and_then(|()| {
+                    writeln!(out, "results in {}", cli.out.join("results.json").display())
+                });
             }
             ExitCode::SUCCESS
         }
@@ -82,5 +147,45 @@ fn main() -> ExitCode {
             }
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn method_flags_parse() {
+        let cli = Cli::try_parse_from(["coil-solve", "d.dat", "--out", "o", "--method", "modal"])
+            .unwrap();
+        assert_eq!((cli.method, cli.modes), (Some(Method::Modal), None));
+        let cli = Cli::try_parse_from([
+            "coil-solve",
+            "d.dat",
+            "-o",
+            "o",
+            "--method",
+            "modal",
+            "--modes",
+            "12",
+        ])
+        .unwrap();
+        assert_eq!(cli.modes, Some(12));
+        // --modes needs --method, and at least one mode.
+        assert!(Cli::try_parse_from(["coil-solve", "d.dat", "-o", "o", "--modes", "3"]).is_err());
+        assert!(Cli::try_parse_from([
+            "coil-solve",
+            "d.dat",
+            "-o",
+            "o",
+            "--method",
+            "modal",
+            "--modes",
+            "0"
+        ])
+        .is_err());
+        assert!(
+            Cli::try_parse_from(["coil-solve", "d.dat", "-o", "o", "--method", "rk4"]).is_err()
+        );
     }
 }

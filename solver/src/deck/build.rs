@@ -48,6 +48,28 @@ impl Builder<'_> {
         DeckError::new(self.file, loc, Some(card), msg, expected)
     }
 
+    /// Rejects the second occurrence of a name or id among `items` (e.g. two materials
+    /// called `steel`), naming the line of the first.
+    fn unique<'n>(
+        &self,
+        card: &'static str,
+        what: &'static str,
+        items: impl Iterator<Item = (&'n str, Loc)>,
+    ) -> Result<(), DeckError> {
+        match duplicate(items) {
+            None => Ok(()),
+            Some((name, first, loc)) => Err(self.err(
+                loc,
+                card,
+                format!(
+                    "{what} `{name}` is used twice (first at line {})",
+                    first.line
+                ),
+                format!("a unique {what}"),
+            )),
+        }
+    }
+
     /// The sorted, unique ids a list names.
     fn resolve(&self, list: &RawList, kind: SetKind, card: &str) -> Result<Vec<u32>, DeckError> {
         let ids = match kind {
@@ -365,18 +387,11 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     }
 
     // Tables.
-    if let Some((name, first, loc)) = duplicate(raw.tables.iter().map(|t| (t.name.as_str(), t.loc)))
-    {
-        return Err(b.err(
-            loc,
-            "TABLE",
-            format!(
-                "the table `{name}` is defined twice (first at line {})",
-                first.line
-            ),
-            "unique table names",
-        ));
-    }
+    b.unique(
+        "TABLE",
+        "table name",
+        raw.tables.iter().map(|t| (t.name.as_str(), t.loc)),
+    )?;
     let tables: Vec<Table> = raw
         .tables
         .iter()
@@ -387,34 +402,19 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         .collect();
 
     // Materials.
-    if let Some((_, first, loc)) = duplicate(raw.materials.iter().map(|m| (m.name.as_str(), m.loc)))
-    {
-        return Err(b.err(
-            loc,
-            "ISOTROPIC",
-            format!(
-                "a second material with this name (the first is at line {})",
-                first.line
-            ),
-            "unique material names",
-        ));
-    }
+    b.unique(
+        "ISOTROPIC",
+        "material name",
+        raw.materials.iter().map(|m| (m.name.as_str(), m.loc)),
+    )?;
     let ids: Vec<String> = raw.materials.iter().map(|m| m.id.to_string()).collect();
-    if let Some((id, first, loc)) = duplicate(
+    b.unique(
+        "ISOTROPIC",
+        "material id",
         ids.iter()
             .map(String::as_str)
             .zip(raw.materials.iter().map(|m| m.loc)),
-    ) {
-        return Err(b.err(
-            loc,
-            "ISOTROPIC",
-            format!(
-                "material id {id} is used twice (first at line {})",
-                first.line
-            ),
-            "unique material ids",
-        ));
-    }
+    )?;
     let mut materials = Vec::new();
     for m in &raw.materials {
         let list = b.resolve(&m.elements, SetKind::Element, "ISOTROPIC")?;
@@ -429,38 +429,24 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     }
 
     // Geometries.
-    if let Some((name, first, loc)) = duplicate(
+    b.unique(
+        "GEOMETRY",
+        "geometry name",
         raw.geometries
             .iter()
             .filter(|g| !g.name.is_empty())
             .map(|g| (g.name.as_str(), g.loc)),
-    ) {
-        return Err(b.err(
-            loc,
-            "GEOMETRY",
-            format!(
-                "a second geometry named `{name}` (the first is at line {})",
-                first.line
-            ),
-            "unique geometry names",
-        ));
-    }
+    )?;
     let gids: Vec<(String, Loc)> = raw
         .geometries
         .iter()
         .filter_map(|g| g.id.map(|i| (i.to_string(), g.loc)))
         .collect();
-    if let Some((id, first, loc)) = duplicate(gids.iter().map(|(s, l)| (s.as_str(), *l))) {
-        return Err(b.err(
-            loc,
-            "GEOMETRY",
-            format!(
-                "geometry id {id} is used twice (first at line {})",
-                first.line
-            ),
-            "unique geometry ids",
-        ));
-    }
+    b.unique(
+        "GEOMETRY",
+        "geometry id",
+        gids.iter().map(|(s, l)| (s.as_str(), *l)),
+    )?;
     let mut geometries = Vec::new();
     for g in &raw.geometries {
         let list = b.resolve(&g.elements, SetKind::Element, "GEOMETRY")?;
@@ -579,32 +565,19 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         .collect();
 
     // Rigid ties.
-    if let Some((name, first, loc)) =
-        duplicate(raw.rigid_ties.iter().map(|t| (t.name.as_str(), t.loc)))
-    {
-        return Err(b.err(
-            loc,
-            "RBE2",
-            format!(
-                "a second tie named `{name}` (the first is at line {})",
-                first.line
-            ),
-            "unique tie names",
-        ));
-    }
+    b.unique(
+        "RBE2",
+        "tie name",
+        raw.rigid_ties.iter().map(|t| (t.name.as_str(), t.loc)),
+    )?;
     let tids: Vec<String> = raw.rigid_ties.iter().map(|t| t.id.to_string()).collect();
-    if let Some((id, first, loc)) = duplicate(
+    b.unique(
+        "RBE2",
+        "tie id",
         tids.iter()
             .map(String::as_str)
             .zip(raw.rigid_ties.iter().map(|t| t.loc)),
-    ) {
-        return Err(b.err(
-            loc,
-            "RBE2",
-            format!("tie id {id} is used twice (first at line {})", first.line),
-            "unique tie ids",
-        ));
-    }
+    )?;
     let mut rigid_ties: Vec<RigidTie> = Vec::new();
     let mut tied_by: HashMap<u32, (String, Loc)> = HashMap::new();
     for t in &raw.rigid_ties {
@@ -680,7 +653,12 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     let mut given: HashMap<(u32, u8), Loc> = HashMap::new();
     let initial_velocities = dof_groups(&b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
         .into_iter()
-        .map(|(dofs, nodes)| InitialVelocity { dofs, nodes })
+        .zip(&raw.initial_velocities)
+        .map(|((dofs, nodes), g)| InitialVelocity {
+            dofs,
+            nodes,
+            quasi_static: g.quasi_static,
+        })
         .collect();
     let mut outputs = Vec::new();
     for o in &raw.outputs {

@@ -390,16 +390,29 @@ pub static KEYWORDS: &[Keyword] = &[
         name: "INITIAL VEL",
         sections: &[Model],
         origin: Origin::Coil,
-        meaning: "Initial velocities (mm/s, rad/s) of a transient.",
+        meaning: "Initial velocities (mm/s, rad/s) of every transient load case. Alone, \
+                  only the listed DOFs move at t = 0 and every other DOF is at rest (a \
+                  velocity jump). With QUASI STATIC the listed velocities are extended over \
+                  all free DOFs by the quasi-static shape: the static response to forces at \
+                  the listed DOFs, scaled so that the listed DOFs have exactly their values \
+                  (for a weight on a spring: the linear velocity profile the weight's motion \
+                  induces along the wire).",
         layout: &[
-            ("INITIAL VEL", ""),
+            (
+                "INITIAL VEL[, QUASI STATIC]",
+                "QUASI STATIC: a consistent velocity field instead of a jump (see docs/transient.md)",
+            ),
             ("value[, value ...]", "the velocities, 1 to 6"),
             ("dof[, dof ...]", "one DOF (1..6) per value"),
             ("list", "the nodes"),
         ],
         notes: "Laid out like FIXED DISP. Groups repeat until the next card; a node's DOF \
-                may be given once.",
-        example: "INITIAL VEL\n-100.0\n3\n3",
+                may be given once. The card may be repeated, e.g. once with and once without \
+                QUASI STATIC: the quasi-static field of all QUASI STATIC groups is computed \
+                first, then the plain groups set their DOFs. A listed DOF must be free: a \
+                DOF prescribed by FIXED DISP may only be given 0, and a DOF tied by RBE2 is \
+                given at its reference node. `QUASI STATIC` is coil's own.",
+        example: "INITIAL VEL, QUASI STATIC\n-100.0\n3\n3",
         parse: parse_initial_vel,
     },
     Keyword {
@@ -1107,9 +1120,13 @@ fn parse_rbe2(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     Ok(())
 }
 
-/// Groups of `values / DOFs / nodes` (FIXED DISP, INITIAL VEL).
-fn dof_value_groups(c: &mut CardCtx<'_, '_>, value: &str) -> Result<Vec<RawDofValues>, DeckError> {
-    c.no_args()?;
+/// Groups of `values / DOFs / nodes` (FIXED DISP, INITIAL VEL); the keyword line's
+/// options are checked by the caller.
+fn dof_value_groups(
+    c: &mut CardCtx<'_, '_>,
+    value: &str,
+    quasi_static: bool,
+) -> Result<Vec<RawDofValues>, DeckError> {
     let mut groups = Vec::new();
     while c.more_data() {
         let v = c.data_line(value)?;
@@ -1143,6 +1160,7 @@ fn dof_value_groups(c: &mut CardCtx<'_, '_>, value: &str) -> Result<Vec<RawDofVa
             dofs: dofs.into_iter().zip(values).collect(),
             loc: v.start_loc(),
             nodes,
+            quasi_static,
         });
     }
     if groups.is_empty() {
@@ -1152,13 +1170,28 @@ fn dof_value_groups(c: &mut CardCtx<'_, '_>, value: &str) -> Result<Vec<RawDofVa
 }
 
 fn parse_fixed_disp(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
-    let groups = dof_value_groups(c, "prescribed values (mm or rad)")?;
+    c.no_args()?;
+    let groups = dof_value_groups(c, "prescribed values (mm or rad)", false)?;
     c.deck.fixed_disp.extend(groups);
     Ok(())
 }
 
 fn parse_initial_vel(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
-    let groups = dof_value_groups(c, "initial velocities (mm/s or rad/s)")?;
+    let args = c.args();
+    let quasi_static = match args {
+        [] => false,
+        [a, b] if a.text.eq_ignore_ascii_case("QUASI") && b.text.eq_ignore_ascii_case("STATIC") => {
+            true
+        }
+        _ => {
+            return Err(c.err(
+                c.arg_loc(0),
+                format!("unexpected `{}` after INITIAL VEL", args[0].text),
+                "INITIAL VEL alone or INITIAL VEL, QUASI STATIC",
+            ))
+        }
+    };
+    let groups = dof_value_groups(c, "initial velocities (mm/s or rad/s)", quasi_static)?;
     c.deck.initial_velocities.extend(groups);
     Ok(())
 }
@@ -1843,6 +1876,13 @@ mod tests {
         assert_eq!(m.point_loads[0].table.as_deref(), Some("ramp"));
         assert_eq!(m.tables[0].points, [(0.0, 0.0), (1.0, 1.0)]);
         assert_eq!(m.initial_velocities[0].dofs, [(3, -100.0), (1, 2.0)]);
+        assert!(!m.initial_velocities[0].quasi_static);
+        let qs =
+            with_model("INITIAL VEL, quasi static\n-100\n3\n3\nINITIAL VEL\n2\n1\n3\n").unwrap();
+        assert!(qs.initial_velocities[0].quasi_static);
+        assert!(!qs.initial_velocities[1].quasi_static);
+        let e = err_with_model("INITIAL VEL, QUASI\n-100\n3\n3\n");
+        assert!(e.contains("INITIAL VEL, QUASI STATIC"), "{e}");
         assert_eq!(m.outputs[0].every, 10);
         assert_eq!(
             m.outputs[0].quantities,

@@ -113,6 +113,8 @@ pub(crate) struct RawDofValues {
     pub dofs: Vec<(u8, f64)>,
     pub loc: Loc,
     pub nodes: RawList,
+    /// `INITIAL VEL, QUASI STATIC`; always false for `FIXED DISP`.
+    pub quasi_static: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]

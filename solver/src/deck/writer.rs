@@ -299,16 +299,24 @@ impl Writer<'_> {
             self.point_load(p, &node_sets);
         }
 
-        if !m.initial_velocities.is_empty() {
-            self.line("INITIAL VEL");
-            for v in &m.initial_velocities {
-                self.dof_values(
-                    "initial velocities (mm/s, rad/s)",
-                    &v.dofs,
-                    &v.nodes,
-                    &node_sets,
-                );
+        // One card per run of groups with the same option, so the groups read back in
+        // their order and with their option.
+        let mut previous: Option<bool> = None;
+        for v in &m.initial_velocities {
+            if previous != Some(v.quasi_static) {
+                self.line(if v.quasi_static {
+                    "INITIAL VEL, QUASI STATIC"
+                } else {
+                    "INITIAL VEL"
+                });
+                previous = Some(v.quasi_static);
             }
+            self.dof_values(
+                "initial velocities (mm/s, rad/s)",
+                &v.dofs,
+                &v.nodes,
+                &node_sets,
+            );
         }
 
         if !m.outputs.is_empty() {

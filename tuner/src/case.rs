@@ -1,0 +1,749 @@
+//! Reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//!
+//! A case is a folder holding `case.json` and the record files it names; [`read_case`]
+//! takes the folder or the `case.json` path. Field names and units are exactly the
+//! spec's: `spring.{active_coils, mean_diameter_mm, wire_diameter_mm, pitch_mm}`,
+//! `material.{youngs_modulus_mpa, poisson_ratio, density_kg_m3}`, `mass_kg`,
+//! `gravity_m_s2`, `records.{static, decay}` (paths relative to the folder; either list
+//! may be missing or empty) and the optional `targets.{stiffness_n_mm, damping_ratio,
+//! period_s}`. Extras read when present: `tested_springs` (Table 1 of the paper) and
+//! `paper` (the paper's reported figures, for side-by-side tables). Unknown members are
+//! ignored, as the spec allows.
+//!
+//! Every problem is a [`CaseError`] naming the file, line and column, the field and what
+//! was expected; nothing here panics on user data. Record files are checked to exist
+//! when the case is read and parsed on demand ([`MeasuredCase::static_records`],
+//! [`MeasuredCase::decay_records`]), so a case with targets only costs nothing more.
+
+use crate::fields::{root, FieldError, Object, Range};
+use crate::json;
+use coil_postproc::signal::Signal;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Helix geometry of the active coils (Table 4's n, D, d, h).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+pub struct SpringGeometry {
+    pub active_coils: f64,
+    pub mean_diameter_mm: f64,
+    pub wire_diameter_mm: f64,
+    pub pitch_mm: f64,
+}
+
+/// Handbook material values: starting points of the calibration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NominalMaterial {
+    pub youngs_modulus_mpa: f64,
+    pub poisson_ratio: f64,
+    pub density_kg_m3: f64,
+}
+
+/// The paper's reduced figures, given instead of (or beside) raw records.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Targets {
+    pub stiffness_n_mm: Option<f64>,
+    pub damping_ratio: Option<f64>,
+    pub period_s: Option<f64>,
+}
+
+/// One spring of the paper's Table 1.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TestedSpring {
+    pub name: String,
+    pub stiffness_n_mm: f64,
+    pub damping_ratio: f64,
+}
+
+/// What the paper reports for its case (Tables 2 and 3, the loop counts).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct PaperFigures {
+    pub source: Option<String>,
+    pub youngs_modulus_mpa: Option<f64>,
+    pub stiffness_n_mm: Option<f64>,
+    pub damping_ratio: Option<f64>,
+    pub rayleigh_alpha: Option<f64>,
+    pub rayleigh_beta: Option<f64>,
+    pub stiffness_iterations: Option<f64>,
+    pub mass_iterations: Option<f64>,
+}
+
+/// A case folder, read and checked.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuredCase {
+    /// The `case.json` that was read.
+    pub file: PathBuf,
+    pub name: String,
+    pub spring: SpringGeometry,
+    pub material: NominalMaterial,
+    pub mass_kg: f64,
+    pub gravity_m_s2: f64,
+    /// Static records, resolved against the case folder (they exist).
+    pub static_files: Vec<PathBuf>,
+    /// Decay records, resolved against the case folder (they exist).
+    pub decay_files: Vec<PathBuf>,
+    pub targets: Targets,
+    /// Line and column of the `targets` object (for messages about a missing target).
+    #[serde(skip)]
+    pub targets_at: Option<(usize, usize)>,
+    pub tested_springs: Vec<TestedSpring>,
+    pub paper: Option<PaperFigures>,
+}
+
+/// A static force-compression record (`displacement_mm,force_n`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticRecord {
+    pub file: PathBuf,
+    /// Compression from the free length (mm, positive = shorter).
+    pub displacement_mm: Vec<f64>,
+    /// Axial force (N).
+    pub force_n: Vec<f64>,
+}
+
+/// Everything that can be wrong with a case, a variants file or a record.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    #[error("{}: cannot read the file: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}:{line}:{column}: invalid JSON: {message}", path.display())]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error(transparent)]
+    Field(#[from] FieldError),
+    /// A record file (decay) that the post-processor cannot read.
+    #[error(transparent)]
+    Record(#[from] coil_postproc::PostError),
+    /// A static record that cannot be read.
+    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
+    StaticRecord {
+        path: PathBuf,
+        line: usize,
+        problem: String,
+        expected: String,
+    },
+}
+
+fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let node = json::parse(&text).map_err(|e| CaseError::Syntax {
+        path: path.to_path_buf(),
+        line: e.line,
+        column: e.column,
+        message: e.message,
+    })?;
+    Ok((text, node))
+}
+
+/// The `case.json` of a case given as a folder or as the file itself.
+pub fn case_file(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.join("case.json")
+    } else {
+        path.to_path_buf()
+    }
+}
+
+/// Reads and checks a case (a folder with `case.json`, or the `case.json` path).
+pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
+    let file = case_file(path);
+    let (_, node) = read_json(&file)?;
+    let top = root(&file, &node);
+    let doc = top.object("a measured case (see shared/spec/measured-case.md)")?;
+    let folder = file.parent().map(Path::to_path_buf).unwrap_or_default();
+
+    let name = doc.string("name", "the case's name (a non-empty string)")?;
+    let spring = read_geometry(
+        &doc.require("spring", "the spring's geometry (an object)")?
+            .object("the spring's geometry")?,
+    )?;
+    let material = read_material(
+        &doc.require("material", "the nominal material (an object)")?
+            .object("the nominal material")?,
+    )?;
+    let mass_kg = doc.number(
+        "mass_kg",
+        Range::Positive,
+        "the weight's nominal mass in kg",
+    )?;
+    let gravity_m_s2 = doc.number(
+        "gravity_m_s2",
+        Range::NonNegative,
+        "gravity along the spring axis in m/s^2 (0: no preload)",
+    )?;
+
+    let (mut static_files, mut decay_files) = (Vec::new(), Vec::new());
+    if let Some(records) = doc.get("records") {
+        let records = records.object("the record files")?;
+        for (key, out) in [("static", &mut static_files), ("decay", &mut decay_files)] {
+            let Some(list) = records.get(key) else {
+                continue;
+            };
+            if list.node.value == json::Value::Null {
+                continue;
+            }
+            for item in list.array(&format!("a list of {key} record files"))? {
+                let rel = item.string("a path relative to the case folder")?;
+                let resolved = folder.join(rel);
+                if !resolved.is_file() {
+                    return Err(item
+                        .error(
+                            format!("{} does not exist or is not a file", resolved.display()),
+                            "a record file inside the case folder",
+                        )
+                        .into());
+                }
+                out.push(resolved);
+            }
+        }
+    }
+
+    let targets_at = doc.get("targets").map(|t| (t.node.line, t.node.column));
+    let targets = match doc.get("targets") {
+        None => Targets::default(),
+        Some(t) => {
+            let t = t.object("the reduced target figures")?;
+            Targets {
+                stiffness_n_mm: t.opt_number(
+                    "stiffness_n_mm",
+                    Range::Positive,
+                    "the target stiffness in N/mm",
+                )?,
+                damping_ratio: t.opt_number(
+                    "damping_ratio",
+                    Range::Open(0.0, 1.0),
+                    "the target damping ratio",
+                )?,
+                period_s: t.opt_number("period_s", Range::Positive, "the target period in s")?,
+            }
+        }
+    };
+
+    let mut tested_springs = Vec::new();
+    if let Some(list) = doc.get("tested_springs") {
+        for item in list.array("the tested springs")? {
+            let o = item.object("a tested spring")?;
+            tested_springs.push(TestedSpring {
+                name: o.string("name", "the spring's name")?,
+                stiffness_n_mm: o.number(
+                    "stiffness_n_mm",
+                    Range::Positive,
+                    "the measured stiffness in N/mm",
+                )?,
+                damping_ratio: o.number(
+                    "damping_ratio",
+                    Range::Open(0.0, 1.0),
+                    "the measured damping ratio",
+                )?,
+            });
+        }
+    }
+
+    let paper = match doc.get("paper") {
+        None => None,
+        Some(p) => {
+            let p = p.object("the paper's reported figures")?;
+            let mut figures = PaperFigures {
+                source: p.opt_string("source", "a citation")?,
+                ..PaperFigures::default()
+            };
+            if let Some(t3) = p.get("table3") {
+                let t = t3.object("the paper's Table 3 figures")?;
+                figures.youngs_modulus_mpa =
+                    t.opt_number("youngs_modulus_mpa", Range::Positive, "E in MPa")?;
+                figures.stiffness_n_mm =
+                    t.opt_number("stiffness_n_mm", Range::Positive, "K in N/mm")?;
+                figures.damping_ratio =
+                    t.opt_number("damping_ratio", Range::Open(0.0, 1.0), "zeta")?;
+                figures.rayleigh_alpha =
+                    t.opt_number("rayleigh_alpha", Range::NonNegative, "alpha in 1/s")?;
+                figures.rayleigh_beta =
+                    t.opt_number("rayleigh_beta", Range::NonNegative, "beta in s")?;
+                figures.stiffness_iterations =
+                    t.opt_number("stiffness_iterations", Range::Count, "an iteration count")?;
+                figures.mass_iterations =
+                    t.opt_number("mass_iterations", Range::Count, "an iteration count")?;
+            }
+            Some(figures)
+        }
+    };
+
+    Ok(MeasuredCase {
+        file,
+        name,
+        spring,
+        material,
+        mass_kg,
+        gravity_m_s2,
+        static_files,
+        decay_files,
+        targets,
+        targets_at,
+        tested_springs,
+        paper,
+    })
+}
+
+fn read_geometry(o: &Object<'_>) -> Result<SpringGeometry, FieldError> {
+    let active_coils = o.number(
+        "active_coils",
+        Range::Positive,
+        "the number of active coils n",
+    )?;
+    let mean_diameter_mm = o.number(
+        "mean_diameter_mm",
+        Range::Positive,
+        "the mean coil diameter D in mm",
+    )?;
+    let wire = o.require("wire_diameter_mm", "the wire diameter d in mm")?;
+    let wire_diameter_mm = wire.number(Range::Positive, "the wire diameter d in mm")?;
+    if wire_diameter_mm >= mean_diameter_mm {
+        return Err(wire.error(
+            format!("{wire_diameter_mm} is not below the mean diameter {mean_diameter_mm}"),
+            "a wire diameter smaller than the mean coil diameter",
+        ));
+    }
+    let pitch = o.require("pitch_mm", "the pitch h in mm")?;
+    let pitch_mm = pitch.number(Range::Positive, "the pitch h in mm")?;
+    if pitch_mm < wire_diameter_mm {
+        return Err(pitch.error(
+            format!(
+                "{pitch_mm} is below the wire diameter {wire_diameter_mm}: the coils would overlap"
+            ),
+            "a pitch at least the wire diameter",
+        ));
+    }
+    // The FE model's orientation vector is the spring axis; it must not be parallel to
+    // the wire (pitch angle below 63 degrees), as coil_mesher checks.
+    if pitch_mm >= 2.0 * std::f64::consts::PI * mean_diameter_mm {
+        return Err(pitch.error(
+            format!("{pitch_mm} gives a pitch angle above 63 degrees"),
+            "a pitch below 2 pi D",
+        ));
+    }
+    Ok(SpringGeometry {
+        active_coils,
+        mean_diameter_mm,
+        wire_diameter_mm,
+        pitch_mm,
+    })
+}
+
+fn read_material(o: &Object<'_>) -> Result<NominalMaterial, FieldError> {
+    Ok(NominalMaterial {
+        youngs_modulus_mpa: o.number(
+            "youngs_modulus_mpa",
+            Range::Positive,
+            "the nominal Young's modulus in MPa",
+        )?,
+        poisson_ratio: o.number("poisson_ratio", Range::Open(-1.0, 0.5), "Poisson's ratio")?,
+        density_kg_m3: o.number(
+            "density_kg_m3",
+            Range::Positive,
+            "the wire's density in kg/m^3",
+        )?,
+    })
+}
+
+impl MeasuredCase {
+    /// The case folder (where the record paths are resolved).
+    pub fn folder(&self) -> PathBuf {
+        self.file
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    }
+
+    /// A target, or an error naming the missing `targets.<name>` field.
+    pub fn target(&self, name: &'static str) -> Result<f64, CaseError> {
+        let value = match name {
+            "stiffness_n_mm" => self.targets.stiffness_n_mm,
+            "damping_ratio" => self.targets.damping_ratio,
+            _ => self.targets.period_s,
+        };
+        value.ok_or_else(|| {
+            let (line, column) = self.targets_at.unwrap_or((1, 1));
+            CaseError::Field(FieldError {
+                file: self.file.clone(),
+                line,
+                column,
+                field: format!("targets.{name}"),
+                problem: if self.targets_at.is_some() {
+                    "missing in this object".into()
+                } else {
+                    "missing: the case has no `targets`".into()
+                },
+                expected: "the target figure, or a number in place of `target` in a procedure"
+                    .into(),
+            })
+        })
+    }
+
+    /// Reads every static record.
+    pub fn static_records(&self) -> Result<Vec<StaticRecord>, CaseError> {
+        self.static_files
+            .iter()
+            .map(|p| read_static_record(p))
+            .collect()
+    }
+
+    /// Reads every decay record (`time_s,accel_m_s2`, uniform time, finite values).
+    pub fn decay_records(&self) -> Result<Vec<Signal>, CaseError> {
+        self.decay_files
+            .iter()
+            .map(|p| Ok(coil_postproc::signal::read_signal(p, "accel_m_s2")?))
+            .collect()
+    }
+}
+
+/// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
+/// allowed, `#` comment lines and blank lines skipped), finite numbers, at least 2 rows.
+pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let fail = |line: usize, problem: String, expected: &str| CaseError::StaticRecord {
+        path: path.to_path_buf(),
+        line,
+        problem,
+        expected: expected.to_string(),
+    };
+    let mut rows = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let (header_line, header) = rows.next().ok_or_else(|| {
+        fail(
+            1,
+            "the file is empty".into(),
+            "a header `displacement_mm,force_n` and data rows",
+        )
+    })?;
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| -> Result<usize, CaseError> {
+        let hits: Vec<usize> = (0..names.len()).filter(|&i| names[i] == name).collect();
+        match hits.as_slice() {
+            [one] => Ok(*one),
+            [] => Err(fail(
+                header_line,
+                format!(
+                    "no column `{name}` in the header (columns: {})",
+                    names.join(", ")
+                ),
+                "the header `displacement_mm,force_n`",
+            )),
+            _ => Err(fail(
+                header_line,
+                format!("column `{name}` appears more than once"),
+                "unique column names",
+            )),
+        }
+    };
+    let (di, fi) = (find("displacement_mm")?, find("force_n")?);
+    let (mut displacement_mm, mut force_n) = (Vec::new(), Vec::new());
+    for (line, row) in rows {
+        let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+        if cells.len() != names.len() {
+            return Err(fail(
+                line,
+                format!("{} fields", cells.len()),
+                &format!("{} fields as in the header", names.len()),
+            ));
+        }
+        for (index, column, out) in [
+            (di, "displacement_mm", &mut displacement_mm),
+            (fi, "force_n", &mut force_n),
+        ] {
+            let cell = cells[index];
+            match cell.parse::<f64>() {
+                Ok(x) if x.is_finite() => out.push(x),
+                Ok(_) => {
+                    return Err(fail(
+                        line,
+                        format!("column `{column}`: `{cell}` is not finite"),
+                        "a finite number",
+                    ))
+                }
+                Err(_) => {
+                    return Err(fail(
+                        line,
+                        format!("column `{column}`: `{cell}` is not a number"),
+                        "a number",
+                    ))
+                }
+            }
+        }
+    }
+    if displacement_mm.len() < 2 {
+        return Err(fail(
+            header_line,
+            format!("{} data rows", displacement_mm.len()),
+            "at least 2 rows of displacement and force",
+        ));
+    }
+    Ok(StaticRecord {
+        file: path.to_path_buf(),
+        displacement_mm,
+        force_n,
+    })
+}
+
+/// One alternative spring of a variants file (Table 4), with the paper's figures if given.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Variant {
+    pub name: String,
+    pub spring: SpringGeometry,
+    pub paper_stiffness_n_mm: Option<f64>,
+    pub paper_damping_ratio: Option<f64>,
+}
+
+/// A variants file: `{"source": .., "variants": [{"name", "active_coils",
+/// "mean_diameter_mm", "wire_diameter_mm", "pitch_mm", "paper_stiffness_n_mm"?,
+/// "paper_damping_ratio"?}, ..]}`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VariantsFile {
+    pub file: PathBuf,
+    pub source: Option<String>,
+    pub variants: Vec<Variant>,
+}
+
+/// Reads and checks a variants file (at least one variant, unique names).
+pub fn read_variants(path: &Path) -> Result<VariantsFile, CaseError> {
+    let (_, node) = read_json(path)?;
+    let top = root(path, &node);
+    let doc = top.object("a variants file with a `variants` list")?;
+    let source = doc.opt_string("source", "a description of the variants")?;
+    let list = doc.require("variants", "a list of spring variants")?;
+    let items = list.array("a list of spring variants")?;
+    if items.is_empty() {
+        return Err(list
+            .error("the list is empty", "at least one spring variant")
+            .into());
+    }
+    let mut variants: Vec<Variant> = Vec::with_capacity(items.len());
+    for item in &items {
+        let o = item.object("a spring variant")?;
+        let name_field = o.require("name", "the variant's name")?;
+        let name = name_field.string("the variant's name")?.to_string();
+        if variants.iter().any(|v| v.name == name) {
+            return Err(name_field
+                .error(
+                    format!("the name {name} is used twice"),
+                    "unique variant names",
+                )
+                .into());
+        }
+        variants.push(Variant {
+            name,
+            spring: read_geometry(&o)?,
+            paper_stiffness_n_mm: o.opt_number(
+                "paper_stiffness_n_mm",
+                Range::Positive,
+                "the paper's stiffness in N/mm",
+            )?,
+            paper_damping_ratio: o.opt_number(
+                "paper_damping_ratio",
+                Range::Open(0.0, 1.0),
+                "the paper's damping ratio",
+            )?,
+        });
+    }
+    Ok(VariantsFile {
+        file: path.to_path_buf(),
+        source,
+        variants,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"{
+  "name": "spring 3, rig B",
+  "spring": {
+    "active_coils": 14.0,
+    "mean_diameter_mm": 24.0,
+    "wire_diameter_mm": 3.0,
+    "pitch_mm": 6.2
+  },
+  "material": {
+    "youngs_modulus_mpa": 206000.0,
+    "poisson_ratio": 0.3,
+    "density_kg_m3": 7850.0
+  },
+  "mass_kg": 5.3,
+  "gravity_m_s2": 9.81,
+  "records": { "static": ["static.csv"], "decay": ["decay.csv"] },
+  "future_field": {"anything": [1, 2]}
+}"#;
+
+    fn folder_with(case: &str) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("case.json"), case).unwrap();
+        std::fs::write(
+            dir.path().join("static.csv"),
+            "displacement_mm,force_n\n0,0\n1,3.9\n2,7.9\n",
+        )
+        .unwrap();
+        let mut decay = String::from("time_s,accel_m_s2\n");
+        for i in 0..100 {
+            let t = i as f64 * 1e-3;
+            decay.push_str(&format!("{t},{}\n", (27.3 * t).sin()));
+        }
+        std::fs::write(dir.path().join("decay.csv"), decay).unwrap();
+        dir
+    }
+
+    /// The spec's example, verbatim plus an unknown member, is read from the folder.
+    #[test]
+    fn the_spec_example_is_read() {
+        let dir = folder_with(GOOD);
+        let case = read_case(dir.path()).unwrap();
+        assert_eq!(case.name, "spring 3, rig B");
+        assert_eq!(case.spring.pitch_mm, 6.2);
+        assert_eq!(case.material.poisson_ratio, 0.3);
+        assert_eq!(case.mass_kg, 5.3);
+        assert_eq!(case.static_files, vec![dir.path().join("static.csv")]);
+        assert_eq!(case.targets, Targets::default());
+        let statics = case.static_records().unwrap();
+        assert_eq!(statics[0].force_n, vec![0.0, 3.9, 7.9]);
+        let decays = case.decay_records().unwrap();
+        assert_eq!(decays[0].values.len(), 100);
+    }
+
+    /// Each broken field is named with its line and what was expected.
+    #[test]
+    fn broken_fields_are_located() {
+        for (from, to, field, line) in [
+            ("\"mass_kg\": 5.3,", "\"mass_kg\": -5.3,", "mass_kg", 14),
+            ("\"mass_kg\": 5.3,", "", "mass_kg", 1),
+            (
+                "\"pitch_mm\": 6.2",
+                "\"pitch_mm\": \"6.2\"",
+                "spring.pitch_mm",
+                7,
+            ),
+            (
+                "\"wire_diameter_mm\": 3.0",
+                "\"wire_diameter_mm\": 30.0",
+                "spring.wire_diameter_mm",
+                6,
+            ),
+            (
+                "\"poisson_ratio\": 0.3",
+                "\"poisson_ratio\": 0.5",
+                "material.poisson_ratio",
+                11,
+            ),
+            ("\"decay.csv\"", "\"nope.csv\"", "records.decay[0]", 16),
+            ("\"active_coils\": 14.0,", "", "spring.active_coils", 3),
+        ] {
+            let dir = folder_with(&GOOD.replacen(from, to, 1));
+            match read_case(dir.path()) {
+                Err(CaseError::Field(e)) => {
+                    assert_eq!(e.field, field, "{e}");
+                    assert_eq!(e.line, line, "{e}");
+                    let shown = e.to_string();
+                    assert!(
+                        shown.contains("case.json:") && shown.contains("expected"),
+                        "{shown}"
+                    );
+                }
+                other => panic!("{field}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn syntax_errors_and_missing_files() {
+        let dir = folder_with("{\"name\": \"x\",\n \"spring\": }");
+        match read_case(dir.path()) {
+            Err(CaseError::Syntax { line, .. }) => assert_eq!(line, 2),
+            other => panic!("{other:?}"),
+        }
+        let empty = tempfile::tempdir().unwrap();
+        assert!(matches!(read_case(empty.path()), Err(CaseError::Io { .. })));
+    }
+
+    #[test]
+    fn static_record_errors_name_the_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("static.csv");
+        for (text, line, needle) in [
+            ("displacement_mm,force\n0,1\n", 1, "force_n"),
+            ("displacement_mm,force_n\n0,1\n1,NaN\n", 3, "not finite"),
+            ("# rig B\ndisplacement_mm,force_n\n0,1\n\n1\n", 5, "fields"),
+            ("displacement_mm,force_n\n0,x\n", 2, "not a number"),
+            ("displacement_mm,force_n\n0,1\n", 1, "at least 2 rows"),
+        ] {
+            std::fs::write(&path, text).unwrap();
+            match read_static_record(&path) {
+                Err(CaseError::StaticRecord {
+                    line: l, problem, ..
+                }) => {
+                    assert_eq!(l, line, "{text}");
+                    let all = format!("{problem} {}", read_static_record(&path).unwrap_err());
+                    assert!(all.contains(needle), "{all}");
+                }
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+    }
+
+    /// The paper's case and Table 4 as shipped under `cases/160ect`.
+    #[test]
+    fn the_paper_case_and_table4_are_read() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/160ect");
+        let case = read_case(&root).unwrap();
+        assert_eq!(case.targets.stiffness_n_mm, Some(3.9275));
+        assert_eq!(case.targets.period_s, Some(0.23));
+        assert_eq!(case.tested_springs.len(), 4);
+        let mean: f64 = case
+            .tested_springs
+            .iter()
+            .map(|s| s.stiffness_n_mm)
+            .sum::<f64>()
+            / 4.0;
+        assert!(
+            (mean - 3.9275).abs() < 1e-12,
+            "Table 1's mean is the target"
+        );
+        let paper = case.paper.unwrap();
+        assert_eq!(paper.youngs_modulus_mpa, Some(190708.0));
+        assert_eq!(paper.rayleigh_beta, Some(0.00012));
+        let table4 = read_variants(&root.join("table4.json")).unwrap();
+        assert_eq!(table4.variants.len(), 6);
+        assert_eq!(table4.variants[5].spring.active_coils, 16.0);
+        assert_eq!(table4.variants[1].paper_damping_ratio, Some(0.00246));
+    }
+
+    #[test]
+    fn variants_need_unique_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("v.json");
+        let one = r##"{"name": "#1", "active_coils": 14, "mean_diameter_mm": 28, "wire_diameter_mm": 3, "pitch_mm": 6.2}"##;
+        std::fs::write(&path, format!("{{\"variants\": [{one},\n{one}]}}")).unwrap();
+        match read_variants(&path) {
+            Err(CaseError::Field(e)) => {
+                assert_eq!((e.field.as_str(), e.line), ("variants[1].name", 2))
+            }
+            other => panic!("{other:?}"),
+        }
+        std::fs::write(&path, format!("{{\"variants\": [{one}]}}")).unwrap();
+        let v = read_variants(&path).unwrap();
+        assert_eq!(v.variants[0].spring.mean_diameter_mm, 28.0);
+        assert_eq!(v.variants[0].paper_stiffness_n_mm, None);
+    }
+}

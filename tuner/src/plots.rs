@@ -1,0 +1,638 @@
+//! The tuner's figures (PNG or SVG by extension), the analogues of the paper's:
+//! - Fig. 7: the calibration loops, parameter and relative error per iteration
+//!   ([`loops_figure`]);
+//! - Figs. 8 and 9: zeta over an (alpha, beta) grid as a heat map with the best point,
+//!   the paper's point and the target valley ([`heat_map`]);
+//! - the valley of (alpha, beta) pairs that give the target zeta ([`valley_figure`]);
+//! - Fig. 10 (normalised decay histories) is drawn by `coil_postproc::plot`.
+//!
+//! Text uses DejaVu Sans embedded from the post-processor's assets (the same font its
+//! plots use) and registered with plotters' `ab_glyph` table. Pictures are drawn into
+//! a temporary file and renamed.
+
+use crate::error::{Result, TuneError};
+use crate::grid::GridResult;
+use crate::loops::LoopReport;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+use std::path::Path;
+use std::sync::OnceLock;
+
+const FONT_BYTES: &[u8] = include_bytes!("../../postproc/assets/DejaVuSans.ttf");
+const FONT: &str = "sans-serif";
+const SIZE: (u32, u32) = (1400, 900);
+const BLUE: RGBColor = RGBColor(31, 119, 180);
+const RED: RGBColor = RGBColor(214, 39, 40);
+const GREEN: RGBColor = RGBColor(44, 160, 44);
+
+type Draw = std::result::Result<(), String>;
+
+fn ensure_font() -> Result<()> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    if *REGISTERED.get_or_init(|| register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()) {
+        Ok(())
+    } else {
+        Err(TuneError::Plot {
+            path: "postproc/assets/DejaVuSans.ttf".into(),
+            message: "the embedded font cannot be loaded".into(),
+        })
+    }
+}
+
+fn e<T: std::fmt::Display>(x: T) -> String {
+    x.to_string()
+}
+
+/// A picture drawable on any backend.
+trait Figure {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
+}
+
+/// Draws `figure` into `path` (PNG or SVG) through a temporary file.
+fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
+    ensure_font()?;
+    let fail = |message: String| TuneError::Plot {
+        path: path.to_path_buf(),
+        message,
+    };
+    let extension = path
+        .extension()
+        .map(|x| x.to_string_lossy().to_ascii_lowercase());
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(folder).map_err(|x| TuneError::io(folder, x))?;
+    let suffix = format!(".{}", extension.clone().unwrap_or_default());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".plot").suffix(&suffix);
+    // tempfile creates 0600 files; a figure is an ordinary output, readable as the umask
+    // allows.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let temporary = builder
+        .tempfile_in(folder)
+        .map_err(|x| TuneError::io(folder, x))?;
+    match extension.as_deref() {
+        Some("png") => {
+            let root = BitMapBackend::new(temporary.path(), SIZE).into_drawing_area();
+            figure.draw(&root).map_err(fail)?;
+            root.present().map_err(|x| fail(x.to_string()))?;
+        }
+        Some("svg") => {
+            let root = SVGBackend::new(temporary.path(), SIZE).into_drawing_area();
+            figure.draw(&root).map_err(fail)?;
+            root.present().map_err(|x| fail(x.to_string()))?;
+        }
+        _ => return Err(fail("expected a .png or .svg extension".into())),
+    }
+    temporary
+        .persist(path)
+        .map_err(|x| TuneError::io(path, x.error))?;
+    Ok(())
+}
+
+/// Viridis-like colour for t in [0, 1].
+fn colour(t: f64) -> RGBColor {
+    const STOPS: [(f64, [f64; 3]); 5] = [
+        (0.0, [68.0, 1.0, 84.0]),
+        (0.25, [59.0, 82.0, 139.0]),
+        (0.5, [33.0, 145.0, 140.0]),
+        (0.75, [94.0, 201.0, 98.0]),
+        (1.0, [253.0, 231.0, 37.0]),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let k = STOPS
+        .windows(2)
+        .position(|w| t <= w[1].0)
+        .unwrap_or(STOPS.len() - 2);
+    let (t0, c0) = STOPS[k];
+    let (t1, c1) = STOPS[k + 1];
+    let s = (t - t0) / (t1 - t0);
+    let mix = |i: usize| (c0[i] + s * (c1[i] - c0[i])).round() as u8;
+    RGBColor(mix(0), mix(1), mix(2))
+}
+
+/// Short number for ticks: up to 4 decimals or 3 significant digits.
+fn short(x: &f64) -> String {
+    let x = *x;
+    if x.abs() < 1e-15 {
+        return "0".into();
+    }
+    let a = x.abs();
+    if (1e-2..1e5).contains(&a) {
+        let s = format!("{x:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// Integer tick labels only (iterations).
+fn whole(x: &f64) -> String {
+    if (x - x.round()).abs() < 1e-6 {
+        format!("{}", x.round())
+    } else {
+        String::new()
+    }
+}
+
+fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1e-12)
+    };
+    (lo - pad, hi + pad)
+}
+
+struct LoopsFigure<'a> {
+    loops: &'a [&'a LoopReport],
+}
+
+/// The floor of |relative error| on the log axis (an exact hit would be log(0)).
+const ERROR_FLOOR: f64 = 1e-16;
+
+impl Figure for LoopsFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(e)?;
+        let rows = root.split_evenly((self.loops.len().max(1), 2));
+        for (k, report) in self.loops.iter().enumerate() {
+            let n = report.iterations.len() as f64;
+            let (lo, hi) = range_of(report.iterations.iter().map(|i| i.parameter));
+            let mut left = ChartBuilder::on(&rows[2 * k])
+                .caption(
+                    format!("{}: {} per iteration", report.quantity, report.parameter),
+                    (FONT, 24),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(110)
+                .build_cartesian_2d(0.5..n + 0.5, lo..hi)
+                .map_err(e)?;
+            left.configure_mesh()
+                .x_desc("iteration")
+                .y_desc(report.parameter.as_str())
+                .x_label_formatter(&whole)
+                .y_label_formatter(&short)
+                .label_style((FONT, 16))
+                .draw()
+                .map_err(e)?;
+            let points: Vec<(f64, f64)> = report
+                .iterations
+                .iter()
+                .map(|i| (i.iteration as f64, i.parameter))
+                .collect();
+            left.draw_series(LineSeries::new(points.clone(), BLUE.stroke_width(2)))
+                .map_err(e)?;
+            left.draw_series(points.iter().map(|&p| Circle::new(p, 6, BLUE.filled())))
+                .map_err(e)?;
+
+            let errors: Vec<(f64, f64)> = report
+                .iterations
+                .iter()
+                .map(|i| (i.iteration as f64, i.relative_error.abs().max(ERROR_FLOOR)))
+                .collect();
+            let top = errors.iter().fold(report.tolerance, |m, p| m.max(p.1)) * 10.0;
+            let mut right = ChartBuilder::on(&rows[2 * k + 1])
+                .caption(
+                    format!(
+                        "|relative error| of {} (target {}, tolerance {:.0e})",
+                        report.quantity,
+                        short(&report.target),
+                        report.tolerance
+                    ),
+                    (FONT, 24),
+                )
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(90)
+                .build_cartesian_2d(0.5..n + 0.5, (ERROR_FLOOR..top).log_scale())
+                .map_err(e)?;
+            right
+                .configure_mesh()
+                .x_desc("iteration")
+                .y_desc("|relative error|")
+                .x_label_formatter(&whole)
+                .y_label_formatter(&|y| format!("{y:.0e}"))
+                .label_style((FONT, 16))
+                .draw()
+                .map_err(e)?;
+            right
+                .draw_series(LineSeries::new(
+                    [(0.5, report.tolerance), (n + 0.5, report.tolerance)],
+                    RED.stroke_width(1),
+                ))
+                .map_err(e)?
+                .label("tolerance")
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
+            right
+                .draw_series(LineSeries::new(errors.clone(), BLUE.stroke_width(2)))
+                .map_err(e)?;
+            right
+                .draw_series(errors.iter().map(|&p| Circle::new(p, 6, BLUE.filled())))
+                .map_err(e)?;
+            right
+                .configure_series_labels()
+                .label_font((FONT, 16))
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(e)?;
+        }
+        Ok(())
+    }
+}
+
+/// Fig. 7 analogue: each loop's parameter and |relative error| per iteration.
+pub fn loops_figure(loops: &[&LoopReport], path: &Path) -> Result<()> {
+    render(path, &LoopsFigure { loops })
+}
+
+/// What to mark on a heat map besides the cells.
+#[derive(Debug, Clone, Default)]
+pub struct HeatMapMarks {
+    pub target_zeta: f64,
+    /// The paper's (alpha, beta), drawn when inside the grid.
+    pub paper: Option<(f64, f64)>,
+    /// The valley `zeta = z0 + a alpha + b beta = target` as (z0, a, b).
+    pub valley: Option<(f64, f64, f64)>,
+}
+
+struct HeatMap<'a> {
+    grid: &'a GridResult,
+    marks: &'a HeatMapMarks,
+}
+
+impl Figure for HeatMap<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(e)?;
+        let (main, bar) = root.split_horizontally(SIZE.0 - 220);
+        let spec = &self.grid.spec;
+        let half = |axis: &crate::grid::Axis| {
+            if axis.count > 1 {
+                0.5 * axis.step
+            } else {
+                0.5 * axis.start.abs().max(1e-6)
+            }
+        };
+        let (ha, hb) = (half(&spec.alpha), half(&spec.beta));
+        let (a0, a1) = (spec.alpha.value(0) - ha, spec.alpha.end() + ha);
+        let (b0, b1) = (spec.beta.value(0) - hb, spec.beta.end() + hb);
+        let zetas: Vec<f64> = self.grid.points.iter().filter_map(|p| p.zeta()).collect();
+        let (zmin, zmax) = zetas
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &z| {
+                (lo.min(z), hi.max(z))
+            });
+        let span = if zmax > zmin { zmax - zmin } else { 1.0 };
+        let mut chart = ChartBuilder::on(&main)
+            .caption(
+                format!(
+                    "{}: damping ratio over (alpha, beta), {} runs; target zeta = {}",
+                    spec.name,
+                    self.grid.points.len(),
+                    short(&self.marks.target_zeta)
+                ),
+                (FONT, 26),
+            )
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(110)
+            .build_cartesian_2d(a0..a1, b0..b1)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc("alpha (1/s)")
+            .y_desc("beta (s)")
+            .x_label_formatter(&short)
+            .y_label_formatter(&short)
+            .label_style((FONT, 18))
+            .draw()
+            .map_err(e)?;
+        chart
+            .draw_series(self.grid.points.iter().map(|p| {
+                let fill = match p.zeta() {
+                    Some(z) => colour((z - zmin) / span).filled(),
+                    None => RGBColor(200, 200, 200).filled(),
+                };
+                Rectangle::new(
+                    [(p.alpha - ha, p.beta - hb), (p.alpha + ha, p.beta + hb)],
+                    fill,
+                )
+            }))
+            .map_err(e)?;
+        if let Some((z0, a, b)) = self.marks.valley {
+            if b > 0.0 {
+                let line: Vec<(f64, f64)> = (0..=200)
+                    .map(|k| a0 + (a1 - a0) * k as f64 / 200.0)
+                    .map(|alpha| (alpha, (self.marks.target_zeta - z0 - a * alpha) / b))
+                    .filter(|&(_, beta)| beta >= b0 && beta <= b1)
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line, WHITE.stroke_width(3)))
+                    .map_err(e)?
+                    .label("target valley (transient-fitted plane)")
+                    .legend(|(x, y)| {
+                        PathElement::new([(x, y), (x + 20, y)], WHITE.stroke_width(3))
+                    });
+            }
+        }
+        if let Some(best) = self.grid.best(self.marks.target_zeta) {
+            chart
+                .draw_series([Circle::new(
+                    (best.alpha, best.beta),
+                    10,
+                    RED.stroke_width(3),
+                )])
+                .map_err(e)?
+                .label(format!(
+                    "best: alpha {}, beta {}, zeta {}",
+                    short(&best.alpha),
+                    short(&best.beta),
+                    best.zeta().map_or("-".into(), |z| format!("{z:.6}"))
+                ))
+                .legend(|(x, y)| Circle::new((x + 10, y), 6, RED.stroke_width(3)));
+        }
+        if let Some((pa, pb)) = self.marks.paper {
+            if pa >= a0 && pa <= a1 && pb >= b0 && pb <= b1 {
+                chart
+                    .draw_series([Cross::new((pa, pb), 10, BLACK.stroke_width(3))])
+                    .map_err(e)?
+                    .label(format!("paper: alpha {}, beta {}", short(&pa), short(&pb)))
+                    .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(3)));
+            }
+        }
+        chart
+            .configure_series_labels()
+            .label_font((FONT, 18))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperLeft)
+            .draw()
+            .map_err(e)?;
+
+        let mut scale = ChartBuilder::on(&bar)
+            .margin_top(80)
+            .margin_bottom(75)
+            .margin_right(20)
+            .y_label_area_size(120)
+            .caption("zeta", (FONT, 20))
+            .build_cartesian_2d(0.0..1.0, zmin..zmin + span)
+            .map_err(e)?;
+        scale
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_label_formatter(&|z| format!("{z:.2e}"))
+            .label_style((FONT, 16))
+            .draw()
+            .map_err(e)?;
+        scale
+            .draw_series((0..100).map(|k| {
+                let z0 = zmin + span * k as f64 / 100.0;
+                let z1 = zmin + span * (k + 1) as f64 / 100.0;
+                Rectangle::new([(0.0, z0), (1.0, z1)], colour(k as f64 / 99.0).filled())
+            }))
+            .map_err(e)?;
+        Ok(())
+    }
+}
+
+/// Figs. 8/9 analogue: zeta over a grid.
+pub fn heat_map(grid: &GridResult, marks: &HeatMapMarks, path: &Path) -> Result<()> {
+    render(path, &HeatMap { grid, marks })
+}
+
+/// The valley to draw: the line, the measured points and the zeta shares.
+#[derive(Debug, Clone)]
+pub struct ValleyPlot<'a> {
+    pub target_zeta: f64,
+    /// (z0, a, b) of the fitted plane `zeta = z0 + a alpha + b beta`.
+    pub plane: (f64, f64, f64),
+    /// Measured valley points (alpha, beta, zeta).
+    pub points: &'a [(f64, f64, f64)],
+    pub alpha_max: f64,
+}
+
+impl Figure for ValleyPlot<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(e)?;
+        let (top, bottom) = root.split_vertically(SIZE.1 / 2);
+        let (z0, a, b) = self.plane;
+        let amax = self.alpha_max.max(1e-9);
+        let line: Vec<(f64, f64)> = (0..=200)
+            .map(|k| amax * k as f64 / 200.0)
+            .map(|alpha| (alpha, (self.target_zeta - z0 - a * alpha) / b))
+            .collect();
+        let (blo, bhi) = range_of(
+            line.iter()
+                .map(|p| p.1)
+                .chain(self.points.iter().map(|p| p.1)),
+        );
+        let mut chart = ChartBuilder::on(&top)
+            .caption(
+                format!(
+                    "pairs (alpha, beta) with zeta = {} from one decay: a one-parameter family",
+                    short(&self.target_zeta)
+                ),
+                (FONT, 24),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(110)
+            .build_cartesian_2d(0.0..amax * 1.02, blo.min(0.0)..bhi)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .x_desc("alpha (1/s)")
+            .y_desc("beta (s)")
+            .x_label_formatter(&short)
+            .y_label_formatter(&short)
+            .label_style((FONT, 16))
+            .draw()
+            .map_err(e)?;
+        chart
+            .draw_series(LineSeries::new(line, BLUE.stroke_width(2)))
+            .map_err(e)?
+            .label("plane fitted to the grid's transients")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE));
+        chart
+            .draw_series(
+                self.points
+                    .iter()
+                    .map(|&(al, be, _)| Circle::new((al, be), 7, RED.filled())),
+            )
+            .map_err(e)?
+            .label("beta solved by transient runs")
+            .legend(|(x, y)| Circle::new((x + 10, y), 5, RED.filled()));
+        chart
+            .configure_series_labels()
+            .label_font((FONT, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(e)?;
+
+        let mut shares = ChartBuilder::on(&bottom)
+            .caption(
+                "share of zeta from alpha (the wire's mass) and from beta (stiffness)",
+                (FONT, 24),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(110)
+            .build_cartesian_2d(0.0..amax * 1.02, 0.0..1.0)
+            .map_err(e)?;
+        shares
+            .configure_mesh()
+            .x_desc("alpha (1/s)")
+            .y_desc("share of target zeta")
+            .x_label_formatter(&short)
+            .y_label_formatter(&|y| format!("{:.0}%", 100.0 * y))
+            .label_style((FONT, 16))
+            .draw()
+            .map_err(e)?;
+        let t = self.target_zeta;
+        shares
+            .draw_series(LineSeries::new(
+                (0..=100).map(|k| {
+                    let al = amax * k as f64 / 100.0;
+                    (al, a * al / t)
+                }),
+                GREEN.stroke_width(2),
+            ))
+            .map_err(e)?
+            .label("alpha: a alpha / zeta")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], GREEN));
+        shares
+            .draw_series(LineSeries::new(
+                (0..=100).map(|k| {
+                    let al = amax * k as f64 / 100.0;
+                    (al, (t - z0 - a * al) / t)
+                }),
+                RED.stroke_width(2),
+            ))
+            .map_err(e)?
+            .label("beta: b beta / zeta")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
+        shares
+            .configure_series_labels()
+            .label_font((FONT, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(e)?;
+        Ok(())
+    }
+}
+
+/// The valley figure.
+pub fn valley_figure(valley: &ValleyPlot<'_>, path: &Path) -> Result<()> {
+    render(path, valley)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decay::DecayMeasure;
+    use crate::grid::{Axis, GridPoint, GridSpec};
+    use crate::loops::Iteration;
+
+    #[test]
+    fn figures_are_written_and_bad_extensions_leave_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let report = LoopReport {
+            parameter: "youngs_modulus_mpa".into(),
+            quantity: "stiffness_n_mm".into(),
+            target: 3.9275,
+            tolerance: 1e-5,
+            iterations: vec![
+                Iteration {
+                    iteration: 1,
+                    parameter: 206000.0,
+                    result: 4.2,
+                    relative_error: 0.07,
+                    deck: None,
+                },
+                Iteration {
+                    iteration: 2,
+                    parameter: 193000.0,
+                    result: 3.9275,
+                    relative_error: 0.0,
+                    deck: None,
+                },
+            ],
+            value: 193000.0,
+            result: 3.9275,
+            relative_error: 0.0,
+        };
+        loops_figure(&[&report, &report], &dir.path().join("fig7.png")).unwrap();
+        let spec = GridSpec {
+            name: "g".into(),
+            alpha: Axis::parse("0:1:2").unwrap(),
+            beta: Axis::parse("0:1:1").unwrap(),
+        };
+        let points = (0..3)
+            .flat_map(|i| (0..2).map(move |j| (i, j)))
+            .map(|(i, j)| GridPoint {
+                i,
+                j,
+                alpha: i as f64,
+                beta: j as f64,
+                measure: (i + j > 0).then_some(DecayMeasure {
+                    zeta_mean: 0.1 * i as f64 + j as f64,
+                    zeta_fit: 0.0,
+                    period_s: 0.23,
+                    crests: 20,
+                }),
+                error: (i + j == 0).then(|| "x".to_string()),
+            })
+            .collect();
+        let grid = GridResult {
+            spec,
+            points,
+            computed: 6,
+            resumed: 0,
+            elapsed_s: 0.0,
+        };
+        let marks = HeatMapMarks {
+            target_zeta: 0.5,
+            paper: Some((1.0, 0.5)),
+            valley: Some((0.0, 0.1, 1.0)),
+        };
+        heat_map(&grid, &marks, &dir.path().join("fig8.png")).unwrap();
+        heat_map(&grid, &marks, &dir.path().join("fig8.svg")).unwrap();
+        let valley = ValleyPlot {
+            target_zeta: 0.5,
+            plane: (0.0, 0.1, 1.0),
+            points: &[(0.0, 0.5, 0.5), (2.0, 0.3, 0.5)],
+            alpha_max: 5.0,
+        };
+        valley_figure(&valley, &dir.path().join("valley.png")).unwrap();
+        assert!(heat_map(&grid, &marks, &dir.path().join("fig8.txt")).is_err());
+        let mut names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|f| f.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["fig7.png", "fig8.png", "fig8.svg", "valley.png"]);
+    }
+}

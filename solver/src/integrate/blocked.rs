@@ -583,6 +583,55 @@ mod tests {
         }
     }
 
+    /// The plain-array fallback (CPUs without AVX2, other architectures) computes
+    /// what the dispatched kernels compute, to round-off.
+    #[test]
+    fn plain_fallback_matches_the_dispatched_kernels() {
+        let full = chain_with_hub(9, 4);
+        let a = lower(&full);
+        let n = a.nrows();
+        let (ordering, _, envelope) = choose_ordering(a.symbolic(), |e| Blocks::new(e).n_values());
+        let values = scatter_lower(&envelope, &ordering, a.symbolic(), a.val());
+        let blocks = Blocks::new(&envelope);
+        let panels = blocks.product_panels(&envelope, &values);
+        let mut factor = ProfileCholesky::new(envelope);
+        factor.factor(&values, "test", ordering.perm()).unwrap();
+        let mut factor_panels = blocks.factor_storage();
+        blocks.factor_panels(&factor, &mut factor_panels);
+        let p: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
+        let p = to_chunks(&p, blocks.n_chunks());
+        let run = |plain: Option<bool>| {
+            let mut out = p.clone();
+            let mut x = p.clone();
+            match plain {
+                None => {
+                    subtract_product(&blocks, has_fma(), [&panels], [&p], &mut out);
+                    solve(&blocks, has_fma(), &factor_panels, &mut x);
+                }
+                Some(true) => {
+                    product_kernel(Plain::<true>, &blocks, [&panels], [&p], &mut out);
+                    solve_kernel(Plain::<true>, &blocks, &factor_panels, &mut x);
+                }
+                Some(false) => {
+                    product_kernel(Plain::<false>, &blocks, [&panels], [&p], &mut out);
+                    solve_kernel(Plain::<false>, &blocks, &factor_panels, &mut x);
+                }
+            }
+            (from_chunks(&out, n), from_chunks(&x, n))
+        };
+        let (out, x) = run(None);
+        for fused in [true, false] {
+            let (out_plain, x_plain) = run(Some(fused));
+            for k in 0..n {
+                assert!(
+                    (out[k] - out_plain[k]).abs() < 1e-13,
+                    "product, unknown {k}"
+                );
+                assert!((x[k] - x_plain[k]).abs() < 1e-13, "solve, unknown {k}");
+            }
+        }
+    }
+
     /// Timings on a chain the size of the benchmark spring: `cargo test --release -p
     /// coil-solver --lib blocked_kernel_timings -- --ignored --nocapture`.
     #[test]

@@ -27,6 +27,8 @@ use coil_solver::integrate::{Operators, Scheme, Stepper};
 use coil_solver::linalg::upper_to_full;
 use coil_solver::model::*;
 
+mod common;
+
 struct CountingAllocator;
 
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -50,100 +52,9 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 
 /// The paper's spring (see the module docs) with `weight_t` on the guided reference.
 fn spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) -> Model {
-    let (coils, d_mean, d_wire, pitch) = (14.0, 24.0, 3.0, 6.2);
-    let n = (coils * elements_per_coil as f64) as usize;
-    let r = 0.5 * d_mean;
-    let mut nodes: Vec<Node> = (0..=n)
-        .map(|i| {
-            let t = std::f64::consts::TAU * coils * i as f64 / n as f64;
-            Node {
-                id: i as NodeId + 2,
-                xyz: [r * t.cos(), r * t.sin(), pitch * t / std::f64::consts::TAU],
-            }
-        })
-        .collect();
-    // Node 1, the weight's reference, comes first as in coil-mesh's numbering, so its
-    // free DOF is equation 0.
-    nodes.insert(
-        0,
-        Node {
-            id: 1,
-            xyz: [0.0, 0.0, pitch * coils],
-        },
-    );
-    let ids: Vec<ElementId> = (1..=n as ElementId).collect();
-    Model {
-        title: format!("paper spring, {elements_per_coil} elements per coil"),
-        element_types: vec![ElementType::Beam98],
-        lumped_mass,
-        nodes,
-        elements: ids
-            .iter()
-            .map(|&id| Element {
-                id,
-                kind: ElementType::Beam98,
-                nodes: [id + 1, id + 2],
-            })
-            .collect(),
-        node_sets: Vec::new(),
-        element_sets: Vec::new(),
-        materials: vec![Material {
-            name: "spring steel".to_string(),
-            youngs_modulus: 190_708.0,
-            poisson: 0.3,
-            density: units::density_from_si(7850.0),
-            elements: ids.clone(),
-        }],
-        geometries: vec![Geometry {
-            name: "wire".to_string(),
-            section: Section::SolidCircle { diameter: d_wire },
-            orientation: [0.0, 0.0, 1.0],
-            elements: ids.clone(),
-        }],
-        damping: vec![Damping {
-            alpha: 0.8,
-            beta: 1.2e-4,
-            elements: ids,
-            mass_nodes: Vec::new(),
-        }],
-        point_masses: vec![PointMass {
-            node: 1,
-            mass: weight_t,
-            inertia: [0.0; 3],
-        }],
-        rigid_ties: vec![RigidTie {
-            name: "top".to_string(),
-            reference: 1,
-            dofs: vec![1, 2, 3, 4, 5, 6],
-            tied: vec![n as NodeId + 2],
-        }],
-        fixed_disp: vec![
-            FixedDisp {
-                dofs: (1..=6).map(|d| (d, 0.0)).collect(),
-                nodes: vec![2],
-            },
-            FixedDisp {
-                dofs: vec![(1, 0.0), (2, 0.0), (4, 0.0), (5, 0.0), (6, 0.0)],
-                nodes: vec![1],
-            },
-        ],
-        point_loads: vec![PointLoad {
-            dofs: vec![(3, -10.0)],
-            nodes: vec![1],
-            table: None,
-        }],
-        tables: Vec::new(),
-        initial_velocities: Vec::new(),
-        outputs: Vec::new(),
-        load_cases: vec![LoadCase {
-            title: "static".to_string(),
-            analysis: Analysis::Static {
-                steps: 1,
-                time: 1.0,
-            },
-            point_loads: Vec::new(),
-        }],
-    }
+    let mut model = common::paper_spring(elements_per_coil, weight_t, lumped_mass);
+    common::damp_wire(&mut model, 0.8, 1.2e-4);
+    model
 }
 
 /// CPU time of this thread (Linux scheduler statistics), immune to other processes

@@ -12,102 +12,19 @@
 
 use coil_solver::analysis::{self, modal, static_analysis, System};
 use coil_solver::model::*;
+
+mod common;
 use std::time::Instant;
 
+/// The paper's spring with a static and a 20-mode load case.
 fn spring(elements_per_coil: usize, weight_t: f64) -> Model {
-    let (coils, d_mean, d_wire, pitch) = (14.0, 24.0, 3.0, 6.2);
-    let n = (coils * elements_per_coil as f64) as usize;
-    let r = 0.5 * d_mean;
-    let mut nodes: Vec<Node> = (0..=n)
-        .map(|i| {
-            let t = std::f64::consts::TAU * coils * i as f64 / n as f64;
-            Node {
-                id: i as NodeId + 1,
-                xyz: [r * t.cos(), r * t.sin(), pitch * t / std::f64::consts::TAU],
-            }
-        })
-        .collect();
-    let reference = n as NodeId + 2;
-    nodes.push(Node {
-        id: reference,
-        xyz: [0.0, 0.0, pitch * coils],
+    let mut model = common::paper_spring(elements_per_coil, weight_t, false);
+    model.load_cases.push(LoadCase {
+        title: "modal".to_string(),
+        analysis: Analysis::Modal { modes: 20 },
+        point_loads: Vec::new(),
     });
-    let ids: Vec<ElementId> = (1..=n as ElementId).collect();
-    let all = |v: f64| (1..=6).map(|d| (d, v)).collect::<Vec<_>>();
-    Model {
-        title: format!("paper spring, {elements_per_coil} elements per coil"),
-        element_types: vec![ElementType::Beam98],
-        lumped_mass: false,
-        nodes,
-        elements: ids
-            .iter()
-            .map(|&id| Element {
-                id,
-                kind: ElementType::Beam98,
-                nodes: [id, id + 1],
-            })
-            .collect(),
-        node_sets: Vec::new(),
-        element_sets: Vec::new(),
-        materials: vec![Material {
-            name: "spring steel".to_string(),
-            youngs_modulus: 190_708.0,
-            poisson: 0.3,
-            density: units::density_from_si(7850.0),
-            elements: ids.clone(),
-        }],
-        geometries: vec![Geometry {
-            name: "wire".to_string(),
-            section: Section::SolidCircle { diameter: d_wire },
-            orientation: [0.0, 0.0, 1.0],
-            elements: ids,
-        }],
-        damping: Vec::new(),
-        point_masses: vec![PointMass {
-            node: reference,
-            mass: weight_t,
-            inertia: [0.0; 3],
-        }],
-        rigid_ties: vec![RigidTie {
-            name: "top".to_string(),
-            reference,
-            dofs: vec![1, 2, 3, 4, 5, 6],
-            tied: vec![n as NodeId + 1],
-        }],
-        fixed_disp: vec![
-            FixedDisp {
-                dofs: all(0.0),
-                nodes: vec![1],
-            },
-            FixedDisp {
-                dofs: vec![(1, 0.0), (2, 0.0), (4, 0.0), (5, 0.0), (6, 0.0)],
-                nodes: vec![reference],
-            },
-        ],
-        point_loads: vec![PointLoad {
-            dofs: vec![(3, -10.0)],
-            nodes: vec![reference],
-            table: None,
-        }],
-        tables: Vec::new(),
-        initial_velocities: Vec::new(),
-        outputs: Vec::new(),
-        load_cases: vec![
-            LoadCase {
-                title: "static".to_string(),
-                analysis: Analysis::Static {
-                    steps: 1,
-                    time: 1.0,
-                },
-                point_loads: Vec::new(),
-            },
-            LoadCase {
-                title: "modal".to_string(),
-                analysis: Analysis::Modal { modes: 20 },
-                point_loads: Vec::new(),
-            },
-        ],
-    }
+    model
 }
 
 /// Best wall time of `reps` runs of `f`, in ms, and the last result.

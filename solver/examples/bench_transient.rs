@@ -23,132 +23,52 @@
 
 use coil_solver::analysis::{self, System};
 use coil_solver::model::*;
+
+mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-const WEIGHT: NodeId = 1;
+use common::WEIGHT;
 
 fn paper_spring(weight_t: f64) -> Model {
-    let (coils, d_mean, d_wire, pitch, per_coil) = (14.0, 24.0, 3.0, 6.2, 24usize);
-    let n = (coils * per_coil as f64) as usize;
-    let r = 0.5 * d_mean;
-    let mut nodes = vec![Node {
-        id: WEIGHT,
-        xyz: [0.0, 0.0, pitch * coils],
+    let mut model = common::paper_spring(24, weight_t, false);
+    model.title = "paper spring, peer transient".to_string();
+    common::damp_wire(&mut model, 0.8, 1.2e-4);
+    model.initial_velocities = vec![InitialVelocity {
+        dofs: vec![(3, 100.0)],
+        nodes: vec![WEIGHT],
+        quasi_static: true,
     }];
-    nodes.extend((0..=n).map(|i| {
-        let t = std::f64::consts::TAU * coils * i as f64 / n as f64;
-        Node {
-            id: i as NodeId + 2,
-            xyz: [r * t.cos(), r * t.sin(), pitch * t / std::f64::consts::TAU],
-        }
-    }));
-    let ids: Vec<ElementId> = (1..=n as ElementId).collect();
-    Model {
-        title: "paper spring, peer transient".to_string(),
-        element_types: vec![ElementType::Beam98],
-        lumped_mass: false,
-        nodes,
-        elements: ids
-            .iter()
-            .map(|&id| Element {
-                id,
-                kind: ElementType::Beam98,
-                nodes: [id + 1, id + 2],
-            })
-            .collect(),
-        node_sets: Vec::new(),
-        element_sets: Vec::new(),
-        materials: vec![Material {
-            name: "steel".to_string(),
-            youngs_modulus: 190_708.0,
-            poisson: 0.3,
-            density: units::density_from_si(7850.0),
-            elements: ids.clone(),
-        }],
-        geometries: vec![Geometry {
-            name: "wire".to_string(),
-            section: Section::SolidCircle { diameter: d_wire },
-            orientation: [0.0, 0.0, 1.0],
-            elements: ids.clone(),
-        }],
-        damping: vec![Damping {
-            alpha: 0.8,
-            beta: 1.2e-4,
-            elements: ids,
-            mass_nodes: Vec::new(),
-        }],
-        point_masses: vec![PointMass {
-            node: WEIGHT,
-            mass: weight_t,
-            inertia: [0.0; 3],
-        }],
-        rigid_ties: vec![RigidTie {
-            name: "top".to_string(),
-            reference: WEIGHT,
-            dofs: vec![1, 2, 3, 4, 5, 6],
-            tied: vec![n as NodeId + 2],
-        }],
-        fixed_disp: vec![
-            FixedDisp {
-                dofs: (1..=6).map(|d| (d, 0.0)).collect(),
-                nodes: vec![2],
-            },
-            FixedDisp {
-                dofs: vec![(1, 0.0), (2, 0.0), (4, 0.0), (5, 0.0), (6, 0.0)],
-                nodes: vec![WEIGHT],
-            },
+    model.outputs = vec![OutputRequest {
+        nodes: vec![WEIGHT],
+        dofs: vec![3],
+        quantities: vec![
+            Quantity::Displacement,
+            Quantity::Velocity,
+            Quantity::Acceleration,
         ],
+        every: 1,
+    }];
+    model.load_cases = vec![LoadCase {
+        title: "free decay".to_string(),
+        analysis: Analysis::Transient {
+            dt: 1e-3,
+            total_time: 20.0,
+            method: TransientMethod::Direct(Integrator::AverageAcceleration),
+        },
         point_loads: Vec::new(),
-        tables: Vec::new(),
-        initial_velocities: vec![InitialVelocity {
-            dofs: vec![(3, 100.0)],
-            nodes: vec![WEIGHT],
-            quasi_static: true,
-        }],
-        outputs: vec![OutputRequest {
-            nodes: vec![WEIGHT],
-            dofs: vec![3],
-            quantities: vec![
-                Quantity::Displacement,
-                Quantity::Velocity,
-                Quantity::Acceleration,
-            ],
-            every: 1,
-        }],
-        load_cases: vec![LoadCase {
-            title: "free decay".to_string(),
-            analysis: Analysis::Transient {
-                dt: 1e-3,
-                total_time: 20.0,
-                method: TransientMethod::Direct(Integrator::AverageAcceleration),
-            },
-            point_loads: Vec::new(),
-        }],
-    }
+    }];
+    model
 }
 
 /// The static stiffness at the weight (N/mm).
 fn stiffness() -> Result<f64, Box<dyn std::error::Error>> {
-    let mut probe = paper_spring(1e-3);
-    probe.point_loads.push(PointLoad {
-        dofs: vec![(3, -10.0)],
-        nodes: vec![WEIGHT],
-        table: None,
-    });
+    let probe = common::paper_spring(24, 1e-3, false);
     let system = System::new(&probe)?;
     let factor = system.factor_stiffness()?;
-    let case = LoadCase {
-        title: "K".to_string(),
-        analysis: Analysis::Static {
-            steps: 1,
-            time: 1.0,
-        },
-        point_loads: Vec::new(),
-    };
     Ok(
-        analysis::static_analysis::solve(&system, &factor, &case, 1.0)?
+        analysis::static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
             .stiffness_n_mm
             .ok_or("no stiffness at the weight")?,
     )

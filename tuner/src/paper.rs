@@ -25,7 +25,7 @@ use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use crate::loops::tune_youngs_modulus;
 use crate::output::OutDir;
-use crate::sweep::{sweep, Sweep};
+use crate::sweep::{sweep, Sweep, VariantResult};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -51,22 +51,6 @@ pub struct Table3 {
     pub alpha: f64,
     pub beta: f64,
     pub mass_kg: f64,
-}
-
-/// One row of Table 4 as `report.json` gives it, with the paper's values.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Table4Row {
-    pub name: String,
-    pub active_coils: f64,
-    pub mean_diameter_mm: f64,
-    pub wire_diameter_mm: f64,
-    pub pitch_mm: f64,
-    pub stiffness_n_mm: f64,
-    pub damping_ratio: f64,
-    pub paper_stiffness_n_mm: Option<f64>,
-    pub paper_damping_ratio: Option<f64>,
-    pub stiffness_relative_error: Option<f64>,
-    pub damping_relative_error: Option<f64>,
 }
 
 /// One discretisation of the mesh study.
@@ -125,7 +109,8 @@ pub struct PaperReport {
     pub table3: Table3,
     pub table3_paper: Table3Paper,
     pub table3_relative_error: Table3Errors,
-    pub table4: Vec<Table4Row>,
+    /// Table 4: each variant with the paper's values and the relative errors.
+    pub table4: Vec<VariantResult>,
     /// Variant predictions along the valley (why a variant's zeta can miss).
     pub family: Vec<FamilyMember>,
     pub mesh_study: MeshStudy,
@@ -425,23 +410,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
             damping_ratio: rel(table3.damping_ratio, targets.damping_ratio),
             period: rel(table3.period_s, targets.period_s),
         },
-        table4: table4_sweep
-            .variants
-            .iter()
-            .map(|v| Table4Row {
-                name: v.name.clone(),
-                active_coils: v.active_coils,
-                mean_diameter_mm: v.mean_diameter_mm,
-                wire_diameter_mm: v.wire_diameter_mm,
-                pitch_mm: v.pitch_mm,
-                stiffness_n_mm: v.stiffness_n_mm,
-                damping_ratio: v.damping_ratio,
-                paper_stiffness_n_mm: v.paper_stiffness_n_mm,
-                paper_damping_ratio: v.paper_damping_ratio,
-                stiffness_relative_error: v.stiffness_relative_error,
-                damping_relative_error: v.damping_relative_error,
-            })
-            .collect(),
+        table4: table4_sweep.variants.clone(),
         family,
         mesh_study: mesh,
         calibration,

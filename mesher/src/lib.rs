@@ -45,6 +45,9 @@ pub const BASE_NODE: u32 = 2;
 /// Column of the weight's axial acceleration in a transient `history.csv`.
 pub const WEIGHT_ACCEL_COLUMN: &str = "node1_uz_accel_m_s2";
 
+/// Largest number of beam elements a spec may ask for.
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
 /// How the top reference node (the weight) is held.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
@@ -262,6 +265,19 @@ impl SpringSpec {
                 field: "elements_per_coil",
                 value: self.elements_per_coil.to_string(),
                 expected: "at least 3 elements per coil",
+            });
+        }
+        // Bound the mesh before anything is allocated: node ids are u32 and a deck of a
+        // million beams is already far past any mesh-convergence need.
+        let total = self.coils * f64::from(self.elements_per_coil);
+        if total.round() > MAX_ELEMENTS as f64 {
+            return Err(SpecError {
+                field: "elements_per_coil",
+                value: format!(
+                    "{} (x {} coils = {total:.0} elements)",
+                    self.elements_per_coil, self.coils
+                ),
+                expected: "at most 1000000 elements in all",
             });
         }
         if ElementType::from_number(self.element).is_none() {
@@ -629,6 +645,20 @@ mod tests {
             (
                 SpringSpec {
                     elements_per_coil: 2,
+                    ..SpringSpec::default()
+                },
+                "elements_per_coil",
+            ),
+            (
+                SpringSpec {
+                    coils: 1e9,
+                    ..SpringSpec::default()
+                },
+                "elements_per_coil",
+            ),
+            (
+                SpringSpec {
+                    elements_per_coil: 4_000_000_000,
                     ..SpringSpec::default()
                 },
                 "elements_per_coil",

@@ -162,12 +162,21 @@ pub fn amplitude_spectrum(
         .process(&mut buffer);
     let half = fft_length / 2;
     let grid_bin_hz = 1.0 / (fft_length as f64 * step_s);
-    let amplitude = (0..=half)
+    let amplitude: Vec<f64> = (0..=half)
         .map(|j| {
             let scale = if j == 0 || j == half { 1.0 } else { 2.0 };
             scale * buffer[j].norm() / window_sum
         })
         .collect();
+    // Finite samples near f64::MAX can still overflow in the transform's sums.
+    if let Some(j) = amplitude.iter().position(|a| !a.is_finite()) {
+        return Err(PostError::InvalidSignal {
+            index: j,
+            what:
+                "the spectrum overflows (values too close to the largest float); scale the signal"
+                    .into(),
+        });
+    }
     Ok(Spectrum {
         frequency_hz: (0..=half).map(|j| j as f64 * grid_bin_hz).collect(),
         amplitude,
@@ -184,7 +193,7 @@ impl Spectrum {
     /// amplitude (see the module doc).
     pub fn peaks(&self, max_count: usize, threshold: f64) -> Vec<SpectralPeak> {
         let a = &self.amplitude;
-        if a.len() < 3 {
+        if a.len() < 3 || max_count == 0 {
             return Vec::new();
         }
         let mut maxima: Vec<usize> = (1..a.len() - 1)
@@ -260,6 +269,19 @@ impl Spectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn overflowing_spectrum_is_an_error_and_zero_peaks_means_none() {
+        let t: Vec<f64> = (0..512).map(|i| i as f64 * 1e-3).collect();
+        let x: Vec<f64> = (0..512)
+            .map(|i| if i % 2 == 0 { 1e308 } else { -1e308 })
+            .collect();
+        assert!(amplitude_spectrum(&t, &x, &SpectrumOptions::default()).is_err());
+        let y: Vec<f64> = (0..512).map(|i| (0.3 * i as f64).sin()).collect();
+        let s = amplitude_spectrum(&t, &y, &SpectrumOptions::default()).unwrap();
+        assert!(s.peaks(0, 0.01).is_empty());
+        assert_eq!(s.peaks(1, 0.01).len(), 1);
+    }
 
     fn two_tone(rate: f64, seconds: f64) -> (Vec<f64>, Vec<f64>) {
         let n = (rate * seconds) as usize;

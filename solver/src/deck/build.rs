@@ -70,6 +70,34 @@ impl Builder<'_> {
         }
     }
 
+    /// `items` sorted by id; a repeated id is an error at its later definition.
+    fn sorted_by_id<T: Clone>(
+        &self,
+        items: &[T],
+        key: impl Fn(&T) -> (u32, Loc),
+        card: &'static str,
+        what: &'static str,
+    ) -> Result<Vec<T>, DeckError> {
+        let mut sorted = items.to_vec();
+        sorted.sort_by_key(|x| key(x).0);
+        for w in sorted.windows(2) {
+            let ((id, a), (other, b)) = (key(&w[0]), key(&w[1]));
+            if id == other {
+                let (first, second) = if a < b { (a, b) } else { (b, a) };
+                return Err(self.err(
+                    second,
+                    card,
+                    format!(
+                        "{what} {id} is defined twice (first at line {})",
+                        first.line
+                    ),
+                    format!("unique {what} ids"),
+                ));
+            }
+        }
+        Ok(sorted)
+    }
+
     /// The sorted, unique ids a list names.
     fn resolve(&self, list: &RawList, kind: SetKind, card: &str) -> Result<Vec<u32>, DeckError> {
         let ids = match kind {
@@ -226,46 +254,8 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     };
 
     // Nodes and elements, sorted by id, each id once.
-    let mut nodes = raw.nodes.clone();
-    nodes.sort_by_key(|n| n.id);
-    for w in nodes.windows(2) {
-        if w[0].id == w[1].id {
-            let (first, second) = if w[0].loc < w[1].loc {
-                (w[0].loc, w[1].loc)
-            } else {
-                (w[1].loc, w[0].loc)
-            };
-            return Err(b.err(
-                second,
-                "COORDINATES",
-                format!(
-                    "node {} is defined twice (first at line {})",
-                    w[0].id, first.line
-                ),
-                "unique node ids",
-            ));
-        }
-    }
-    let mut elements = raw.elements.clone();
-    elements.sort_by_key(|e| e.id);
-    for w in elements.windows(2) {
-        if w[0].id == w[1].id {
-            let (first, second) = if w[0].loc < w[1].loc {
-                (w[0].loc, w[1].loc)
-            } else {
-                (w[1].loc, w[0].loc)
-            };
-            return Err(b.err(
-                second,
-                "CONNECTIVITY",
-                format!(
-                    "element {} is defined twice (first at line {})",
-                    w[0].id, first.line
-                ),
-                "unique element ids",
-            ));
-        }
-    }
+    let nodes = b.sorted_by_id(&raw.nodes, |n| (n.id, n.loc), "COORDINATES", "node")?;
+    let elements = b.sorted_by_id(&raw.elements, |e| (e.id, e.loc), "CONNECTIVITY", "element")?;
     b.node_ids = nodes.iter().map(|n| n.id).collect();
     b.element_ids = elements.iter().map(|e| e.id).collect();
     let xyz_of = |id: u32| -> Option<[f64; 3]> {

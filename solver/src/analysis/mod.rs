@@ -313,6 +313,24 @@ impl<'m> System<'m> {
     }
 
     /// Number of free DOFs.
+    /// The full DOF index of `dof` (1..=6) at `node`, or an error naming what `context`
+    /// (a card name) referred to that does not exist.
+    pub fn full_dof(&self, node: NodeId, dof: u8, context: &str) -> Result<usize, SolveError> {
+        self.dofs.full_index(node, dof).ok_or_else(|| {
+            if self.model.node_index(node).is_none() {
+                SolveError::UnknownNode {
+                    node,
+                    context: context.to_string(),
+                }
+            } else {
+                SolveError::BadDof {
+                    dof,
+                    context: context.to_string(),
+                }
+            }
+        })
+    }
+
     pub fn dim(&self) -> usize {
         self.dofs.free_len()
     }
@@ -339,19 +357,7 @@ impl<'m> System<'m> {
             };
             for &node in &load.nodes {
                 for &(dof, value) in &load.dofs {
-                    let d = self.dofs.full_index(node, dof).ok_or_else(|| {
-                        if self.model.node_index(node).is_none() {
-                            SolveError::UnknownNode {
-                                node,
-                                context: "POINT LOAD".to_string(),
-                            }
-                        } else {
-                            SolveError::BadDof {
-                                dof,
-                                context: "POINT LOAD".to_string(),
-                            }
-                        }
-                    })?;
+                    let d = self.full_dof(node, dof, "POINT LOAD")?;
                     if !value.is_finite() {
                         return Err(SolveError::NonFinite {
                             what: format!("POINT LOAD at node {node} {}", dof_name(dof)),

@@ -626,22 +626,9 @@ fn free_velocities(
     group: &InitialVelocity,
     out: &mut Vec<(usize, f64)>,
 ) -> Result<(), SolveError> {
-    let model = system.model;
     for &node in &group.nodes {
         for &(dof, value) in &group.dofs {
-            let full = system.dofs.full_index(node, dof).ok_or_else(|| {
-                if model.node_index(node).is_none() {
-                    SolveError::UnknownNode {
-                        node,
-                        context: "INITIAL VEL".to_string(),
-                    }
-                } else {
-                    SolveError::BadDof {
-                        dof,
-                        context: "INITIAL VEL".to_string(),
-                    }
-                }
-            })?;
+            let full = system.full_dof(node, dof, "INITIAL VEL")?;
             if !value.is_finite() {
                 return Err(SolveError::NonFinite {
                     what: format!("INITIAL VEL at node {node} {}", dof_name(dof)),
@@ -760,19 +747,7 @@ impl Recorder {
             every = gcd(every, request.every as usize);
             for &node in &request.nodes {
                 for &dof in &request.dofs {
-                    let full = system.dofs.full_index(node, dof).ok_or_else(|| {
-                        if model.node_index(node).is_none() {
-                            SolveError::UnknownNode {
-                                node,
-                                context: "HISTORY OUTPUT".to_string(),
-                            }
-                        } else {
-                            SolveError::BadDof {
-                                dof,
-                                context: "HISTORY OUTPUT".to_string(),
-                            }
-                        }
-                    })?;
+                    let full = system.full_dof(node, dof, "HISTORY OUTPUT")?;
                     let slot = match slots.iter().position(|&d| d == full) {
                         Some(s) => s,
                         None => {

@@ -591,6 +591,24 @@ pub(crate) mod test_support {
 
     /// A bent three-element frame 1-2-3-4, node 1 clamped, node 4 tied to reference 10
     /// (all DOFs), with reference 10 prescribed to a non-zero u_z.
+    /// [`tied_frame`] with a weight (point mass with rotary inertia) on node 10 and
+    /// Rayleigh damping on elements 1-3 that does not name the weight's node.
+    pub fn damped_tied_frame(alpha: f64, beta: f64) -> Model {
+        let mut model = tied_frame();
+        model.point_masses.push(PointMass {
+            node: 10,
+            mass: 5e-3,
+            inertia: [1.0, 2.0, 3.0],
+        });
+        model.damping.push(Damping {
+            alpha,
+            beta,
+            elements: vec![1, 2, 3],
+            mass_nodes: Vec::new(),
+        });
+        model
+    }
+
     pub fn tied_frame() -> Model {
         let mut m = model(
             &[
@@ -622,10 +640,10 @@ pub(crate) mod test_support {
 
 #[cfg(test)]
 mod tests {
-    use super::test_support::tied_frame;
+    use super::test_support::{damped_tied_frame, tied_frame};
     use super::*;
     use crate::linalg::sym_upper_matvec;
-    use crate::model::{Damping, PointMass, Table};
+    use crate::model::{PointMass, Table};
 
     fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
         let mut y = vec![0.0; x.len()];
@@ -638,18 +656,7 @@ mod tests {
     #[test]
     fn rayleigh_damping_skips_unnamed_point_masses() {
         let (alpha, beta) = (0.8, 1.2e-4);
-        let mut model = tied_frame();
-        model.point_masses.push(PointMass {
-            node: 10,
-            mass: 5e-3,
-            inertia: [1.0, 2.0, 3.0],
-        });
-        model.damping.push(Damping {
-            alpha,
-            beta,
-            elements: vec![1, 2, 3],
-            mass_nodes: Vec::new(),
-        });
+        let mut model = damped_tied_frame(alpha, beta);
         let x: Vec<f64> = (0..System::new(&model).unwrap().dim())
             .map(|i| (0.7 * i as f64).sin())
             .collect();

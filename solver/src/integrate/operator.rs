@@ -496,22 +496,10 @@ mod tests {
 
     #[test]
     fn rayleigh_damping_is_recognised_up_to_a_diagonal() {
-        use crate::analysis::{test_support::tied_frame, System};
+        use crate::analysis::{test_support::damped_tied_frame, System};
         use crate::linalg::upper_to_full;
-        use crate::model::{Damping, PointMass};
         let (alpha, beta) = (0.8, 1.2e-4);
-        let mut model = tied_frame();
-        model.point_masses.push(PointMass {
-            node: 10,
-            mass: 5e-3,
-            inertia: [1.0, 2.0, 3.0],
-        });
-        model.damping.push(Damping {
-            alpha,
-            beta,
-            elements: vec![1, 2, 3],
-            mass_nodes: Vec::new(),
-        });
+        let mut model = damped_tied_frame(alpha, beta);
         for lumped in [false, true] {
             model.lumped_mass = lumped;
             let system = System::new(&model).unwrap();
@@ -546,7 +534,7 @@ mod tests {
         }
         // Two element sets with different coefficients: not one Rayleigh pair.
         model.damping[0].elements = vec![1, 2];
-        model.damping.push(Damping {
+        model.damping.push(crate::model::Damping {
             alpha: 0.1,
             beta: 1e-3,
             elements: vec![3],

@@ -27,6 +27,7 @@ pub mod error;
 mod factor;
 pub mod modal;
 pub mod newmark;
+pub mod point;
 mod operator;
 mod profile;
 mod sparse;
@@ -38,6 +39,7 @@ use faer::sparse::SparseColMatRef;
 
 pub use error::IntegrateError;
 pub use newmark::{integrate, Coefficients, Scheme, State, Stepper};
+pub use point::{PointLaw, PointSolve};
 
 /// The structural operators of `M a + C v + K u = f(t)`.
 #[derive(Debug, Clone, Copy)]

@@ -1,0 +1,310 @@
+//! Nonlinear forces concentrated at one DOF, and their implicit solve inside a step.
+//!
+//! # Law
+//! A [`PointLaw`] is a restoring force on one DOF with displacement `u` (from the
+//! model's reference configuration, which for coil's springs is the free length) and
+//! velocity `v`:
+//! ```text
+//! f(u, v) = k3 u^3 + c2 v |v| + F sgn(v)        (F sgn(0) is any value in [-F, F])
+//! ```
+//! `k3 >= 0` is a cubic spring, `c2 >= 0` a velocity-squared dashpot and `F >= 0` a dry
+//! (Coulomb) friction force that sticks while the other forces on the DOF cannot
+//! overcome it. The force enters the balance as `M a + C v + K u + B f = f_ext`, `B`
+//! the unit vector of the DOF. Units are the operator's: in coil's solver units `k3`
+//! is N/mm^3, `c2` N s^2/mm^2, `F` N.
+//!
+//! # Implicit solve (return mapping)
+//! In a Newmark-type step every other quantity is linear, so the DOF's end-of-step
+//! displacement and velocity are affine in the law's end-of-step force:
+//! ```text
+//! u = u* - h f,     v = v* - g f,     h, g > 0
+//! ```
+//! `u*`, `v*` are the predictor (the step computed with `f = 0` at its end), `h` the
+//! DOF's entry of the inverse effective matrix scaled to a displacement and
+//! `g = gamma/(beta dt) h` for Newmark. The step's force solves the scalar inclusion
+//! `f in f(u* - h f, v* - g f)`. Its right-hand side is non-increasing in `f` and the
+//! left increasing, so the root is unique ([`PointLaw::solve`]):
+//! * stick test: at `v = 0`, `f0 = v*/g`; if `|f0 - k3 u(f0)^3| <= F` the DOF sticks;
+//! * otherwise it slides with `sgn(v) = sgn(f0 - k3 u(f0)^3)`, and the smooth monotone
+//!   equation on that side is solved by Newton's method safeguarded by bisection.
+//!
+//! Sources: J. C. Simo & T. J. R. Hughes, *Computational Inelasticity*, Springer 1998,
+//! ch. 1 (return mapping for one-dimensional friction); the Newmark update as in
+//! [`super::newmark`].
+
+/// A nonlinear restoring force at one DOF: `k3 u^3 + c2 v|v| + F sgn(v)`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PointLaw {
+    /// Cubic stiffness `k3 >= 0` (force / length^3).
+    pub cubic: f64,
+    /// Velocity-squared damping `c2 >= 0` (force time^2 / length^2).
+    pub quadratic: f64,
+    /// Dry friction force `F >= 0`.
+    pub friction: f64,
+}
+
+/// Result of [`PointLaw::solve`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointSolve {
+    /// The law's force at the end of the step.
+    pub force: f64,
+    /// True when the friction holds the DOF at rest (`v = 0`).
+    pub stuck: bool,
+}
+
+impl PointLaw {
+    /// True when every coefficient is zero (the law does nothing).
+    pub fn is_zero(&self) -> bool {
+        self.cubic == 0.0 && self.quadratic == 0.0 && self.friction == 0.0
+    }
+
+    /// True when every coefficient is finite and non-negative.
+    pub fn is_valid(&self) -> bool {
+        [self.cubic, self.quadratic, self.friction]
+            .iter()
+            .all(|c| c.is_finite() && *c >= 0.0)
+    }
+
+    /// The smooth part `k3 u^3 + c2 v|v|`.
+    pub fn smooth_force(&self, u: f64, v: f64) -> f64 {
+        self.cubic * u * u * u + self.quadratic * v * v.abs()
+    }
+
+    /// The force for a moving DOF (`v != 0`); at `v = 0` the friction term is taken
+    /// as zero (its value there is set by the balance, see [`PointLaw::solve`]).
+    pub fn force(&self, u: f64, v: f64) -> f64 {
+        let sign = if v > 0.0 {
+            1.0
+        } else if v < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        self.smooth_force(u, v) + self.friction * sign
+    }
+
+    /// Tangent stiffness `df/du = 3 k3 u^2`.
+    pub fn tangent_stiffness(&self, u: f64) -> f64 {
+        3.0 * self.cubic * u * u
+    }
+
+    /// Solves `f in law(u* - h f, v* - g f)` for the end-of-step force (module docs).
+    /// `h >= 0`, `g > 0`. Returns `None` only if an input is not finite.
+    pub fn solve(&self, u_star: f64, v_star: f64, h: f64, g: f64) -> Option<PointSolve> {
+        if !(u_star.is_finite() && v_star.is_finite() && h.is_finite() && g.is_finite())
+            || h < 0.0
+            || g <= 0.0
+        {
+            return None;
+        }
+        // phi(f) = f - smooth(u(f), v(f)) - F sigma, increasing in f.
+        let smooth_at = |f: f64| self.smooth_force(u_star - h * f, v_star - g * f);
+        let f0 = v_star / g;
+        let (lo, hi, sigma) = if self.friction > 0.0 {
+            let excess = f0 - smooth_at(f0);
+            if excess.abs() <= self.friction {
+                return Some(PointSolve {
+                    force: f0,
+                    stuck: true,
+                });
+            }
+            // f < f0 <=> v > 0: sliding forward has the root below f0.
+            if excess > 0.0 {
+                (f64::NEG_INFINITY, f0, 1.0)
+            } else {
+                (f0, f64::INFINITY, -1.0)
+            }
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY, 0.0)
+        };
+        let phi = |f: f64| f - smooth_at(f) - self.friction * sigma;
+        let dphi = |f: f64| {
+            let u = u_star - h * f;
+            let v = v_star - g * f;
+            1.0 + 3.0 * self.cubic * u * u * h + 2.0 * self.quadratic * v.abs() * g
+        };
+        let force = solve_increasing(phi, dphi, lo, hi, sigma * self.friction)?;
+        Some(PointSolve {
+            force,
+            stuck: false,
+        })
+    }
+}
+
+/// Root of an increasing function on `(lo, hi)` (either end may be infinite), from
+/// the start `x0`: the bracket is grown until it holds a sign change, then Newton's
+/// steps are kept inside it and replaced by bisection when they leave it.
+fn solve_increasing(
+    phi: impl Fn(f64) -> f64,
+    dphi: impl Fn(f64) -> f64,
+    lo: f64,
+    hi: f64,
+    x0: f64,
+) -> Option<f64> {
+    let mut x = x0.clamp(
+        if lo.is_finite() { lo } else { f64::MIN },
+        if hi.is_finite() { hi } else { f64::MAX },
+    );
+    let mut lo = lo;
+    let mut hi = hi;
+    let mut p = phi(x);
+    if p == 0.0 {
+        return Some(x);
+    }
+    // Grow the bracket on the side of the root.
+    let mut step = x.abs().max(1.0);
+    for _ in 0..2100 {
+        if p > 0.0 {
+            hi = x;
+            if lo.is_finite() {
+                break;
+            }
+            let trial = x - step;
+            let pt = phi(trial);
+            if !pt.is_finite() {
+                return None;
+            }
+            if pt <= 0.0 {
+                lo = trial;
+                break;
+            }
+            x = trial;
+            p = pt;
+        } else {
+            lo = x;
+            if hi.is_finite() {
+                break;
+            }
+            let trial = x + step;
+            let pt = phi(trial);
+            if !pt.is_finite() {
+                return None;
+            }
+            if pt >= 0.0 {
+                hi = trial;
+                break;
+            }
+            x = trial;
+            p = pt;
+        }
+        step *= 2.0;
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..200 {
+        let p = phi(x);
+        if !p.is_finite() {
+            return None;
+        }
+        if p > 0.0 {
+            hi = x;
+        } else if p < 0.0 {
+            lo = x;
+        } else {
+            return Some(x);
+        }
+        let d = dphi(x);
+        let newton = x - p / d;
+        let next = if d > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        let scale = x.abs().max(next.abs()).max(f64::MIN_POSITIVE);
+        if (next - x).abs() <= 4.0 * f64::EPSILON * scale || hi - lo <= 4.0 * f64::EPSILON * scale
+        {
+            return Some(next);
+        }
+        x = next;
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn residual(law: &PointLaw, s: PointSolve, u: f64, v: f64, h: f64, g: f64) -> f64 {
+        let ue = u - h * s.force;
+        let ve = v - g * s.force;
+        if s.stuck {
+            assert!(ve.abs() <= 1e-12 * v.abs().max(1.0));
+            let rest = s.force - law.smooth_force(ue, 0.0);
+            assert!(rest.abs() <= law.friction * (1.0 + 1e-12));
+            0.0
+        } else {
+            s.force - law.force(ue, ve)
+        }
+    }
+
+    #[test]
+    fn each_law_satisfies_its_equation() {
+        let laws = [
+            PointLaw {
+                cubic: 2.0,
+                ..Default::default()
+            },
+            PointLaw {
+                quadratic: 0.7,
+                ..Default::default()
+            },
+            PointLaw {
+                friction: 0.3,
+                ..Default::default()
+            },
+            PointLaw {
+                cubic: 1.5,
+                quadratic: 0.2,
+                friction: 0.1,
+            },
+        ];
+        for law in &laws {
+            for &(u, v) in &[(0.3, 1.2), (-2.0, 0.05), (1.0, -3.0), (0.0, 0.0), (5.0, -0.01)] {
+                for &(h, g) in &[(0.01, 2.0), (1.0, 0.5), (0.0, 1.0)] {
+                    let s = law.solve(u, v, h, g).expect("finite");
+                    let r = residual(law, s, u, v, h, g);
+                    assert!(r.abs() <= 1e-10 * s.force.abs().max(1.0), "{law:?} {r}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn linear_law_is_exact() {
+        // No friction, no cubic: f = c2 v|v| has the closed-form root.
+        let law = PointLaw {
+            quadratic: 0.5,
+            ..Default::default()
+        };
+        let (v, g) = (2.0, 0.8);
+        let s = law.solve(0.0, v, 0.0, g).unwrap();
+        // v_end solves v_end + g c2 v_end^2 = v.
+        let c = g * 0.5;
+        let v_end = (-1.0 + (1.0 + 4.0 * c * v).sqrt()) / (2.0 * c);
+        assert!((s.force - (v - v_end) / g).abs() < 1e-14);
+    }
+
+    #[test]
+    fn friction_sticks_below_its_limit() {
+        let law = PointLaw {
+            friction: 1.0,
+            ..Default::default()
+        };
+        let s = law.solve(0.0, 0.5, 0.1, 1.0).unwrap();
+        assert!(s.stuck && (s.force - 0.5).abs() < 1e-15);
+        let s = law.solve(0.0, 1.5, 0.1, 1.0).unwrap();
+        assert!(!s.stuck && (s.force - 1.0).abs() < 1e-15);
+        let s = law.solve(0.0, -1.5, 0.1, 1.0).unwrap();
+        assert!(!s.stuck && (s.force + 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_inputs_are_refused() {
+        let law = PointLaw::default();
+        assert!(law.solve(f64::NAN, 0.0, 1.0, 1.0).is_none());
+        assert!(law.solve(0.0, 0.0, 1.0, 0.0).is_none());
+        assert!(law.solve(0.0, 0.0, -1.0, 1.0).is_none());
+    }
+}

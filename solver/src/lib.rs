@@ -19,6 +19,7 @@ pub mod error;
 pub mod integrate;
 pub mod linalg;
 pub mod model;
+pub mod reduce;
 pub mod results;
 pub mod vtk;
 

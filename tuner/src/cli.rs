@@ -111,6 +111,28 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
+    /// Diagnose a measured case (shared/spec/measured-case.md): fit the paper's model,
+    /// show what it misses, name the cause, extend the model and measure the gain.
+    /// Writes DIR/diagnosis.json, report.md, figures and tables (docs/diagnose.md).
+    Diagnose {
+        /// The case folder (or its case.json).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/diagnose")]
+        out: PathBuf,
+        /// Beams per coil of the helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+        /// Fixed-interface modes kept in the reduced model.
+        #[arg(long, default_value_t = 4)]
+        modes: usize,
+        /// No figures (tables and report.md only).
+        #[arg(long)]
+        no_plots: bool,
+        /// No progress messages.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         procedure: PathBuf,
@@ -183,6 +205,25 @@ pub fn run(cli: Cli) -> Result<()> {
             );
             print!("{}", result.table());
             println!("files in {}", out.root().display());
+            Ok(())
+        }
+        Command::Diagnose {
+            case,
+            out,
+            elements_per_coil,
+            modes,
+            no_plots,
+            quiet,
+        } => {
+            let mut settings = crate::diagnose::DiagnoseSettings::default();
+            settings.fe.elements_per_coil = elements_per_coil;
+            settings.modes = modes;
+            settings.plots = !no_plots;
+            settings.progress = !quiet;
+            let outcome = crate::diagnose::diagnose(&case, &settings)?;
+            crate::diagnose::write(&outcome, &out, &settings)?;
+            print!("{}", crate::diagnose::summary(&outcome));
+            println!("report in {}", out.join("report.md").display());
             Ok(())
         }
         Command::Paper {

@@ -15,6 +15,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
+pub mod diagnose;
 pub mod grid;
 pub mod paper;
 pub mod plots;

@@ -1,0 +1,285 @@
+//! The catalogue of effects the diagnosis can name (`shared/spec/measured-case.md`).
+//!
+//! One [`Effect`] per physical cause: its name and parameter (exactly the spec's), how
+//! it extends the reduced FE model ([`EffectKind`], [`Mount`]), and how its signature in
+//! the records gives the evidence and the fit's starting value. Adding an effect is one
+//! more entry in [`CATALOGUE`] plus, if it needs a new kind of force, one more
+//! [`EffectKind`] arm in the model.
+//!
+//! Signatures (weak nonlinearity, first-order harmonic balance / energy balance per
+//! cycle, displacement amplitude `A`, `k = m w^2`):
+//! - `coulomb_friction`: constant amplitude loss `4F/k` per cycle (a linear envelope),
+//!   static hysteresis of half-width `F`;
+//! - `quadratic_damping`: loss `(8/3) c2 A^2 / m` per cycle;
+//! - `cubic_stiffness`: curvature of the static record (`k x + k3 x^3`), and a backbone
+//!   `w(A)^2 = w0^2 (1 + b A^2)`;
+//! - `axial_torsional_coupling`: a second spectral line beside the axial one and a
+//!   beating envelope; with the reduced model's 2x2 boundary stiffness `[kz c; c kt]`
+//!   the two lines give the weight's mass and rotary inertia through
+//!   `w1^2 + w2^2 = kz/m + kt/J` and `w1^2 w2^2 = (kz kt - c^2)/(m J)`.
+
+use super::evidence::Signatures;
+use super::model::{EffectKind, Mount};
+
+/// The starting point and evidence an effect draws from the records.
+#[derive(Debug, Clone)]
+pub struct Proposal {
+    /// What the records say about this effect, for a person.
+    pub evidence: String,
+    /// Starting values of the parameter (SI, the spec's unit), best first.
+    pub starts: Vec<f64>,
+    /// Strength of the signature in standard errors (0 when absent).
+    pub z_score: f64,
+}
+
+/// What an effect needs from the baseline to turn a signature into a parameter.
+#[derive(Debug, Clone, Copy)]
+pub struct BaselineFigures {
+    /// Weight's mass (kg) and the axial stiffness (N/m) of the calibrated model.
+    pub mass_kg: f64,
+    pub stiffness_n_m: f64,
+    /// Axial frequency (Hz).
+    pub frequency_hz: f64,
+    /// Largest displacement amplitude in the record (m).
+    pub amplitude_m: f64,
+    /// Static deflection under gravity (m).
+    pub preload_m: f64,
+    /// Boundary stiffness of the free-rotation model: axial (N/m), coupling (N/rad),
+    /// torsional (N m/rad).
+    pub kz: f64,
+    pub c: f64,
+    pub kt: f64,
+}
+
+/// One catalogue entry.
+pub trait Effect: Sync {
+    /// The spec's name.
+    fn name(&self) -> &'static str;
+    /// The spec's parameter name (with its unit).
+    fn parameter(&self) -> &'static str;
+    /// The force it adds to the model.
+    fn kind(&self) -> EffectKind;
+    /// The weight's mounting it needs.
+    fn mount(&self) -> Mount {
+        Mount::Guided
+    }
+    /// Whether the static record is fitted with the decay.
+    fn uses_static(&self) -> bool {
+        false
+    }
+    /// Evidence and starting values.
+    fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal;
+}
+
+fn starts(value: f64, fallback: f64) -> Vec<f64> {
+    if value.is_finite() && value > 0.0 {
+        vec![value, 0.3 * value, 3.0 * value]
+    } else {
+        vec![fallback, 0.1 * fallback, 10.0 * fallback]
+    }
+}
+
+pub struct CoulombFriction;
+impl Effect for CoulombFriction {
+    fn name(&self) -> &'static str {
+        "coulomb_friction"
+    }
+    fn parameter(&self) -> &'static str {
+        "friction_force_n"
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Friction
+    }
+    fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
+        let from_loss = s
+            .loss
+            .map(|l| (l.a0_m * b.stiffness_n_m / 4.0, l.a0_m / l.a0_se));
+        let mut text = match from_loss {
+            Some((f, z)) => format!(
+                "constant loss per cycle a0 = 4F/k gives F = {f:.4} N ({z:.1} standard errors); \
+                 envelope {} (R^2 linear {:.4}, exponential {:.4})",
+                s.envelope.kind, s.envelope.r2_linear, s.envelope.r2_exponential
+            ),
+            None => "no per-cycle loss curve".to_string(),
+        };
+        if let Some(st) = &s.statics {
+            text.push_str(&format!(
+                "; static hysteresis half-width {:.4} N ({:.1} standard errors)",
+                st.friction_n,
+                st.friction_n / st.friction_se
+            ));
+        }
+        // A fallback that loses a tenth of the largest amplitude over the record's
+        // cycles: detectable, not dominant.
+        let fallback = 0.1 * b.amplitude_m * b.stiffness_n_m / 4.0 / s.cycles.max(1.0);
+        let (value, z) = from_loss.unwrap_or((f64::NAN, 0.0));
+        Proposal {
+            evidence: text,
+            starts: starts(value, fallback),
+            z_score: z.max(0.0),
+        }
+    }
+}
+
+pub struct QuadraticDamping;
+impl Effect for QuadraticDamping {
+    fn name(&self) -> &'static str {
+        "quadratic_damping"
+    }
+    fn parameter(&self) -> &'static str {
+        "quadratic_damping_n_s2_m2"
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Quadratic
+    }
+    fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
+        let from_loss = s
+            .loss
+            .map(|l| (3.0 * l.a2_per_m * b.mass_kg / 8.0, l.a2_per_m / l.a2_se));
+        let text = match from_loss {
+            Some((c2, z)) => format!(
+                "loss per cycle growing with A^2: a2 = (8/3) c2/m gives c2 = {c2:.4} N s^2/m^2 \
+                 ({z:.1} standard errors)"
+            ),
+            None => "no per-cycle loss curve".to_string(),
+        };
+        let fallback = 0.1 * b.mass_kg / b.amplitude_m.max(1e-9) / s.cycles.max(1.0);
+        let (value, z) = from_loss.unwrap_or((f64::NAN, 0.0));
+        Proposal {
+            evidence: text,
+            starts: starts(value, fallback),
+            z_score: z.max(0.0),
+        }
+    }
+}
+
+pub struct CubicStiffness;
+impl Effect for CubicStiffness {
+    fn name(&self) -> &'static str {
+        "cubic_stiffness"
+    }
+    fn parameter(&self) -> &'static str {
+        "cubic_stiffness_n_m3"
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Cubic
+    }
+    fn uses_static(&self) -> bool {
+        true
+    }
+    fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
+        let mut text = Vec::new();
+        let mut best: Option<(f64, f64)> = None;
+        if let Some(st) = &s.statics {
+            let z = st.k3_n_m3 / st.k3_se;
+            text.push(format!(
+                "static curvature k3 = {:.4e} N/m^3 ({z:.1} standard errors; residual RMS \
+                 linear {:.4} N, cubic {:.4} N)",
+                st.k3_n_m3, st.linear_rms_n, st.cubic_rms_n
+            ));
+            best = Some((st.k3_n_m3, z));
+        }
+        if let Some(bb) = s.backbone {
+            let k3 = bb.k3_n_m3;
+            let z = bb.b_per_m2 / bb.b_se;
+            text.push(format!(
+                "backbone f^2 = f0^2 (1 + b A^2), b = {:.4e} 1/m^2 ({z:.1} standard errors) \
+                 gives k3 = {k3:.4e} N/m^3",
+                bb.b_per_m2
+            ));
+            if best.is_none_or(|(_, zs)| z.abs() > zs.abs()) {
+                best = Some((k3, z));
+            }
+        }
+        let fallback = 0.01 * b.stiffness_n_m / b.amplitude_m.max(b.preload_m).max(1e-6).powi(2);
+        let (value, z) = best.unwrap_or((f64::NAN, 0.0));
+        Proposal {
+            evidence: if text.is_empty() {
+                "no static record and no backbone".into()
+            } else {
+                text.join("; ")
+            },
+            starts: starts(value, fallback),
+            z_score: z.max(0.0),
+        }
+    }
+}
+
+pub struct AxialTorsionalCoupling;
+impl Effect for AxialTorsionalCoupling {
+    fn name(&self) -> &'static str {
+        "axial_torsional_coupling"
+    }
+    fn parameter(&self) -> &'static str {
+        "rotary_inertia_kg_m2"
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Rotary
+    }
+    fn mount(&self) -> Mount {
+        Mount::FreeRotation
+    }
+    fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
+        // Torsion tuned to the axial frequency: the largest beating, the fallback.
+        let w = std::f64::consts::TAU * b.frequency_hz;
+        let tuned = b.kt / (w * w);
+        let Some(p) = s.second_peak else {
+            return Proposal {
+                evidence: format!(
+                    "one spectral line; envelope {} (beat period {})",
+                    s.envelope.kind,
+                    s.envelope
+                        .beat_period_s
+                        .map_or("none".into(), |t| format!("{t:.2} s"))
+                ),
+                starts: vec![tuned, 0.9 * tuned, 1.1 * tuned],
+                z_score: 0.0,
+            };
+        };
+        let (w1, w2) = (
+            std::f64::consts::TAU * s.axial_hz,
+            std::f64::consts::TAU * p.frequency_hz,
+        );
+        let (sum, product) = (w1 * w1 + w2 * w2, w1 * w1 * w2 * w2);
+        // x = 1/m, y = 1/J: kz x + kt y = sum, (kz kt - c^2) x y = product.
+        let det = b.kz * b.kt - b.c * b.c;
+        let mut candidates = Vec::new();
+        let disc = sum * sum - 4.0 * b.kz * b.kt * product / det;
+        if disc >= 0.0 && det > 0.0 {
+            for sign in [1.0, -1.0] {
+                let x = (sum + sign * disc.sqrt()) / (2.0 * b.kz);
+                let y = (sum - b.kz * x) / b.kt;
+                if x > 0.0 && y > 0.0 {
+                    candidates.push((1.0 / x, 1.0 / y));
+                }
+            }
+        }
+        // Of the two assignments, the one whose mass is nearer the calibrated one.
+        candidates.sort_by(|a, c| (a.0 - b.mass_kg).abs().total_cmp(&(c.0 - b.mass_kg).abs()));
+        let mut starts: Vec<f64> = candidates.iter().map(|c| c.1).collect();
+        // Uncoupled torsion at the second line (weak coupling).
+        starts.push(b.kt / (w2 * w2));
+        starts.push(tuned);
+        Proposal {
+            evidence: format!(
+                "second spectral line at {:.4} Hz beside {:.4} Hz ({:.1} % of its amplitude), \
+                 beat period {:.2} s; envelope {}",
+                p.frequency_hz,
+                s.axial_hz,
+                100.0 * p.relative_amplitude,
+                1.0 / (p.frequency_hz - s.axial_hz).abs(),
+                s.envelope.kind
+            ),
+            starts,
+            z_score: p.z_score,
+        }
+    }
+}
+
+/// Every effect the diagnosis tries, in report order.
+pub static CATALOGUE: &[&dyn Effect] = &[
+    &CoulombFriction,
+    &QuadraticDamping,
+    &CubicStiffness,
+    &AxialTorsionalCoupling,
+];

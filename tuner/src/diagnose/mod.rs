@@ -1,0 +1,455 @@
+//! `coil-tune diagnose`: from measured records to what the paper's model gets wrong,
+//! its physical cause, the extended model and the gain (`shared/spec/measured-case.md`,
+//! docs/diagnose.md).
+//!
+//! # Steps
+//! 1. **Records** are read and checked ([`data`]) before anything is computed; nothing
+//!    is written unless the whole diagnosis succeeds, and then every file goes through
+//!    a temporary name ([`write`]).
+//! 2. **Baseline, the paper's model**: K from the static record (least-squares line
+//!    through the loading branch), E by the paper's loop 1 on the FE model; T and zeta
+//!    by the paper's decrement (every 10th crest, Eqs. 2-3) on the decay record; the
+//!    weight's mass by loop 2; damping stiffness-proportional, `alpha = 0`,
+//!    `beta = 2 zeta / w`. One decay identifies one combination of alpha and beta
+//!    (docs/tuner.md, "Why a variant's zeta can miss"); beta alone keeps the damping in
+//!    the spring's material, acts on no rigid motion of the weight, and gives the axial
+//!    mode exactly `zeta = beta w / 2`. The decay is then simulated on the reduced FE
+//!    model ([`model`]), its initial state fitted by linear least squares (the record
+//!    starts after the impulse). `forecast_rms` repeats all of it on the first half and
+//!    predicts the second.
+//! 3. **Reference, the same linear model by output error**: mass and beta refined by
+//!    Levenberg-Marquardt on the raw acceleration. It isolates what any linear model
+//!    can do, so the choice of a cause is not credited with the decrement estimator's
+//!    bias.
+//! 4. **Candidates**: every catalogue effect ([`effects`]) starts from its signature
+//!    ([`evidence`]), is fitted by output error with the weight's mass, beta and the
+//!    initial state, on the whole record and on its first half (forecast).
+//! 5. **Choice** ([`select`]): BIC on the effective number of independent residuals,
+//!    and the held-out forecast; `none` when no effect gains significantly.
+
+pub mod data;
+pub mod effects;
+pub mod evidence;
+pub mod fit;
+pub mod lm;
+pub mod model;
+pub mod plots;
+pub mod report;
+pub mod select;
+pub mod signatures;
+
+use crate::case::{read_case, MeasuredCase};
+use crate::decay::{self, DecayRecord, DecaySettings};
+use crate::error::{Result, TuneError};
+use crate::fe::{FeSettings, SpringState};
+use crate::loops;
+use data::DecayData;
+use effects::{BaselineFigures, Effect, CATALOGUE};
+use evidence::Signatures;
+use fit::{Fitted, Knob, Problem, StaticBlock};
+use model::{EffectKind, Mount, Physical, ReducedSpring};
+use report::Diagnosis;
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::Path;
+use std::time::Instant;
+
+/// Settings of a diagnosis.
+#[derive(Debug, Clone)]
+pub struct DiagnoseSettings {
+    pub fe: FeSettings,
+    /// Fixed-interface modes kept beside the weight's DOFs.
+    pub modes: usize,
+    /// Levenberg-Marquardt iterations per fit.
+    pub max_iterations: usize,
+    /// Draw the figures.
+    pub plots: bool,
+    /// Progress on stderr.
+    pub progress: bool,
+}
+
+impl Default for DiagnoseSettings {
+    fn default() -> Self {
+        DiagnoseSettings {
+            fe: FeSettings {
+                modes: 6,
+                ..FeSettings::default()
+            },
+            modes: 4,
+            max_iterations: 40,
+            plots: true,
+            progress: false,
+        }
+    }
+}
+
+/// One fitted model's figures on the full record and on the forecast.
+#[derive(Debug, Clone)]
+pub struct ModelRun {
+    pub full: Fitted,
+    pub half: Fitted,
+    pub residual_rms: f64,
+    pub forecast_rms: f64,
+}
+
+/// Everything a diagnosis computed (the report and the figures draw on it).
+pub struct Outcome {
+    pub case: MeasuredCase,
+    pub decay: DecayData,
+    pub statics: Option<(crate::case::StaticRecord, Range<usize>)>,
+    pub signatures: Signatures,
+    pub baseline: ModelRun,
+    pub reference: ModelRun,
+    pub candidates: Vec<(String, std::result::Result<ModelRun, String>)>,
+    pub diagnosis: Diagnosis,
+    /// Measured amplitude spectrum (frequencies Hz, amplitudes m/s^2) for the figure.
+    pub spectrum: Option<(Vec<f64>, Vec<f64>)>,
+    /// Fixed-interface modes kept.
+    pub modes: usize,
+    /// Largest step as a fraction of the axial period.
+    pub step_fraction: f64,
+}
+
+fn progress(settings: &DiagnoseSettings, text: &str) {
+    if settings.progress {
+        eprintln!("diagnose: {text}");
+    }
+}
+
+/// Runs the whole diagnosis of the case at `path` (folder or case.json); writes nothing.
+pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
+    let clock = Instant::now();
+    let case = read_case(path)?;
+    let mut decays = case.decay_records()?;
+    if decays.is_empty() {
+        return Err(TuneError::Invalid(format!(
+            "{}: `records.decay` is missing or empty; expected at least one decay record \
+             (`time_s,accel_m_s2`) to diagnose",
+            case.file.display()
+        )));
+    }
+    let decay = data::check_decay(decays.swap_remove(0))?;
+    let statics = match case.static_records()?.into_iter().next() {
+        Some(record) => {
+            let branch = data::check_static(&record)?;
+            Some((record, branch))
+        }
+        None => None,
+    };
+    let n = decay.signal.values.len();
+    let half = n / 2;
+    let measured = decay.signal.values.clone();
+    let step = decay.signal.step_s;
+
+    progress(settings, "baseline (the paper's loops)");
+    let static_fit = statics
+        .as_ref()
+        .map(|(r, b)| signatures::static_fit(r, b.clone()))
+        .transpose()?;
+    let k_measured = match (&static_fit, case.targets.stiffness_n_mm) {
+        (Some(s), _) => s.linear_k_n_mm,
+        (None, Some(k)) => k,
+        (None, None) => crate::fe::static_stiffness(&SpringState::nominal(&case), &settings.fe)?.0,
+    };
+    let mut state = SpringState::nominal(&case);
+    loops::tune_youngs_modulus(&mut state, &settings.fe, k_measured, 1e-6, None)?;
+    let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
+
+    let paper = |range: Range<usize>| -> Result<(Physical, f64, f64)> {
+        let record = DecayRecord {
+            time_s: decay.signal.time_s[range.clone()].to_vec(),
+            accel_m_s2: measured[range].to_vec(),
+        };
+        let f_guess = decay.cycles as f64 / (decay.signal.time_s[n - 1] - decay.signal.time_s[0]);
+        // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
+        // a record whose crests carry jumps (dry friction reverses its force at every
+        // crest) needs a lower cut-off before its crests are regular.
+        let mut attempt = Err(TuneError::Invalid("no decrement".into()));
+        for factor in [5.0, 2.0, 1.4] {
+            attempt = decay::measure(
+                &record,
+                &DecaySettings {
+                    lowpass_hz: Some(factor * f_guess),
+                    ..DecaySettings::default()
+                },
+            );
+            if attempt.is_ok() {
+                break;
+            }
+        }
+        let m = attempt?;
+        let zeta = m.zeta_mean;
+        let period_n = m.period_s * (1.0 - zeta * zeta).max(0.0).sqrt();
+        let mut s = state;
+        loops::tune_mass(&mut s, &settings.fe, period_n, 1e-6, None)?;
+        let w = std::f64::consts::TAU / period_n;
+        Ok((
+            Physical::linear(s.mass_kg, 2.0 * zeta / w, case.gravity_m_s2),
+            m.period_s,
+            zeta,
+        ))
+    };
+    let (base_phys, period_s, zeta) = paper(0..n)?;
+    let (half_phys, _, _) = paper(0..half)?;
+    let sigma = 1.0;
+    let linear_problem = |start: Physical, range: Range<usize>, knobs: Vec<Knob>| Problem {
+        model: &guided,
+        start,
+        knobs,
+        measured: &measured,
+        step_s: step,
+        range,
+        sigma,
+        statics: None,
+        initial_state: None,
+    };
+    let run = |p: &Problem<'_>| {
+        fit::run(p, settings.max_iterations).map_err(|m| TuneError::Invalid(format!("fit: {m}")))
+    };
+    let baseline_full = run(&linear_problem(base_phys, 0..n, vec![]))?;
+    let baseline_half = run(&linear_problem(half_phys, 0..half, vec![]))?;
+    let baseline = model_run(baseline_full, baseline_half, &measured, half);
+
+    progress(settings, "reference (linear model by output error)");
+    let knobs = vec![Knob::Mass, Knob::Beta];
+    let reference_full = run(&linear_problem(base_phys, 0..n, knobs.clone()))?;
+    let reference_half = run(&linear_problem(reference_full.physical, 0..half, knobs))?;
+    let reference = model_run(reference_full, reference_half, &measured, half);
+    let noise = (reference.full.rss / n as f64).sqrt();
+
+    progress(settings, "signatures");
+    let figures = BaselineFigures {
+        mass_kg: reference.full.physical.mass_kg,
+        stiffness_n_m: guided.stiffness_n_m(&reference.full.physical),
+        frequency_hz: 1.0 / period_s,
+        amplitude_m: 0.0,
+        preload_m: 0.0,
+        kz: 0.0,
+        c: 0.0,
+        kt: 0.0,
+    };
+    let free = ReducedSpring::build(&state, &settings.fe, Mount::FreeRotation, settings.modes)?;
+    let (kz, c, kt) = free.boundary_stiffness(&reference.full.physical);
+    let (sigs, spectrum) = signatures::compute(&decay, static_fit, &figures)?;
+    let figures = BaselineFigures {
+        // The largest displacement amplitude: peak acceleration over w^2.
+        amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs()))
+            / (std::f64::consts::TAU / period_s).powi(2),
+        preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / figures.stiffness_n_m,
+        kz,
+        c,
+        kt,
+        ..figures
+    };
+
+    let statics_block = statics
+        .as_ref()
+        .zip(static_fit.as_ref())
+        .map(|((r, _), s)| StaticBlock {
+            displacement_m: r.displacement_mm.iter().map(|x| x * 1e-3).collect(),
+            force_n: r.force_n.clone(),
+            sigma_n: s.cubic_rms_n.max(1e-12),
+        });
+
+    let mut candidates = Vec::new();
+    for effect in CATALOGUE {
+        progress(settings, &format!("candidate {}", effect.name()));
+        let proposal = effect.propose(&sigs, &figures);
+        let model = match effect.mount() {
+            Mount::Guided => &guided,
+            Mount::FreeRotation => &free,
+        };
+        let fitted = fit_effect(
+            *effect,
+            &proposal.starts,
+            model,
+            &reference,
+            &measured,
+            step,
+            noise,
+            statics_block.as_ref().filter(|_| effect.uses_static()),
+            static_fit.as_ref(),
+            settings.max_iterations,
+        );
+        candidates.push((*effect, proposal, fitted));
+    }
+
+    let choice = select::choose(&reference, &candidates, &measured);
+    let diagnosis = report::assemble(
+        &report::BaselineInputs {
+            state: &state,
+            physical: &base_phys,
+            period_s,
+            damping_ratio: zeta,
+            stiffness_n_mm: guided.stiffness_n_m(&base_phys) * 1e-3,
+            run: &baseline,
+        },
+        &reference,
+        &candidates,
+        &choice,
+        &sigs,
+        clock.elapsed().as_secs_f64(),
+    );
+    Ok(Outcome {
+        case,
+        decay,
+        statics,
+        signatures: sigs,
+        spectrum,
+        baseline,
+        reference,
+        candidates: candidates
+            .into_iter()
+            .map(|(e, _, f)| (e.name().to_string(), f))
+            .collect(),
+        diagnosis,
+        modes: settings.modes,
+        step_fraction: model::OMEGA_DT / std::f64::consts::TAU,
+    })
+}
+
+fn model_run(full: Fitted, half: Fitted, measured: &[f64], split: usize) -> ModelRun {
+    let n = measured.len();
+    ModelRun {
+        residual_rms: fit::relative_rms(&full.simulated, measured, 0..n),
+        forecast_rms: fit::relative_rms(&half.simulated, measured, split..n),
+        full,
+        half,
+    }
+}
+
+/// Fits one effect from its starting values: the cheapest start (one run each) seeds
+/// the full-record fit, whose result seeds the first-half fit.
+#[allow(clippy::too_many_arguments)]
+fn fit_effect(
+    effect: &dyn Effect,
+    starts: &[f64],
+    model: &ReducedSpring,
+    reference: &ModelRun,
+    measured: &[f64],
+    step: f64,
+    noise: f64,
+    statics: Option<&StaticBlock>,
+    static_fit: Option<&evidence::StaticSummary>,
+    max_iterations: usize,
+) -> std::result::Result<ModelRun, String> {
+    let n = measured.len();
+    let half = n / 2;
+    let mut base = reference.full.physical;
+    base.kind = effect.kind();
+    if let (EffectKind::Cubic, Some(s)) = (effect.kind(), static_fit) {
+        // The cubic fit's linear coefficient is the spring's stiffness at the free
+        // length; the straight line's slope (the baseline's) is a secant.
+        base.k_scale = s.k_n_mm / s.linear_k_n_mm;
+    }
+    let nonlinear = model.is_nonlinear(&Physical {
+        effect: 1.0,
+        ..base
+    });
+    let initial = if nonlinear {
+        Some(model.translate_state(&reference.full.initial_state))
+    } else {
+        None
+    };
+    let problem = |start: Physical, range: Range<usize>, init: Option<Vec<f64>>| Problem {
+        model,
+        start,
+        knobs: vec![Knob::Effect, Knob::Mass, Knob::Beta],
+        measured,
+        step_s: step,
+        range,
+        sigma: noise.max(1e-300),
+        statics,
+        initial_state: init,
+    };
+    let mut best: Option<(f64, Physical)> = None;
+    for &s in starts {
+        let start = Physical { effect: s, ..base };
+        let p = problem(start, 0..n, initial.clone());
+        let cost = lm::Residuals::residuals(&p, &initial_params(&p))
+            .map(|r| r.iter().map(|x| x * x).sum::<f64>())
+            .unwrap_or(f64::INFINITY);
+        if best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, start));
+        }
+    }
+    let (_, start) = best.ok_or("no starting value")?;
+    let full = fit::run(&problem(start, 0..n, initial.clone()), max_iterations)?;
+    let half_init = if nonlinear {
+        Some(full.initial_state.clone())
+    } else {
+        None
+    };
+    let half_fit = fit::run(&problem(full.physical, 0..half, half_init), max_iterations)?;
+    Ok(model_run(full, half_fit, measured, half))
+}
+
+fn initial_params(p: &Problem<'_>) -> Vec<f64> {
+    let mut v: Vec<f64> = p
+        .knobs
+        .iter()
+        .map(|k| {
+            match k {
+                Knob::Mass => p.start.mass_kg,
+                Knob::Beta => p.start.beta_s,
+                Knob::Effect => p.start.effect,
+            }
+            .max(1e-300)
+            .ln()
+        })
+        .collect();
+    if let Some(s) = &p.initial_state {
+        v.extend(s);
+    }
+    v
+}
+
+/// Writes the outcome into `out`: figures, tables, report.md and, last,
+/// diagnosis.json; each through a temporary file.
+pub fn write(outcome: &Outcome, out: &Path, settings: &DiagnoseSettings) -> Result<()> {
+    report::write(outcome, out, settings.plots)
+}
+
+/// Parameters in SI by the spec's names, for the extended model.
+pub fn parameters(effect: &dyn Effect, phys: &Physical) -> BTreeMap<String, f64> {
+    BTreeMap::from([(effect.parameter().to_string(), phys.effect)])
+}
+
+/// A few lines for the terminal.
+pub fn summary(o: &Outcome) -> String {
+    let d = &o.diagnosis;
+    let mut s = format!(
+        "baseline: E = {:.1} MPa, mass = {:.5} kg, beta = {:.4e} s, K = {:.5} N/mm, T = {:.6} s, \
+         zeta = {:.6}, residual_rms = {:.4}, forecast_rms = {:.4}\n",
+        d.baseline.youngs_modulus_mpa,
+        d.baseline.mass_kg,
+        d.baseline.rayleigh_beta,
+        d.baseline.stiffness_n_mm,
+        d.baseline.period_s,
+        d.baseline.damping_ratio,
+        d.baseline.residual_rms,
+        d.baseline.forecast_rms
+    );
+    for c in &d.candidates {
+        s.push_str(&format!(
+            "  {:<26} residual_rms {:>8} forecast_rms {:>8} dBIC {:>10} {}\n",
+            c.effect,
+            c.residual_rms.map_or("-".into(), |x| format!("{x:.4}")),
+            c.forecast_rms.map_or("-".into(), |x| format!("{x:.4}")),
+            c.delta_bic.map_or("-".into(), |x| format!("{x:.1}")),
+            if c.significant { "significant" } else { "" }
+        ));
+    }
+    s.push_str(&format!("cause: {}", d.cause));
+    if let (Some(e), Some(g)) = (&d.extended, &d.gain) {
+        for (k, v) in &e.parameters {
+            s.push_str(&format!(", {k} = {v:.6e}"));
+        }
+        s.push_str(&format!(
+            "; gain: residual_rms_ratio {:.4}, forecast_rms_ratio {:.4}",
+            g.residual_rms_ratio, g.forecast_rms_ratio
+        ));
+    }
+    s.push_str(&format!(" ({:.2} s)\n", d.runtime_s));
+    s
+}

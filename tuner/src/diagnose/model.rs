@@ -1,0 +1,328 @@
+//! The reduced spring model the diagnosis fits: the linear FE spring of the case
+//! (coil-mesher, calibrated E) reduced by Craig-Bampton to the weight's DOFs plus a few
+//! fixed-interface modes (`coil_solver::reduce`), with the catalogue's nonlinear element
+//! at the weight, integrated by the dense average-acceleration stepper
+//! (`coil_solver::integrate::dense`).
+//!
+//! # Mounts and reduced coordinates
+//! - [`Mount::Guided`] (the paper's model): the weight moves along the axis only;
+//!   boundary `q_0 = u_z` of node 1 (mm).
+//! - [`Mount::FreeRotation`]: the weight also turns about the axis; boundary
+//!   `q_0 = u_z`, `q_1 = r_z` (rad). The axial-torsional coupling comes from the helix's
+//!   own stiffness (the off-diagonal of the reduced boundary stiffness), never from a
+//!   fitted constant.
+//!
+//! # Parameters ([`Physical`], SI) and their place in the operators (solver units)
+//! `M = M_wire + M_points + diag(dm, dJ)` with `dm` the weight's mass minus the mass the
+//! model was meshed with and `dJ` the weight's rotary inertia (1 kg m^2 = 1e3 t mm^2);
+//! `C = beta K` (alpha = 0, see the diagnosis docs); `K = s K_0` (`s` rescales E). The
+//! point law at `u_z` (`coil_solver::integrate::PointLaw`): Coulomb `F` (N), velocity
+//! squared `c2` (1 N s^2/m^2 = 1e-6 N s^2/mm^2), cubic `k3` (1 N/m^3 = 1e-9 N/mm^3).
+//!
+//! # Gravity and the cubic spring
+//! The cubic law acts on the displacement from the free length (the mesh's reference),
+//! so a model with a cubic spring carries the weight's gravity load `-m g` along the
+//! axis; the record's initial state is taken about the static equilibrium
+//! (`DenseStepper::static_equilibrium`). Linear models need no preload: their decay
+//! about the equilibrium does not depend on it.
+//!
+//! # Step
+//! The step divides the record's sample interval into `substeps` so that
+//! `w dt <= OMEGA_DT` for the axial mode: the scheme's period error `(w dt)^2/12` is
+//! then below 8.4e-6, which the fitted mass absorbs (2x that, relative), far below
+//! the noise of any record.
+
+use crate::error::{Result, TuneError};
+use crate::fe::{FeSettings, SpringState};
+use coil_mesher::{Top, WEIGHT_NODE};
+use coil_solver::integrate::dense::DenseStepper;
+use coil_solver::integrate::PointLaw;
+use coil_solver::reduce::{craig_bampton, Reduction};
+use nalgebra::DMatrix;
+
+/// Largest `w dt` of the axial mode.
+pub const OMEGA_DT: f64 = 0.01;
+
+/// How the weight is mounted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mount {
+    Guided,
+    FreeRotation,
+}
+
+/// Which force the effect parameter drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EffectKind {
+    None,
+    /// Coulomb friction force (N).
+    Friction,
+    /// Velocity-squared damping (N s^2/m^2).
+    Quadratic,
+    /// Cubic stiffness (N/m^3).
+    Cubic,
+    /// The weight's rotary inertia about the axis (kg m^2).
+    Rotary,
+}
+
+/// The fitted physical parameters (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Physical {
+    pub mass_kg: f64,
+    /// Rayleigh beta on the spring (s).
+    pub beta_s: f64,
+    /// Stiffness scale against the calibrated E.
+    pub k_scale: f64,
+    pub kind: EffectKind,
+    /// The effect's magnitude in its SI unit.
+    pub effect: f64,
+    pub gravity_m_s2: f64,
+}
+
+impl Physical {
+    /// The paper's linear model.
+    pub fn linear(mass_kg: f64, beta_s: f64, gravity_m_s2: f64) -> Self {
+        Physical {
+            mass_kg,
+            beta_s,
+            k_scale: 1.0,
+            kind: EffectKind::None,
+            effect: 0.0,
+            gravity_m_s2,
+        }
+    }
+
+    /// The cubic stiffness (N/m^3), zero unless the effect is cubic.
+    pub fn cubic_n_m3(&self) -> f64 {
+        if self.kind == EffectKind::Cubic {
+            self.effect
+        } else {
+            0.0
+        }
+    }
+
+    /// The point law at the weight in solver units.
+    pub fn law(&self) -> PointLaw {
+        let x = self.effect;
+        match self.kind {
+            EffectKind::Friction => PointLaw {
+                friction: x,
+                ..PointLaw::default()
+            },
+            EffectKind::Quadratic => PointLaw {
+                quadratic: x * 1e-6,
+                ..PointLaw::default()
+            },
+            EffectKind::Cubic => PointLaw {
+                cubic: x * 1e-9,
+                ..PointLaw::default()
+            },
+            EffectKind::None | EffectKind::Rotary => PointLaw::default(),
+        }
+    }
+}
+
+/// A reduced spring ready to simulate decays.
+#[derive(Debug, Clone)]
+pub struct ReducedSpring {
+    reduction: Reduction,
+    mount: Mount,
+    /// The weight's mass the model was meshed with (kg).
+    meshed_mass_kg: f64,
+}
+
+fn reduce_error(e: impl std::fmt::Display) -> TuneError {
+    TuneError::Invalid(format!("reduced model: {e}"))
+}
+
+impl ReducedSpring {
+    /// Meshes the spring of `state` with `fe` and reduces it.
+    pub fn build(state: &SpringState, fe: &FeSettings, mount: Mount, modes: usize) -> Result<Self> {
+        let mut spec = state.spec(fe, &[]);
+        let boundary: Vec<(u32, u8)> = match mount {
+            Mount::Guided => {
+                spec.top = Top::Guided;
+                vec![(WEIGHT_NODE, 3)]
+            }
+            Mount::FreeRotation => {
+                spec.top = Top::FreeRotation;
+                vec![(WEIGHT_NODE, 3), (WEIGHT_NODE, 6)]
+            }
+        };
+        let model = spec.build()?;
+        let reduction = craig_bampton(&model, &boundary, modes).map_err(reduce_error)?;
+        Ok(ReducedSpring {
+            reduction,
+            mount,
+            meshed_mass_kg: state.mass_kg,
+        })
+    }
+
+    /// Number of initial-state components (displacement and velocity per boundary DOF).
+    pub fn state_len(&self) -> usize {
+        2 * self.reduction.boundary.len()
+    }
+
+    /// True when the parameters put a nonlinear force on the weight.
+    pub fn is_nonlinear(&self, p: &Physical) -> bool {
+        !p.law().is_zero()
+    }
+
+    fn extra_mass(&self, p: &Physical) -> Vec<f64> {
+        let mut extra = vec![(p.mass_kg - self.meshed_mass_kg) * 1e-3];
+        if self.mount == Mount::FreeRotation {
+            let j = if p.kind == EffectKind::Rotary {
+                p.effect
+            } else {
+                0.0
+            };
+            extra.push(j * 1e3);
+        }
+        extra
+    }
+
+    /// Static boundary stiffness of the guided axial DOF (N/m).
+    pub fn stiffness_n_m(&self, p: &Physical) -> f64 {
+        self.reduction.k[(0, 0)] * p.k_scale * 1e3
+    }
+
+    /// The free-rotation boundary stiffness: axial (N/m), coupling (N/rad), torsional
+    /// (N m/rad). For a guided model the last two are zero.
+    pub fn boundary_stiffness(&self, p: &Physical) -> (f64, f64, f64) {
+        let k = &self.reduction.k;
+        let s = p.k_scale;
+        if self.mount == Mount::FreeRotation {
+            (k[(0, 0)] * s * 1e3, k[(0, 1)] * s, k[(1, 1)] * s * 1e-3)
+        } else {
+            (k[(0, 0)] * s * 1e3, 0.0, 0.0)
+        }
+    }
+
+    fn stepper(
+        &self,
+        p: &Physical,
+        step_s: f64,
+    ) -> std::result::Result<(DenseStepper, usize), String> {
+        if !(p.mass_kg > 0.0 && p.beta_s >= 0.0 && p.effect >= 0.0 && p.k_scale > 0.0) {
+            return Err(format!("parameters out of range: {p:?}"));
+        }
+        let ops = self
+            .reduction
+            .operators(p.k_scale, &self.extra_mass(p), 0.0, p.beta_s)
+            .map_err(|e| e.to_string())?;
+        let omega = (self.stiffness_n_m(p) / p.mass_kg).sqrt();
+        let substeps = ((omega * step_s / OMEGA_DT).ceil() as usize).max(1);
+        let dt = step_s / substeps as f64;
+        let law = p.law();
+        let laws: Vec<(usize, PointLaw)> = if law.is_zero() {
+            vec![]
+        } else {
+            vec![(0, law)]
+        };
+        let stepper =
+            DenseStepper::new(&ops.m, &ops.c, &ops.k, dt, &laws).map_err(|e| e.to_string())?;
+        Ok((stepper, substeps))
+    }
+
+    fn run(
+        &self,
+        stepper: &mut DenseStepper,
+        substeps: usize,
+        u0: &[f64],
+        v0: &[f64],
+        n: usize,
+    ) -> std::result::Result<Vec<f64>, String> {
+        let samples = stepper
+            .simulate(u0, v0, n, substeps, 0)
+            .map_err(|e| e.to_string())?;
+        Ok(samples.iter().map(|s| s.a * 1e-3).collect())
+    }
+
+    /// The weight's axial acceleration (m/s^2) at `n` samples `step_s` apart for unit
+    /// initial states about the equilibrium: per boundary DOF, 1 mm (or 1 rad) of
+    /// displacement, then 1 mm/s (or 1 rad/s) of velocity. The response of a linear
+    /// model to the state `x` is `sum x_k basis_k`.
+    pub fn basis(
+        &self,
+        p: &Physical,
+        step_s: f64,
+        n: usize,
+    ) -> std::result::Result<Vec<Vec<f64>>, String> {
+        let (mut stepper, substeps) = self.stepper(p, step_s)?;
+        let r = stepper.dim();
+        let nb = self.reduction.boundary.len();
+        let mut out = Vec::with_capacity(2 * nb);
+        for b in 0..nb {
+            for velocity in [false, true] {
+                let mut u = vec![0.0; r];
+                let mut v = vec![0.0; r];
+                if velocity {
+                    v[b] = 1.0;
+                } else {
+                    u[b] = 1.0;
+                }
+                out.push(self.run(&mut stepper, substeps, &u, &v, n)?);
+            }
+        }
+        // Order: u_b0, v_b0, u_b1, v_b1 ... ; report it as [u, v] pairs per DOF.
+        Ok(out)
+    }
+
+    /// The weight's axial acceleration (m/s^2) for the initial state
+    /// `[u_0 (mm), v_0 (mm/s), ...]` about the static equilibrium.
+    pub fn simulate(
+        &self,
+        p: &Physical,
+        state: &[f64],
+        step_s: f64,
+        n: usize,
+    ) -> std::result::Result<Vec<f64>, String> {
+        let (mut stepper, substeps) = self.stepper(p, step_s)?;
+        let r = stepper.dim();
+        let nb = self.reduction.boundary.len();
+        if state.len() != 2 * nb {
+            return Err(format!(
+                "initial state of {} values; expected {}",
+                state.len(),
+                2 * nb
+            ));
+        }
+        let mut u = vec![0.0; r];
+        let mut v = vec![0.0; r];
+        if p.kind == EffectKind::Cubic && p.gravity_m_s2 != 0.0 {
+            let mut f = vec![0.0; r];
+            // Gravity pulls the weight toward the base (-z): m g in N.
+            f[0] = -p.mass_kg * p.gravity_m_s2;
+            stepper.set_load(&f).map_err(|e| e.to_string())?;
+            u = stepper.static_equilibrium(&f).map_err(|e| e.to_string())?;
+        }
+        for b in 0..nb {
+            u[b] += state[2 * b];
+            v[b] = state[2 * b + 1];
+        }
+        self.run(&mut stepper, substeps, &u, &v, n)
+    }
+
+    /// The static equilibrium's compression of the weight (m) under gravity.
+    pub fn preload_m(&self, p: &Physical) -> f64 {
+        let k = self.stiffness_n_m(p);
+        let (k3, w) = (p.cubic_n_m3(), p.mass_kg * p.gravity_m_s2);
+        // k x + k3 x^3 = w, Newton from the linear deflection (convex, monotone).
+        let mut x = w / k;
+        for _ in 0..60 {
+            let r = k * x + k3 * x * x * x - w;
+            let d = k + 3.0 * k3 * x * x;
+            x -= r / d;
+        }
+        x
+    }
+
+    /// A state from the linear projection, in this model's layout (the same here).
+    pub fn translate_state(&self, linear: &[f64]) -> Vec<f64> {
+        linear.to_vec()
+    }
+
+    /// Reduced stiffness (for reports).
+    pub fn stiffness_matrix(&self) -> &DMatrix<f64> {
+        &self.reduction.k
+    }
+}

@@ -1,0 +1,163 @@
+//! The diagnosis figures: one generic figure of panels with x-y series (lines or
+//! points), drawn by the post-processor's renderer (embedded font, atomic output).
+
+use crate::error::{Result, TuneError};
+use coil_postproc::plot::{self, Draw, Figure, FONT};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+const COLOURS: [RGBColor; 5] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+/// One series of a panel.
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    /// Points (markers) instead of a line.
+    pub markers: bool,
+}
+
+/// One panel.
+#[derive(Debug, Clone)]
+pub struct Panel {
+    pub title: String,
+    pub x: String,
+    pub y: String,
+    pub series: Vec<Series>,
+}
+
+/// Panels stacked vertically.
+pub struct Panels(pub Vec<Panel>);
+
+fn e<T: std::fmt::Display>(x: T) -> String {
+    x.to_string()
+}
+
+fn short(x: &f64) -> String {
+    let a = x.abs();
+    if a < 1e-15 {
+        "0".into()
+    } else if (1e-2..1e5).contains(&a) {
+        let s = format!("{x:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1e-12)
+    };
+    (lo - pad, hi + pad)
+}
+
+/// Min/max decimation of a long line to about 4000 points (keeps its envelope).
+pub fn decimate(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    const KEEP: usize = 2000;
+    if points.len() <= 2 * KEEP {
+        return points.to_vec();
+    }
+    let chunk = points.len().div_ceil(KEEP);
+    let mut out = Vec::with_capacity(2 * KEEP);
+    for c in points.chunks(chunk) {
+        let lo = c.iter().fold(c[0], |m, p| if p.1 < m.1 { *p } else { m });
+        let hi = c.iter().fold(c[0], |m, p| if p.1 > m.1 { *p } else { m });
+        if lo.0 <= hi.0 {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    out
+}
+
+impl Figure for Panels {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(e)?;
+        let areas = root.split_evenly((self.0.len().max(1), 1));
+        for (panel, area) in self.0.iter().zip(&areas) {
+            let (x0, x1) = range(
+                panel
+                    .series
+                    .iter()
+                    .flat_map(|s| s.points.iter().map(|p| p.0)),
+            );
+            let (y0, y1) = range(
+                panel
+                    .series
+                    .iter()
+                    .flat_map(|s| s.points.iter().map(|p| p.1)),
+            );
+            let mut chart = ChartBuilder::on(area)
+                .caption(panel.title.as_str(), (FONT, 22))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(90)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(e)?;
+            chart
+                .configure_mesh()
+                .x_desc(panel.x.as_str())
+                .y_desc(panel.y.as_str())
+                .x_label_formatter(&short)
+                .y_label_formatter(&short)
+                .label_style((FONT, 15))
+                .draw()
+                .map_err(e)?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let colour = COLOURS[k % COLOURS.len()];
+                let legend = move |(x, y): (i32, i32)| {
+                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(3))
+                };
+                if s.markers {
+                    chart
+                        .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+                        .map_err(e)?
+                        .label(s.label.as_str())
+                        .legend(legend);
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(decimate(&s.points), colour.stroke_width(1)))
+                        .map_err(e)?
+                        .label(s.label.as_str())
+                        .legend(legend);
+                }
+            }
+            chart
+                .configure_series_labels()
+                .label_font((FONT, 15))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(e)?;
+        }
+        Ok(())
+    }
+}
+
+/// Draws `panels` into `path` (PNG or SVG by extension).
+pub fn draw(path: &Path, panels: Vec<Panel>) -> Result<()> {
+    plot::render(path, &Panels(panels)).map_err(|source| TuneError::Plot {
+        path: path.to_path_buf(),
+        message: source.to_string(),
+    })
+}

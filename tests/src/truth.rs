@@ -296,7 +296,7 @@ impl TruthCase {
 
     /// Static compression (m) under the axial force `force_n`: the root of
     /// `k x + k3 x^3 = force` (Newton from the linear root; the left side is monotonic
-    /// for k3 >= 0 and for the mild softening any case here uses).
+    /// for k3 >= 0, as in every case here).
     pub fn compression_under(&self, force_n: f64) -> f64 {
         let k = self.linear_stiffness_n_m();
         let k3 = self.effect.cubic();
@@ -539,8 +539,9 @@ pub struct Trajectory {
     pub rotation: Vec<f64>,
 }
 
-/// Integrates the case from its gravity equilibrium with the impulse, for
-/// `lead_samples + samples` sample periods, and keeps the last `samples`.
+/// Integrates the case from its gravity equilibrium with the impulse and keeps `samples`
+/// samples after `lead_samples` (at least 1, so that the first sample's averaging window
+/// lies inside the run).
 pub fn simulate(case: &TruthCase, lead_samples: usize, samples: usize) -> Trajectory {
     simulate_chain(case, &case.chain(), lead_samples, samples)
 }

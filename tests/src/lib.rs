@@ -290,3 +290,4 @@ impl Spring {
         m
     }
 }
+pub mod truth;

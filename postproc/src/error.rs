@@ -140,6 +140,33 @@ pub enum PostError {
         hint: String,
     },
 
+    /// Fewer usable points than a fit needs (cycles for the loss fit, samples of a static
+    /// record, ...).
+    #[error("{what}: {found} usable points, need at least {needed}; {hint}")]
+    TooFewPoints {
+        what: &'static str,
+        found: usize,
+        needed: usize,
+        hint: String,
+    },
+
+    /// A static record without any point where the compression increases.
+    #[error(
+        "static record: no loading branch ({increasing} of {points} points have increasing \
+         displacement, need at least {needed}); expected compression that grows, then (optionally) \
+         shrinks"
+    )]
+    NoLoadingBranch {
+        points: usize,
+        increasing: usize,
+        needed: usize,
+    },
+
+    /// The data do not determine a quantity (a singular fit, a value no model parameter can
+    /// produce).
+    #[error("{what} cannot be identified: {why}")]
+    Unidentifiable { what: &'static str, why: String },
+
     /// An option value is out of its valid range.
     #[error("invalid option: {0}")]
     InvalidOption(String),

@@ -12,6 +12,9 @@
 //! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
 //! - [`spectrum`]: windowed, zero-padded amplitude spectrum with interpolated peaks.
 //! - [`envelope`]: Hilbert envelope, instantaneous frequency, backbone and damping curves.
+//! - [`signature`]: per-cycle amplitude and frequency, loss per cycle, backbone, envelope
+//!   shape and side peaks: what a linear model misses.
+//! - [`static_curve`]: force-compression records: stiffness, cubic term, friction.
 //! - [`plot`]: PNG/SVG plots with an embedded font.
 //! - [`output`]: temp-file-and-rename writing.
 
@@ -24,7 +27,9 @@ pub mod output;
 pub mod peaks;
 pub mod plot;
 pub mod signal;
+pub mod signature;
 pub mod spectrum;
+pub mod static_curve;
 
 #[cfg(test)]
 mod test_signals;

@@ -114,6 +114,8 @@ impl Signal {
     pub fn locate(&self, error: PostError) -> PostError {
         match error {
             PostError::TooFewPeaks { .. }
+            | PostError::TooFewPoints { .. }
+            | PostError::Unidentifiable { .. }
             | PostError::InvalidSignal { .. }
             | PostError::InvalidOption(_) => PostError::Analysis {
                 path: self.source.clone(),
@@ -272,9 +274,23 @@ fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
     source.header(&mut reader)
 }
 
-/// Reads `time_s` and the selected columns of a CSV file, checking every cell and the time
-/// axis. Errors name the file and line.
-pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
+/// Named columns of a CSV file, every cell checked, with the physical line of each row.
+pub struct Fields {
+    pub header: Vec<String>,
+    pub header_line: u64,
+    /// One vector per requested name, in the order requested.
+    pub values: Vec<Vec<f64>>,
+    /// Printed resolution of each cell of the first requested column (see
+    /// `printed_resolution`).
+    pub first_resolution: Vec<f64>,
+    /// Line of each row.
+    pub lines: Vec<u64>,
+}
+
+/// Reads the columns `names` (in that order) of a CSV file, with the same syntax and checks
+/// as [`read_csv_columns`] but no time axis: for records such as `static.csv`
+/// (`displacement_mm,force_n`). Errors name the file and line.
+pub fn read_fields(path: &Path, names: &[&str]) -> Result<Fields> {
     let source = Source::open(path)?;
     let mut reader = source.reader();
     let (header, header_line) = source.header(&mut reader)?;
@@ -282,11 +298,7 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
     let mut first_field: HashMap<&str, usize> = HashMap::new();
     for (field, name) in header.iter().enumerate() {
         if let Some(&first) = first_field.get(name.as_str()) {
-            let requested = match columns {
-                Columns::All => true,
-                Columns::Named(names) => name == TIME_COLUMN || names.contains(&name.as_str()),
-            };
-            if requested {
+            if names.contains(&name.as_str()) {
                 return Err(PostError::DuplicateColumn {
                     path: path.to_path_buf(),
                     line: header_line,
@@ -299,35 +311,24 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
             first_field.insert(name, field);
         }
     }
-    let field_of = |name: &str| {
-        first_field
-            .get(name)
-            .copied()
-            .ok_or_else(|| PostError::MissingColumn {
-                path: path.to_path_buf(),
-                line: header_line,
-                column: name.to_string(),
-                available: header.clone(),
-            })
-    };
-    let time_field = field_of(TIME_COLUMN)?;
-    let wanted: Vec<String> = match columns {
-        Columns::All => header
-            .iter()
-            .filter(|name| name.as_str() != TIME_COLUMN)
-            .cloned()
-            .collect(),
-        Columns::Named(names) => names.iter().map(|name| name.to_string()).collect(),
-    };
-    let wanted_fields = wanted
+    let wanted_fields = names
         .iter()
-        .map(|name| field_of(name))
+        .map(|name| {
+            first_field
+                .get(name)
+                .copied()
+                .ok_or_else(|| PostError::MissingColumn {
+                    path: path.to_path_buf(),
+                    line: header_line,
+                    column: name.to_string(),
+                    available: header.clone(),
+                })
+        })
         .collect::<Result<Vec<_>>>()?;
 
-    let mut time_s = Vec::new();
-    let mut time_resolution = Vec::new();
+    let mut first_resolution = Vec::new();
     let mut lines = Vec::new();
-    let mut values: Vec<Vec<f64>> = vec![Vec::new(); wanted.len()];
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     let mut record = csv::StringRecord::new();
     loop {
         match reader.read_record(&mut record) {
@@ -336,14 +337,47 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
             Err(error) => return Err(source.csv_error(error)),
         }
         let line = source.line(record.position().map_or(0, csv::Position::record));
-        let text = &record[time_field];
-        time_s.push(parse_cell(path, line, TIME_COLUMN, text)?);
-        time_resolution.push(printed_resolution(text));
         lines.push(line);
-        for (column, (&field, name)) in wanted_fields.iter().zip(&wanted).enumerate() {
-            values[column].push(parse_cell(path, line, name, &record[field])?);
+        for (column, (&field, name)) in wanted_fields.iter().zip(names).enumerate() {
+            let text = &record[field];
+            if column == 0 {
+                first_resolution.push(printed_resolution(text));
+            }
+            values[column].push(parse_cell(path, line, name, text)?);
         }
     }
+    Ok(Fields {
+        header,
+        header_line,
+        values,
+        first_resolution,
+        lines,
+    })
+}
+
+/// Reads `time_s` and the selected columns of a CSV file, checking every cell and the time
+/// axis. Errors name the file and line.
+pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
+    let (header, _) = read_header(path)?;
+    let wanted: Vec<String> = match columns {
+        // Every header name is requested, so `read_fields` reports any repeated one.
+        Columns::All => header
+            .iter()
+            .filter(|name| name.as_str() != TIME_COLUMN)
+            .cloned()
+            .collect(),
+        Columns::Named(names) => names.iter().map(|name| name.to_string()).collect(),
+    };
+    let mut names: Vec<&str> = vec![TIME_COLUMN];
+    names.extend(wanted.iter().map(String::as_str));
+    let mut fields = read_fields(path, &names)?;
+    let header_line = fields.header_line;
+    let lines = std::mem::take(&mut fields.lines);
+    let time_resolution = std::mem::take(&mut fields.first_resolution);
+    let mut columns = fields.values.into_iter();
+    let time_s = columns.next().unwrap_or_default();
+    let values: Vec<Vec<f64>> = columns.collect();
+    let header = fields.header;
 
     if time_s.len() < MIN_SAMPLES {
         return Err(PostError::TooFewSamples {

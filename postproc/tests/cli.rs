@@ -527,3 +527,73 @@ fn bad_inputs_give_located_messages_and_no_output() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
+
+/// `coil-post signature`: the paper's 4.35 Hz record (zeta 0.00175, 20 s) gives the
+/// viscous loss `a1 = 2 pi zeta` and an exponential envelope; the table prints every part.
+#[test]
+fn signature_reads_a_viscous_decay() {
+    let folder = tempfile::tempdir().unwrap();
+    let (path, decay) = paper_record(folder.path(), 4);
+    let file = path_str(&path);
+    let value = run_json(&["signature", file, "--json"]);
+    let delta = TAU * decay.zeta / (1.0 - decay.zeta * decay.zeta).sqrt();
+    let a1 = number(
+        &value["loss"]["single"]["viscous_a1"]["coefficient"],
+        "value",
+    );
+    // Clean record: the windowed slopes are exact to ~1e-4 relative.
+    assert!((a1 - delta).abs() < 0.01 * delta, "a1 {a1} vs {delta}");
+    assert_eq!(value["envelope_shape"]["kind"], "exponential", "{value}");
+    let f0 = number(&value["backbone"]["f0_hz"], "value");
+    assert!((f0 - 1.0 / decay.period_s()).abs() < 1e-3, "f0 {f0}");
+    assert!(value["spectral_peaks"]["side"].is_null(), "{value}");
+    assert!(value["cycles"]["cycles"].as_array().unwrap().len() > 60);
+
+    let output = run(&["signature", file]);
+    assert!(output.status.success());
+    let text = String::from_utf8_lossy(&output.stdout);
+    for part in [
+        "loss per cycle",
+        "backbone",
+        "envelope shape",
+        "spectral peaks",
+    ] {
+        assert!(text.contains(part), "no `{part}` in\n{text}");
+    }
+}
+
+/// `coil-post static`: a loading-unloading loop with friction 0.8 N gives k, k3 and Ff; a
+/// record that only unloads is an error naming the missing branch.
+#[test]
+fn static_fits_a_loop_and_refuses_a_record_without_loading() {
+    let folder = tempfile::tempdir().unwrap();
+    let (k, k3, friction) = (3.93, 1e-4, 0.8);
+    let mut text = String::from("displacement_mm,force_n\n");
+    let mut unloading_only = String::from("displacement_mm,force_n\n");
+    for i in 0..300 {
+        let (x, s) = if i < 150 {
+            (40.0 * i as f64 / 149.0, 1.0)
+        } else {
+            (40.0 * (299 - i) as f64 / 149.0, -1.0)
+        };
+        let line = format!("{x},{}\n", k * x + k3 * x.powi(3) + s * friction);
+        text.push_str(&line);
+        if s < 0.0 {
+            unloading_only.push_str(&line);
+        }
+    }
+    let path = folder.path().join("static.csv");
+    std::fs::write(&path, text).unwrap();
+    let value = run_json(&["static", path_str(&path), "--json"]);
+    // Exact data: the fit is exact to round-off.
+    assert!((number(&value["stiffness_n_mm"], "value") - k).abs() < 1e-9);
+    assert!((number(&value["cubic_n_m3"], "value") - k3 * 1e9).abs() < 1e-3);
+    assert!((number(&value["friction_n"], "value") - friction).abs() < 1e-9);
+
+    let bad = folder.path().join("unloading.csv");
+    std::fs::write(&bad, unloading_only).unwrap();
+    let output = run(&["static", path_str(&bad)]);
+    assert_eq!(output.status.code(), Some(1));
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(message.contains("no loading branch"), "{message}");
+}

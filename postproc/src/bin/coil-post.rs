@@ -13,7 +13,9 @@ use coil_postproc::envelope::{self, EnvelopeOptions, EnvelopeReport};
 use coil_postproc::filter::DEFAULT_ORDER;
 use coil_postproc::peaks::{PeakFit, Polarity};
 use coil_postproc::signal::{self, Detrend, Signal};
+use coil_postproc::signature::{self, CycleOptions, Estimate};
 use coil_postproc::spectrum::{self, SpectralPeak, Spectrum, SpectrumOptions, Window};
+use coil_postproc::static_curve::{self, StaticFit};
 use coil_postproc::{output, plot, PostError, Result};
 
 #[derive(Parser)]
@@ -38,6 +40,33 @@ enum Command {
     Envelope(EnvelopeArgs),
     /// PNG or SVG plot of a time history, spectrum or envelope.
     Plot(PlotArgs),
+    /// What a linear model misses in a free decay (acceleration in m/s^2): per-cycle
+    /// amplitude and frequency, loss per cycle, backbone, envelope shape, side peak.
+    Signature(SignatureArgs),
+    /// Stiffness, cubic stiffness and friction of a static.csv (displacement_mm, force_n).
+    Static(StaticArgs),
+}
+
+#[derive(Args)]
+struct SignatureArgs {
+    #[command(flatten)]
+    input: Input,
+    #[command(flatten)]
+    report: Report,
+    /// Band-pass around the dominant peak, from (1 - B) f0 to (1 + B) f0.
+    #[arg(long, value_name = "B", default_value_t = signature::DEFAULT_BAND)]
+    band: f64,
+    /// No band-pass at all.
+    #[arg(long, conflicts_with = "band")]
+    no_band: bool,
+}
+
+#[derive(Args)]
+struct StaticArgs {
+    /// CSV file with `displacement_mm` and `force_n` columns.
+    file: PathBuf,
+    #[command(flatten)]
+    report: Report,
 }
 
 #[derive(Args)]
@@ -239,6 +268,8 @@ fn main() -> ExitCode {
         Command::Spectrum(args) => run_spectrum(&args),
         Command::Envelope(args) => run_envelope(&args),
         Command::Plot(args) => run_plot(&args),
+        Command::Signature(args) => run_signature(&args),
+        Command::Static(args) => run_static(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -574,4 +605,193 @@ fn run_plot(args: &PlotArgs) -> Result<()> {
             plot::envelopes(&traces, &args.out)
         }
     }
+}
+
+/// A part of the signature, or the reason it could not be computed (the other parts still
+/// print).
+fn part<T: serde::Serialize>(result: &Result<T>) -> Result<Value> {
+    match result {
+        Ok(value) => to_value(value),
+        Err(error) => Ok(json!({ "error": error.to_string() })),
+    }
+}
+
+fn estimate(e: &Estimate) -> String {
+    format!("{:.6e} +- {:.2e}", e.value, e.std_error)
+}
+
+fn run_signature(args: &SignatureArgs) -> Result<()> {
+    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let options = CycleOptions {
+        band: (!args.no_band).then_some(args.band),
+        ..CycleOptions::default()
+    };
+    // Without cycles nothing else can be measured: that is the command's error.
+    let series = signature::cycles(&signal, &options)?;
+    let locate = |error| signal.locate(error);
+    let loss = signature::loss_per_cycle(&series.cycles).map_err(locate);
+    let backbone = signature::backbone(&series.cycles).map_err(locate);
+    let shape = signature::envelope_shape(&series.cycles).map_err(locate);
+    let spectral = signature::spectral_peaks(&signal);
+    let value = merge(
+        header(&signal),
+        json!({
+            "cycles": to_value(&series)?,
+            "loss": part(&loss)?,
+            "backbone": part(&backbone)?,
+            "envelope_shape": part(&shape)?,
+            "spectral_peaks": part(&spectral)?,
+        }),
+    );
+    emit(&args.report, &value, || {
+        let band = series.band_hz.map_or("none".to_string(), |(low, high)| {
+            format!("{low:.4} to {high:.4} Hz (order {})", series.filter_order)
+        });
+        let mut text = format!(
+            "{}: dominant {:.6} Hz, band-pass {band}, {} cycles ({} rejected, {:.3} s guarded at each end)\n",
+            label(&signal),
+            series.dominant_frequency_hz,
+            series.cycles.len(),
+            series.rejected,
+            series.edge_guard_s
+        );
+        if let (Some(first), Some(last)) = (series.cycles.first(), series.cycles.last()) {
+            text.push_str(&format!(
+                "first cycle t {:.3} s: A {:.4e} m, f {:.5} Hz; last cycle t {:.3} s: A {:.4e} m, f {:.5} Hz\n",
+                first.time_s, first.amplitude_m, first.frequency_hz,
+                last.time_s, last.amplitude_m, last.frequency_hz
+            ));
+        }
+        text.push_str("\nloss per cycle dA = a0 + a1 A + a2 A^2 (A in m):\n");
+        match &loss {
+            Ok(loss) => {
+                text.push_str(&format!(
+                    "  a0 {} m   a1 {}   a2 {} 1/m   (reduced chi2 {:.3}, {} windows of {} cycles, A {:.3e} to {:.3e} m)\n",
+                    estimate(&loss.a0_m), estimate(&loss.a1), estimate(&loss.a2_per_m),
+                    loss.reduced_chi2, loss.points.len(), loss.cycles_per_window,
+                    loss.amplitude_range_m.0, loss.amplitude_range_m.1
+                ));
+                let single = &loss.single;
+                text.push_str(&format!(
+                    "  alone: a0 {} (chi2 {:.3}), a1 {} (chi2 {:.3}), a2 {} (chi2 {:.3})\n",
+                    estimate(&single.coulomb_a0_m.coefficient),
+                    single.coulomb_a0_m.reduced_chi2,
+                    estimate(&single.viscous_a1.coefficient),
+                    single.viscous_a1.reduced_chi2,
+                    estimate(&single.quadratic_a2_per_m.coefficient),
+                    single.quadratic_a2_per_m.reduced_chi2
+                ));
+            }
+            Err(error) => text.push_str(&format!("  not available: {error}\n")),
+        }
+        text.push_str("\nbackbone f^2 = f0^2 (1 + b A^2):\n");
+        match &backbone {
+            Ok(b) => text.push_str(&format!(
+                "  f0 {} Hz   b {} 1/m^2   (b A_max^2 = {:.3e}, residual {:.3e} Hz)\n",
+                estimate(&b.f0_hz),
+                estimate(&b.b_per_m2),
+                b.shift_at_largest,
+                b.residual_rms_hz
+            )),
+            Err(error) => text.push_str(&format!("  not available: {error}\n")),
+        }
+        text.push_str("\nenvelope shape:\n");
+        match &shape {
+            Ok(s) => {
+                text.push_str(&format!(
+                    "  {:?}: R^2 exponential {:.6}, linear {:.6}, beating {}\n",
+                    s.kind,
+                    s.r2_exponential,
+                    s.r2_linear,
+                    s.r2_beating.map_or("-".to_string(), |r| format!("{r:.6}"))
+                ));
+                if let (Some(period), Some(ratio), Some(depth)) = (
+                    s.beat_candidate_period_s,
+                    s.beat_variance_ratio,
+                    s.modulation_depth,
+                ) {
+                    text.push_str(&format!(
+                        "  beat candidate {period:.4} s: residual ratio {ratio:.3}, depth {depth:.3}\n"
+                    ));
+                }
+            }
+            Err(error) => text.push_str(&format!("  not available: {error}\n")),
+        }
+        text.push_str("\nspectral peaks:\n");
+        match &spectral {
+            Ok(p) => {
+                text.push_str(&format!(
+                    "  axial {:.6} Hz, amplitude {:.4e} (bin {:.5} Hz)\n",
+                    p.axial.frequency_hz, p.axial.amplitude, p.native_bin_hz
+                ));
+                match &p.side {
+                    Some(side) => text.push_str(&format!(
+                        "  side  {:.6} Hz, relative amplitude {:.4}, beat period {:.4} s\n",
+                        side.frequency_hz, side.relative_amplitude, side.beat_period_s
+                    )),
+                    None => text.push_str("  no side peak within 0.7-1.3 f above 2%\n"),
+                }
+            }
+            Err(error) => text.push_str(&format!("  not available: {error}\n")),
+        }
+        text
+    })
+}
+
+fn run_static(args: &StaticArgs) -> Result<()> {
+    let (displacement, force) = static_curve::read_static_csv(&args.file)?;
+    let fit = static_curve::analyze_static(&displacement, &force).map_err(|error| {
+        PostError::Analysis {
+            path: args.file.clone(),
+            column: "displacement_mm, force_n".to_string(),
+            error: Box::new(error),
+        }
+    })?;
+    let value = merge(
+        json!({ "file": args.file.display().to_string() }),
+        to_value(&fit)?,
+    );
+    emit(&args.report, &value, || static_table(&args.file, &fit))
+}
+
+fn static_table(file: &Path, fit: &StaticFit) -> String {
+    let friction = |f: &Option<Estimate>| {
+        f.as_ref()
+            .map_or("- (no unloading branch)".to_string(), estimate)
+    };
+    let mut text = format!(
+        "{}: {} points, {} loading, {} unloading, {} excluded\n\n",
+        file.display(),
+        fit.points,
+        fit.loading_points,
+        fit.unloading_points,
+        fit.excluded_points
+    );
+    text.push_str(&format!(
+        "F = k x + k3 x^3 + s Ff:  k {} N/mm   k3 {} N/mm^3 ({} N/m^3)   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
+        estimate(&fit.stiffness_n_mm),
+        estimate(&fit.cubic_n_mm3),
+        estimate(&fit.cubic_n_m3),
+        friction(&fit.friction_n),
+        fit.cubic.residual_rms_n,
+        fit.cubic.r2
+    ));
+    text.push_str(&format!(
+        "F = k x + s Ff:           k {} N/mm   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
+        estimate(&fit.linear.stiffness_n_mm),
+        friction(&fit.linear.friction_n),
+        fit.linear.quality.residual_rms_n,
+        fit.linear.quality.r2
+    ));
+    let o = &fit.with_offset;
+    text.push_str(&format!(
+        "with offset F0:           F0 {} N   k {} N/mm   k3 {} N/mm^3   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
+        estimate(&o.offset_n),
+        estimate(&o.stiffness_n_mm),
+        estimate(&o.cubic_n_mm3),
+        friction(&o.friction_n),
+        o.quality.residual_rms_n,
+        o.quality.r2
+    ));
+    text
 }

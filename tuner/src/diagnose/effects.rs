@@ -169,7 +169,10 @@ impl Effect for CubicStiffness {
     }
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
         let mut text = Vec::new();
-        let mut best: Option<(f64, f64)> = None;
+        let mut values = Vec::new();
+        let mut z_score: f64 = 0.0;
+        // The static curvature first: a direct measurement of k3 at the free length;
+        // the backbone's value rests on a first-order expansion about the preload.
         if let Some(st) = &s.statics {
             let z = st.k3_n_m3 / st.k3_se;
             text.push(format!(
@@ -177,30 +180,35 @@ impl Effect for CubicStiffness {
                  linear {:.4} N, cubic {:.4} N)",
                 st.k3_n_m3, st.linear_rms_n, st.cubic_rms_n
             ));
-            best = Some((st.k3_n_m3, z));
+            values.push(st.k3_n_m3);
+            z_score = z_score.max(z);
         }
         if let Some(bb) = s.backbone {
-            let k3 = bb.k3_n_m3;
             let z = bb.b_per_m2 / bb.b_se;
             text.push(format!(
                 "backbone f^2 = f0^2 (1 + b A^2), b = {:.4e} 1/m^2 ({z:.1} standard errors) \
-                 gives k3 = {k3:.4e} N/m^3",
-                bb.b_per_m2
+                 gives k3 = {:.4e} N/m^3",
+                bb.b_per_m2, bb.k3_n_m3
             ));
-            if best.is_none_or(|(_, zs)| z.abs() > zs.abs()) {
-                best = Some((k3, z));
-            }
+            values.push(bb.k3_n_m3);
+            z_score = z_score.max(z);
         }
         let fallback = 0.01 * b.stiffness_n_m / b.amplitude_m.max(b.preload_m).max(1e-6).powi(2);
-        let (value, z) = best.unwrap_or((f64::NAN, 0.0));
+        let mut starts: Vec<f64> = values
+            .into_iter()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .collect();
+        if starts.is_empty() {
+            starts = vec![fallback, 0.1 * fallback, 10.0 * fallback];
+        }
         Proposal {
             evidence: if text.is_empty() {
                 "no static record and no backbone".into()
             } else {
                 text.join("; ")
             },
-            starts: starts(value, fallback),
-            z_score: z.max(0.0),
+            starts,
+            z_score,
         }
     }
 }

@@ -110,9 +110,9 @@ pub struct Outcome {
     pub step_fraction: f64,
 }
 
-fn progress(settings: &DiagnoseSettings, text: &str) {
+fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
     if settings.progress {
-        eprintln!("diagnose: {text}");
+        eprintln!("diagnose [{:6.2} s]: {text}", clock.elapsed().as_secs_f64());
     }
 }
 
@@ -141,7 +141,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let measured = decay.signal.values.clone();
     let step = decay.signal.step_s;
 
-    progress(settings, "baseline (the paper's loops)");
+    progress(settings, &clock, "baseline (the paper's loops)");
     let static_fit = statics
         .as_ref()
         .map(|(r, b)| signatures::static_fit(r, b.clone()))
@@ -210,37 +210,35 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let baseline_half = run(&linear_problem(half_phys, 0..half, vec![]))?;
     let baseline = model_run(baseline_full, baseline_half, &measured, half);
 
-    progress(settings, "reference (linear model by output error)");
+    progress(settings, &clock, "reference (linear model by output error)");
+    // Continuation over growing windows (first quarter, first half, whole record): the
+    // residual of an oscillator is nonlinear in its frequency through the phase it
+    // accumulates, so a long window is fitted from a start that already holds the
+    // phase; the first-half fit is the forecast's.
     let knobs = vec![Knob::Mass, Knob::Beta];
-    let reference_full = run(&linear_problem(base_phys, 0..n, knobs.clone()))?;
-    let reference_half = run(&linear_problem(reference_full.physical, 0..half, knobs))?;
+    let quarter = run(&linear_problem(base_phys, 0..n / 4, knobs.clone()))?;
+    let reference_half = run(&linear_problem(quarter.physical, 0..half, knobs.clone()))?;
+    let reference_full = run(&linear_problem(reference_half.physical, 0..n, knobs))?;
     let reference = model_run(reference_full, reference_half, &measured, half);
     let noise = (reference.full.rss / n as f64).sqrt();
 
-    progress(settings, "signatures");
-    let figures = BaselineFigures {
-        mass_kg: reference.full.physical.mass_kg,
-        stiffness_n_m: guided.stiffness_n_m(&reference.full.physical),
-        frequency_hz: 1.0 / period_s,
-        amplitude_m: 0.0,
-        preload_m: 0.0,
-        kz: 0.0,
-        c: 0.0,
-        kt: 0.0,
-    };
+    progress(settings, &clock, "signatures");
+    let w_ref = std::f64::consts::TAU / period_s;
+    let stiffness_n_m = guided.stiffness_n_m(&reference.full.physical);
     let free = ReducedSpring::build(&state, &settings.fe, Mount::FreeRotation, settings.modes)?;
     let (kz, c, kt) = free.boundary_stiffness(&reference.full.physical);
-    let (sigs, spectrum) = signatures::compute(&decay, static_fit, &figures)?;
     let figures = BaselineFigures {
+        mass_kg: reference.full.physical.mass_kg,
+        stiffness_n_m,
+        frequency_hz: 1.0 / period_s,
         // The largest displacement amplitude: peak acceleration over w^2.
-        amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs()))
-            / (std::f64::consts::TAU / period_s).powi(2),
-        preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / figures.stiffness_n_m,
+        amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs())) / (w_ref * w_ref),
+        preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / stiffness_n_m,
         kz,
         c,
         kt,
-        ..figures
     };
+    let (sigs, spectrum) = signatures::compute(&decay, static_fit, &figures)?;
 
     let statics_block = statics
         .as_ref()
@@ -253,7 +251,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
 
     let mut candidates = Vec::new();
     for effect in CATALOGUE {
-        progress(settings, &format!("candidate {}", effect.name()));
+        progress(settings, &clock, &format!("candidate {}", effect.name()));
         let proposal = effect.propose(&sigs, &figures);
         let model = match effect.mount() {
             Mount::Guided => &guided,
@@ -362,46 +360,39 @@ fn fit_effect(
         statics,
         initial_state: init,
     };
-    let mut best: Option<(f64, Physical)> = None;
+    // Each start is fitted on the first quarter (cheap); the best seeds the first-half
+    // fit (the forecast's), which seeds the whole record's.
+    let mut best: Option<Fitted> = None;
+    let mut last_error = String::from("no starting value");
     for &s in starts {
         let start = Physical { effect: s, ..base };
-        let p = problem(start, 0..n, initial.clone());
-        let cost = lm::Residuals::residuals(&p, &initial_params(&p))
-            .map(|r| r.iter().map(|x| x * x).sum::<f64>())
-            .unwrap_or(f64::INFINITY);
-        if best.is_none_or(|(c, _)| cost < c) {
-            best = Some((cost, start));
+        match fit::run(&problem(start, 0..n / 4, initial.clone()), max_iterations) {
+            Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
+            Ok(_) => {}
+            Err(e) => last_error = e,
         }
     }
-    let (_, start) = best.ok_or("no starting value")?;
-    let full = fit::run(&problem(start, 0..n, initial.clone()), max_iterations)?;
-    let half_init = if nonlinear {
-        Some(full.initial_state.clone())
-    } else {
-        None
-    };
-    let half_fit = fit::run(&problem(full.physical, 0..half, half_init), max_iterations)?;
-    Ok(model_run(full, half_fit, measured, half))
-}
-
-fn initial_params(p: &Problem<'_>) -> Vec<f64> {
-    let mut v: Vec<f64> = p
-        .knobs
-        .iter()
-        .map(|k| {
-            match k {
-                Knob::Mass => p.start.mass_kg,
-                Knob::Beta => p.start.beta_s,
-                Knob::Effect => p.start.effect,
-            }
-            .max(1e-300)
-            .ln()
-        })
-        .collect();
-    if let Some(s) = &p.initial_state {
-        v.extend(s);
+    let quarter = best.ok_or(last_error)?;
+    let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
+    let half_fit = fit::run(
+        &problem(quarter.physical, 0..half, state(&quarter)),
+        max_iterations,
+    )?;
+    let full = fit::run(
+        &problem(half_fit.physical, 0..n, state(&half_fit)),
+        max_iterations,
+    )?;
+    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+        eprintln!(
+            "  {}: full {} iterations {} runs, half {} iterations {} runs",
+            effect.name(),
+            full.iterations,
+            full.evaluations,
+            half_fit.iterations,
+            half_fit.evaluations
+        );
     }
-    v
+    Ok(model_run(full, half_fit, measured, half))
 }
 
 /// Writes the outcome into `out`: figures, tables, report.md and, last,

@@ -64,6 +64,12 @@ pub struct Candidate {
     pub delta_bic: Option<f64>,
     pub effective_samples: Option<f64>,
     pub significant: bool,
+    /// The fitted weight's mass (kg) and Rayleigh beta (s).
+    pub mass_kg: Option<f64>,
+    pub rayleigh_beta: Option<f64>,
+    /// The fitted state at the record's first sample about the static equilibrium:
+    /// per boundary DOF, displacement (mm or rad) then velocity (mm/s or rad/s).
+    pub initial_state: Vec<f64>,
     pub fit_error: Option<String>,
 }
 
@@ -136,6 +142,9 @@ pub fn assemble(
                 delta_bic: score.map(|s| s.delta_bic),
                 effective_samples: score.map(|s| s.n_eff),
                 significant: score.is_some_and(|s| s.significant),
+                mass_kg: ok.map(|r| r.full.physical.mass_kg),
+                rayleigh_beta: ok.map(|r| r.full.physical.beta_s),
+                initial_state: ok.map(|r| r.full.initial_state.clone()).unwrap_or_default(),
                 fit_error: run.as_ref().err().cloned(),
             }
         })

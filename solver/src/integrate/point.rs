@@ -91,6 +91,20 @@ impl PointLaw {
     /// Solves `f in law(u* - h f, v* - g f)` for the end-of-step force (module docs).
     /// `h >= 0`, `g > 0`. Returns `None` only if an input is not finite.
     pub fn solve(&self, u_star: f64, v_star: f64, h: f64, g: f64) -> Option<PointSolve> {
+        self.solve_from(u_star, v_star, h, g, None)
+    }
+
+    /// As [`PointLaw::solve`], with Newton's iteration started from `guess` (e.g. the
+    /// previous step's force) when it is on the sliding branch's side. The root is the
+    /// same; only the work to reach it changes.
+    pub fn solve_from(
+        &self,
+        u_star: f64,
+        v_star: f64,
+        h: f64,
+        g: f64,
+        guess: Option<f64>,
+    ) -> Option<PointSolve> {
         if !(u_star.is_finite() && v_star.is_finite() && h.is_finite() && g.is_finite())
             || h < 0.0
             || g <= 0.0
@@ -123,7 +137,10 @@ impl PointLaw {
             let v = v_star - g * f;
             1.0 + 3.0 * self.cubic * u * u * h + 2.0 * self.quadratic * v.abs() * g
         };
-        let force = solve_increasing(phi, dphi, lo, hi, sigma * self.friction)?;
+        let start = guess
+            .filter(|x| x.is_finite())
+            .unwrap_or(sigma * self.friction);
+        let force = solve_increasing(phi, dphi, lo, hi, start)?;
         Some(PointSolve {
             force,
             stuck: false,
@@ -141,10 +158,11 @@ fn solve_increasing(
     hi: f64,
     x0: f64,
 ) -> Option<f64> {
-    let mut x = x0.clamp(
+    let x0 = x0.clamp(
         if lo.is_finite() { lo } else { f64::MIN },
         if hi.is_finite() { hi } else { f64::MAX },
     );
+    let mut x = x0;
     let mut lo = lo;
     let mut hi = hi;
     let mut p = phi(x);
@@ -192,7 +210,9 @@ fn solve_increasing(
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
     }
-    let mut x = 0.5 * (lo + hi);
+    // Newton from the start when it lies in the bracket (a warm start from the last
+    // step's force converges in one or two steps), else from the bracket's middle.
+    let mut x = if x0 >= lo && x0 <= hi { x0 } else { 0.5 * (lo + hi) };
     for _ in 0..200 {
         let p = phi(x);
         if !p.is_finite() {

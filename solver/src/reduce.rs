@@ -106,12 +106,15 @@ pub enum ReduceError {
     Solve {
         context: &'static str,
         #[source]
-        source: SolveError,
+        source: Box<SolveError>,
     },
 }
 
 fn solve_err(context: &'static str) -> impl FnOnce(SolveError) -> ReduceError {
-    move |source| ReduceError::Solve { context, source }
+    move |source| ReduceError::Solve {
+        context,
+        source: Box::new(source),
+    }
 }
 
 /// A Craig-Bampton reduced model (see the module docs for the formulation and units).
@@ -225,9 +228,9 @@ pub fn craig_bampton(
             ),
         });
     }
-    let factor = interior
-        .factor_stiffness()
-        .map_err(solve_err("factoring K_ii (the model with the boundary held)"))?;
+    let factor = interior.factor_stiffness().map_err(solve_err(
+        "factoring K_ii (the model with the boundary held)",
+    ))?;
 
     let r = nb + n_modes;
     let mut basis = DMatrix::<f64>::zeros(n, r);
@@ -497,7 +500,12 @@ mod tests {
         let factor = system.factor_stiffness().unwrap();
         let full = modal::solve(&system, &factor, "full", 6).unwrap();
         let reduced = red.frequencies_hz(1.0, &[0.0, 0.0]).unwrap();
-        let top = red.fixed_interface_hz.last().copied().unwrap_or(0.0).powi(2);
+        let top = red
+            .fixed_interface_hz
+            .last()
+            .copied()
+            .unwrap_or(0.0)
+            .powi(2);
         for (mode, f) in full.modes.iter().zip(&reduced) {
             let tolerance = 100.0 * f64::EPSILON * top / mode.frequency_hz.powi(2);
             eprintln!("{f} vs {}: tolerance {tolerance:e}", mode.frequency_hz);

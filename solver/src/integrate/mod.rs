@@ -23,6 +23,7 @@
 
 mod banded;
 mod blocked;
+pub mod dense;
 pub mod error;
 mod factor;
 pub mod modal;
@@ -37,6 +38,7 @@ mod tests;
 
 use faer::sparse::SparseColMatRef;
 
+pub use dense::{DenseError, DenseStepper};
 pub use error::IntegrateError;
 pub use newmark::{integrate, Coefficients, Scheme, State, Stepper};
 pub use point::{PointLaw, PointSolve};

@@ -578,6 +578,7 @@ impl SpringSpec {
             initial_velocities,
             outputs,
             load_cases,
+            point_laws,
         })
     }
 }

@@ -27,8 +27,8 @@ pub mod error;
 mod factor;
 pub mod modal;
 pub mod newmark;
-pub mod point;
 mod operator;
+pub mod point;
 mod profile;
 mod sparse;
 

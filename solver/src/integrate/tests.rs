@@ -929,6 +929,7 @@ fn paper_like_spring(coils: usize, per_coil: usize, lumped_mass: bool) -> (Mck, 
         initial_velocities: Vec::new(),
         outputs: Vec::new(),
         load_cases: Vec::new(),
+        point_laws: Vec::new(),
     };
     let system = System::new(&model).unwrap();
     let weight = match system.dofs.status(system.dofs.full_index(1, 3).unwrap()) {

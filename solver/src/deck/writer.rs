@@ -15,6 +15,9 @@ use crate::model::{
     Analysis, Integrator, Model, PointElement, PointLoad, Quantity, Section, TransientMethod,
 };
 
+/// The value a nonlinear point card writes for an element, if it writes one.
+type PointValue = fn(&PointElement) -> Option<f64>;
+
 /// Ids per list line before a `C` continuation.
 const ITEMS_PER_LINE: usize = 10;
 
@@ -279,7 +282,7 @@ impl Writer<'_> {
 
         // One card per kind; an element with every value zero is kept as a zero
         // friction line so that it reads back.
-        let cards: [(&str, &str, fn(&PointElement) -> Option<f64>); 3] = [
+        let cards: [(&str, &str, PointValue); 3] = [
             ("FRICTION", "node, dof, friction force (N)", |e| {
                 (e.friction != 0.0 || e.law().is_zero()).then_some(e.friction)
             }),

@@ -23,7 +23,8 @@
 //! iterated from `u = E^T q_lin` (halving a step that does not reduce the residual)
 //! until the residual is below 1e-12 of `|E^T q_lin|`, at most [`MAX_NEWTON`]
 //! iterations; the iterations are reported in [`StaticSolution::iterations`]. The
-//! reported `relative_residual` includes the springs' forces. Friction and the
+//! reported `relative_residual` includes the springs' forces, and a loaded DOF's F/u
+//! (`stiffness_n_mm`) is then the secant stiffness. Friction and the
 //! velocity-squared dashpot exert no static force: a quasi-static friction path (the
 //! hysteresis of a slow load cycle) is not modelled in a static load case.
 

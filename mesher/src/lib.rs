@@ -24,6 +24,13 @@
 //! about the axis is free too; `held`: node 1 is fixed (a bare spring between two plates,
 //! for surge modes).
 //!
+//! # Nonlinear extras (optional, zero by default)
+//! `friction_n`, `quadratic_damping_n_s2_m2` and `cubic_stiffness_n_m3` put the deck
+//! cards `FRICTION`, `QUADRATIC DAMPER` and `CUBIC SPRING` on the weight's axial DOF
+//! (node 1, DOF 3), converted to solver units (N; N s^2/mm^2 = 1e-6 N s^2/m^2;
+//! N/mm^3 = 1e-9 N/m^3). They need the axial DOF free (not `held`) and a Newmark
+//! transient.
+//!
 //! # Units
 //! The spec's names carry SI or engineering units (`_mm`, `_mpa`, `_kg`, `_m_s`); the deck
 //! is in mm, N, t, s (see `coil_solver::model`). Conversions happen here, once.
@@ -33,7 +40,7 @@ pub mod closed_form;
 use coil_solver::model::{
     units, Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry,
     InitialVelocity, Integrator, LoadCase, Material, Model, Node, NodeSet, OutputRequest,
-    PointLoad, PointMass, Quantity, RigidTie, Section, TransientMethod,
+    PointElement, PointLoad, PointMass, Quantity, RigidTie, Section, TransientMethod,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -150,6 +157,15 @@ pub struct SpringSpec {
     /// Rayleigh alpha on the weight's point mass too (a DAMPING entry naming node 1).
     /// Off by default: the paper's damping is the wire's material damping.
     pub alpha_on_weight: bool,
+    /// Dry (Coulomb) friction force on the weight's axial motion (N): a `FRICTION`
+    /// card on node 1, DOF 3. 0 = none.
+    pub friction_n: f64,
+    /// Velocity-squared drag `c2 v|v|` on the weight's axial motion (N s^2/m^2): a
+    /// `QUADRATIC DAMPER` card on node 1, DOF 3. 0 = none.
+    pub quadratic_damping_n_s2_m2: f64,
+    /// Cubic restoring force `k3 u^3` on the weight's axial displacement from the free
+    /// length (N/m^3): a `CUBIC SPRING` card on node 1, DOF 3. 0 = none.
+    pub cubic_stiffness_n_m3: f64,
 }
 
 impl Default for SpringSpec {
@@ -185,6 +201,9 @@ impl Default for SpringSpec {
             rho_inf: 0.8,
             transient_modes: 20,
             alpha_on_weight: false,
+            friction_n: 0.0,
+            quadratic_damping_n_s2_m2: 0.0,
+            cubic_stiffness_n_m3: 0.0,
         }
     }
 }
@@ -318,6 +337,31 @@ impl SpringSpec {
             self.force_n,
             "a finite force",
         )?;
+        for (value, field) in [
+            (self.friction_n, "friction_n"),
+            (self.quadratic_damping_n_s2_m2, "quadratic_damping_n_s2_m2"),
+            (self.cubic_stiffness_n_m3, "cubic_stiffness_n_m3"),
+        ] {
+            check(value >= 0.0, field, value, "a value >= 0")?;
+            if value > 0.0 && self.top == Top::Held {
+                return Err(SpecError {
+                    field,
+                    value: value.to_string(),
+                    expected: "0 with top = held (the weight's axial DOF is fixed)",
+                });
+            }
+            if value > 0.0
+                && self.analyses.contains(&AnalysisKind::Transient)
+                && self.transient_method != TransientScheme::Newmark
+            {
+                return Err(SpecError {
+                    field,
+                    value: value.to_string(),
+                    expected: "0 unless transient_method = newmark (nonlinear point \
+                               elements need direct average acceleration)",
+                });
+            }
+        }
         check(self.alpha >= 0.0, "alpha", self.alpha, "alpha >= 0")?;
         check(self.beta >= 0.0, "beta", self.beta, "beta >= 0")?;
         check(
@@ -468,6 +512,21 @@ impl SpringSpec {
             });
         }
 
+        let point_laws = if self.friction_n > 0.0
+            || self.quadratic_damping_n_s2_m2 > 0.0
+            || self.cubic_stiffness_n_m3 > 0.0
+        {
+            vec![PointElement {
+                node: WEIGHT_NODE,
+                dof: 3,
+                cubic: units::cubic_stiffness_from_si(self.cubic_stiffness_n_m3),
+                quadratic: units::quadratic_damping_from_si(self.quadratic_damping_n_s2_m2),
+                friction: self.friction_n,
+            }]
+        } else {
+            Vec::new()
+        };
+
         let mut initial_velocities = Vec::new();
         let mut outputs = Vec::new();
         let mut load_cases = Vec::new();
@@ -578,6 +637,7 @@ impl SpringSpec {
             initial_velocities,
             outputs,
             load_cases,
+            point_laws,
         })
     }
 }
@@ -775,6 +835,52 @@ mod tests {
         assert_eq!(model.damping.len(), 1);
         assert!(model.damping[0].mass_nodes.is_empty());
         assert_eq!(model.point_masses[0].mass, 5e-3);
+    }
+
+    #[test]
+    fn nonlinear_extras_become_cards_on_the_weight_in_solver_units() {
+        let spec = SpringSpec {
+            mass_kg: 5.0,
+            rotary_inertia_kg_m2: 2e-3,
+            friction_n: 0.4,
+            quadratic_damping_n_s2_m2: 3.0,
+            cubic_stiffness_n_m3: 2e9,
+            analyses: vec![AnalysisKind::Static, AnalysisKind::Transient],
+            ..SpringSpec::default()
+        };
+        let model = spec.build().unwrap();
+        assert_eq!(model.point_laws.len(), 1);
+        let e = model.point_laws[0];
+        assert_eq!((e.node, e.dof), (WEIGHT_NODE, 3));
+        assert_eq!(e.friction, 0.4);
+        // 3 N s^2/m^2 = 3e-6 N s^2/mm^2; 2e9 N/m^3 = 2 N/mm^3.
+        assert!((e.quadratic - 3e-6).abs() < 1e-20);
+        assert!((e.cubic - 2.0).abs() < 1e-15);
+        assert_eq!(model.point_masses[0].inertia, [0.0, 0.0, 2.0]);
+        let text = coil_solver::deck::write(&model);
+        assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
+        // Old specs (no such fields) still read, and get no cards.
+        let old: SpringSpec = serde_json::from_str(r#"{"coils": 10.0}"#).unwrap();
+        assert!(old.build().unwrap().point_laws.is_empty());
+        for bad in [
+            SpringSpec {
+                friction_n: -1.0,
+                ..SpringSpec::default()
+            },
+            SpringSpec {
+                cubic_stiffness_n_m3: 1.0,
+                top: Top::Held,
+                ..SpringSpec::default()
+            },
+            SpringSpec {
+                friction_n: 1.0,
+                analyses: vec![AnalysisKind::Transient],
+                transient_method: TransientScheme::Hht,
+                ..SpringSpec::default()
+            },
+        ] {
+            assert!(bad.build().is_err(), "{bad:?}");
+        }
     }
 }
 

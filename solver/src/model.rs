@@ -354,6 +354,43 @@ pub struct Model {
     pub initial_velocities: Vec<InitialVelocity>,
     pub outputs: Vec<OutputRequest>,
     pub load_cases: Vec<LoadCase>,
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`;
+    /// added for issue 5, append-only): one entry per (node, DOF), the cards on it
+    /// combined. Sorted by (node, DOF). See [`PointElement`].
+    #[serde(default)]
+    pub point_laws: Vec<PointElement>,
+}
+
+/// A nonlinear restoring force between one DOF of a node and the ground (coil cards
+/// `FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`): the law
+/// `f = k3 u^3 + c2 v|v| + F sgn(v)` of [`crate::integrate::PointLaw`], with `u` the
+/// DOF's displacement from the reference (meshed) configuration and `v` its velocity.
+/// Units (solver units): `cubic` k3 in N/mm^3, `quadratic` c2 in N s^2/mm^2,
+/// `friction` F in N (on a rotational DOF: N mm/rad^3, N mm s^2/rad^2, N mm). Use
+/// [`units::cubic_stiffness_from_si`] and [`units::quadratic_damping_from_si`] to
+/// convert SI values.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PointElement {
+    pub node: NodeId,
+    /// 1..=6; the DOF must be free (neither prescribed nor tied).
+    pub dof: u8,
+    /// Cubic stiffness k3 >= 0 (N/mm^3).
+    pub cubic: f64,
+    /// Velocity-squared damping c2 >= 0 (N s^2/mm^2).
+    pub quadratic: f64,
+    /// Dry friction force F >= 0 (N).
+    pub friction: f64,
+}
+
+impl PointElement {
+    /// The element's law.
+    pub fn law(&self) -> crate::integrate::PointLaw {
+        crate::integrate::PointLaw {
+            cubic: self.cubic,
+            quadratic: self.quadratic,
+            friction: self.friction,
+        }
+    }
 }
 
 impl Model {
@@ -428,6 +465,24 @@ pub mod units {
     pub fn length_to_si(mm: f64) -> f64 {
         mm / MM_PER_M
     }
+    /// Cubic stiffness N/m^3 -> N/mm^3: `k3 u^3` with `u` in m is `k3 (u_mm/1e3)^3`,
+    /// so 1 N/m^3 = 1e-9 N/mm^3.
+    pub fn cubic_stiffness_from_si(n_m3: f64) -> f64 {
+        n_m3 * 1e-9
+    }
+    /// Cubic stiffness N/mm^3 -> N/m^3 (1 N/mm^3 = 1e9 N/m^3).
+    pub fn cubic_stiffness_to_si(n_mm3: f64) -> f64 {
+        n_mm3 * 1e9
+    }
+    /// Velocity-squared damping N s^2/m^2 -> N s^2/mm^2: `c2 v^2` with `v` in m/s is
+    /// `c2 (v_mm/1e3)^2`, so 1 N s^2/m^2 = 1e-6 N s^2/mm^2.
+    pub fn quadratic_damping_from_si(n_s2_m2: f64) -> f64 {
+        n_s2_m2 * 1e-6
+    }
+    /// Velocity-squared damping N s^2/mm^2 -> N s^2/m^2 (1 N s^2/mm^2 = 1e6 N s^2/m^2).
+    pub fn quadratic_damping_to_si(n_s2_mm2: f64) -> f64 {
+        n_s2_mm2 * 1e6
+    }
 
     #[cfg(test)]
     mod tests {
@@ -440,10 +495,18 @@ pub mod units {
                 assert!((mass_to_si(mass_from_si(x)) - x).abs() <= 1e-12 * x);
                 assert!((inertia_to_si(inertia_from_si(x)) - x).abs() <= 1e-12 * x);
                 assert!((length_to_si(length_from_si(x)) - x).abs() <= 1e-12 * x);
+                let k3 = cubic_stiffness_to_si(cubic_stiffness_from_si(x));
+                assert!((k3 - x).abs() <= 1e-12 * x);
+                let c2 = quadratic_damping_to_si(quadratic_damping_from_si(x));
+                assert!((c2 - x).abs() <= 1e-12 * x);
             }
             // 7850 kg/m^3 is 7.85e-9 t/mm^3, 1 kg m^2 is 1e3 t mm^2 (1e-3 t * 1e6 mm^2).
             assert!((density_from_si(7850.0) - 7.85e-9).abs() < 1e-20);
             assert!((inertia_from_si(1.0) - 1e3).abs() < 1e-12);
+            // 1 mm of a 1e9 N/m^3 cubic spring: 1e9 * (1e-3)^3 = 1 N = k3_mm * 1^3.
+            assert!((cubic_stiffness_from_si(1e9) - 1.0).abs() < 1e-15);
+            // 1 m/s (1000 mm/s) through 1 N s^2/m^2: 1 N = c2_mm * 1000^2.
+            assert!((quadratic_damping_from_si(1.0) * 1e6 - 1.0).abs() < 1e-15);
         }
     }
 }

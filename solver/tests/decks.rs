@@ -144,6 +144,13 @@ fn the_every_card_deck_uses_every_card() {
     let methods: Vec<&Analysis> = m.load_cases.iter().map(|c| &c.analysis).collect();
     assert_eq!(methods.len(), 7);
     assert_eq!(m.load_cases[0].point_loads[0].nodes, [10]);
+    assert_eq!(
+        m.point_laws
+            .iter()
+            .map(|e| (e.node, e.dof, e.law().is_zero()))
+            .collect::<Vec<_>>(),
+        [(10, 3, true), (10, 6, true)]
+    );
 }
 
 struct Expectation {
@@ -477,6 +484,22 @@ fn every_field_model() -> Model {
                     method: TransientMethod::Modal { modes: 8 },
                 },
                 point_loads: vec![],
+            },
+        ],
+        point_laws: vec![
+            PointElement {
+                node: 20,
+                dof: 3,
+                cubic: 2.5e-3,
+                quadratic: 1.0e-7,
+                friction: 0.75,
+            },
+            PointElement {
+                node: 20,
+                dof: 6,
+                cubic: 0.0,
+                quadratic: 0.0,
+                friction: 12.5,
             },
         ],
     }

@@ -33,6 +33,7 @@ pub fn empty_model(title: &str) -> Model {
         initial_velocities: Vec::new(),
         outputs: Vec::new(),
         load_cases: Vec::new(),
+        point_laws: Vec::new(),
     }
 }
 

@@ -83,9 +83,21 @@ struct Args {
     /// Mass of the weight on top [default: 0].
     #[arg(long, value_name = "KG")]
     mass: Option<f64>,
-    /// Rotary inertia of the weight about the spring axis [default: 0].
-    #[arg(long, value_name = "KG_M2")]
+    /// Rotary inertia of the weight about the spring axis (the POINT MASS's Izz)
+    /// [default: 0].
+    #[arg(long, visible_alias = "weight-inertia-kg-m2", value_name = "KG_M2")]
     rotary_inertia: Option<f64>,
+    /// Dry (Coulomb) friction force on the weight's axial motion (N) [default: 0].
+    #[arg(long = "friction-n", value_name = "N")]
+    friction: Option<f64>,
+    /// Velocity-squared drag coefficient c2 on the weight's axial motion, c2 v|v|
+    /// (N s^2/m^2) [default: 0].
+    #[arg(long = "quadratic-damping-n-s2-m2", value_name = "C2")]
+    quadratic_damping: Option<f64>,
+    /// Cubic stiffness k3 on the weight's axial displacement from the free length,
+    /// k3 u^3 (N/m^3) [default: 0].
+    #[arg(long = "cubic-stiffness-n-m3", value_name = "K3")]
+    cubic_stiffness: Option<f64>,
     /// How the top reference node is held [default: guided].
     #[arg(long, value_enum)]
     top: Option<TopArg>,
@@ -157,6 +169,9 @@ fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
         density_kg_m3 <- density,
         mass_kg <- mass,
         rotary_inertia_kg_m2 <- rotary_inertia,
+        friction_n <- friction,
+        quadratic_damping_n_s2_m2 <- quadratic_damping,
+        cubic_stiffness_n_m3 <- cubic_stiffness,
         force_n <- force,
         modes <- modes,
         dt_s <- dt,

@@ -93,6 +93,7 @@ pub fn paper_spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) 
                 table: None,
             }],
         }],
+        point_laws: Vec::new(),
     }
 }
 

@@ -112,6 +112,22 @@ pub enum SolveError {
     /// An analysis kind that this build does not run.
     #[error("load case '{case}': {what} is not supported yet")]
     Unsupported { case: String, what: String },
+    /// Nonlinear point elements in a transient solved by modal superposition.
+    #[error(
+        "load case '{case}': nonlinear point elements (FRICTION, QUADRATIC DAMPER, CUBIC \
+         SPRING) need --method direct; modal superposition is linear"
+    )]
+    NonlinearNeedsDirect { case: String },
+    /// The static Newton iterations of the cubic springs did not converge.
+    #[error(
+        "load case '{case}': the cubic springs' Newton iterations did not converge in \
+         {iterations} iterations (relative residual {residual:e})"
+    )]
+    NewtonNotConverged {
+        case: String,
+        iterations: usize,
+        residual: f64,
+    },
     /// A failure inside the sparse linear algebra (allocation, pattern).
     #[error("linear algebra: {0}")]
     Linalg(String),
@@ -333,6 +349,42 @@ impl<'m> System<'m> {
 
     pub fn dim(&self) -> usize {
         self.dofs.free_len()
+    }
+
+    /// The model's nonlinear point elements as `(free equation, law)`, zero laws left
+    /// out. Each must sit on a free DOF (the deck reader checks; a model built in code
+    /// gets the error here).
+    pub fn point_laws(&self) -> Result<Vec<(usize, crate::integrate::PointLaw)>, SolveError> {
+        let mut out = Vec::new();
+        for e in &self.model.point_laws {
+            let law = e.law();
+            if !law.is_valid() {
+                return Err(SolveError::BadInput {
+                    what: format!(
+                        "the nonlinear point element at node {} {} has a negative or non-finite coefficient",
+                        e.node,
+                        dof_name(e.dof)
+                    ),
+                });
+            }
+            if law.is_zero() {
+                continue;
+            }
+            let full = self.full_dof(e.node, e.dof, "a nonlinear point element")?;
+            match self.dofs.status(full) {
+                crate::dof::DofStatus::Free(eq) => out.push((eq, law)),
+                _ => {
+                    return Err(SolveError::ConflictingConstraint {
+                        node: e.node,
+                        dof: e.dof,
+                        reason: "a nonlinear point element needs a free DOF, this one is \
+                                 prescribed or tied"
+                            .to_string(),
+                    })
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// Numeric Cholesky factor of the reduced stiffness; a singular K is a
@@ -586,6 +638,7 @@ pub(crate) mod test_support {
             initial_velocities: Vec::new(),
             outputs: Vec::new(),
             load_cases: Vec::new(),
+            point_laws: Vec::new(),
         }
     }
 

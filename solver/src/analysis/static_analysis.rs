@@ -9,6 +9,24 @@
 //!   node of a rigid tie (the spring's weight node), or of the only loaded DOF when no
 //!   reference node is loaded. It is positive when force and displacement have the same
 //!   sign, so a compressive force with its compressive displacement gives K > 0.
+//!
+//! # Cubic springs (`CUBIC SPRING`)
+//! With cubic springs `f_i = k3_i u_i^3` at free DOFs `i` (unit vectors `E`), the
+//! balance `K q + E f(E^T q) = r` is nonlinear in the `L` spring DOFs only. Newton's
+//! method on it, with the tangent `K + E D E^T`, `D = diag(3 k3 u^2)`, inverted by the
+//! Sherman-Morrison-Woodbury formula on the already factored `K`, reduces exactly to
+//! `L` unknowns: with `q_lin = K^{-1} r`, `Z = K^{-1} E` (`L` solves) and
+//! `G = E^T Z`, every iterate is `q = q_lin - Z f`, and the spring displacements solve
+//! ```text
+//! u + G f(u) = E^T q_lin,      Newton step: (I + G D) du = -(u + G f(u) - E^T q_lin)
+//! ```
+//! iterated from `u = E^T q_lin` (halving a step that does not reduce the residual)
+//! until the residual is below 1e-12 of `|E^T q_lin|`, at most [`MAX_NEWTON`]
+//! iterations; the iterations are reported in [`StaticSolution::iterations`]. The
+//! reported `relative_residual` includes the springs' forces, and a loaded DOF's F/u
+//! (`stiffness_n_mm`) is then the secant stiffness. Friction and the
+//! velocity-squared dashpot exert no static force: a quasi-static friction path (the
+//! hysteresis of a slow load cycle) is not modelled in a static load case.
 
 use super::{SolveError, System};
 use crate::linalg::Cholesky;
@@ -44,9 +62,14 @@ pub struct StaticSolution {
     pub reference_node: Option<NodeId>,
     /// F/u at the reference node's loaded translational DOF (N/mm).
     pub stiffness_n_mm: Option<f64>,
-    /// Equilibrium check `|T^T (K u - f)| / |T^T f|` over the free DOFs.
+    /// Equilibrium check `|T^T (K u + E f_cubic - f)| / |T^T f|` over the free DOFs.
     pub relative_residual: f64,
+    /// Newton iterations of the cubic springs (0 for a linear model).
+    pub iterations: usize,
 }
+
+/// Most Newton iterations for the cubic springs of a static case.
+pub const MAX_NEWTON: usize = 100;
 
 impl StaticSolution {
     /// The six displacements of a node (mm, mm, mm, rad, rad, rad).
@@ -72,13 +95,23 @@ pub fn solve(
     let rhs = system.free_load(&f_full);
     let mut q = rhs.clone();
     factor.solve_in_place(&mut q);
+    let springs: Vec<(usize, f64)> = system
+        .point_laws()?
+        .into_iter()
+        .filter(|(_, law)| law.cubic > 0.0)
+        .map(|(eq, law)| (eq, law.cubic))
+        .collect();
+    let spring_forces = cubic_springs(factor, &springs, &mut q, &case.title)?;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(SolveError::NonFinite {
             what: format!("static displacements of load case '{}'", case.title),
         });
     }
     let displacement = dofs.expand(&q, 1.0);
-    let residual = system.residual(&displacement, &f_full);
+    let mut residual = system.residual(&displacement, &f_full);
+    for (&(eq, _), f) in springs.iter().zip(&spring_forces.forces) {
+        residual[dofs.free_to_full(eq)] += f;
+    }
 
     // Equilibrium of the free equations, relative to the applied load.
     let mut free_residual = vec![0.0; dofs.free_len()];
@@ -132,5 +165,130 @@ pub fn solve(
         reference_node,
         stiffness_n_mm,
         relative_residual,
+        iterations: spring_forces.iterations,
     })
+}
+
+/// The cubic springs' forces at equilibrium and the Newton iterations taken.
+struct SpringForces {
+    forces: Vec<f64>,
+    iterations: usize,
+}
+
+/// Newton's method for the cubic springs `(free equation, k3)` (module docs): `q`
+/// holds `K^{-1} r` on entry and the nonlinear solution on return.
+fn cubic_springs(
+    factor: &Cholesky,
+    springs: &[(usize, f64)],
+    q: &mut [f64],
+    case: &str,
+) -> Result<SpringForces, SolveError> {
+    let l = springs.len();
+    if l == 0 {
+        return Ok(SpringForces {
+            forces: Vec::new(),
+            iterations: 0,
+        });
+    }
+    let n = q.len();
+    // Z = K^{-1} E, G = E^T Z.
+    let mut z = vec![0.0; l * n];
+    for (j, &(eq, _)) in springs.iter().enumerate() {
+        let column = &mut z[j * n..(j + 1) * n];
+        column[eq] = 1.0;
+        factor.solve_in_place(column);
+    }
+    let g = |i: usize, j: usize| z[j * n + springs[i].0];
+    let target: Vec<f64> = springs.iter().map(|&(eq, _)| q[eq]).collect();
+    let force = |u: &[f64]| -> Vec<f64> {
+        springs
+            .iter()
+            .zip(u)
+            .map(|(&(_, k3), &x)| k3 * x * x * x)
+            .collect()
+    };
+    let residual = |u: &[f64]| -> Vec<f64> {
+        let f = force(u);
+        (0..l)
+            .map(|i| u[i] + (0..l).map(|j| g(i, j) * f[j]).sum::<f64>() - target[i])
+            .collect()
+    };
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = norm(&target);
+    let mut u = target.clone();
+    let mut r = residual(&u);
+    let mut iterations = 0;
+    while norm(&r) > 1e-12 * scale {
+        if iterations >= MAX_NEWTON || !norm(&r).is_finite() {
+            return Err(SolveError::NewtonNotConverged {
+                case: case.to_string(),
+                iterations,
+                residual: norm(&r) / scale,
+            });
+        }
+        iterations += 1;
+        // Jacobian I + G D, D = diag(3 k3 u^2).
+        let mut jac = vec![0.0; l * l];
+        for i in 0..l {
+            for j in 0..l {
+                let d = 3.0 * springs[j].1 * u[j] * u[j];
+                jac[i * l + j] = f64::from(u8::from(i == j)) + g(i, j) * d;
+            }
+        }
+        let mut step: Vec<f64> = r.iter().map(|x| -x).collect();
+        solve_dense(&mut jac, &mut step, l).ok_or_else(|| SolveError::NewtonNotConverged {
+            case: case.to_string(),
+            iterations,
+            residual: norm(&r) / scale,
+        })?;
+        // Halve a step that does not reduce the residual (the cubic's Newton steps
+        // overshoot from the wrong side of an inflection).
+        let mut t = 1.0;
+        loop {
+            let trial: Vec<f64> = u.iter().zip(&step).map(|(a, b)| a + t * b).collect();
+            let r_trial = residual(&trial);
+            if norm(&r_trial) < norm(&r) || t < 1e-6 {
+                u = trial;
+                r = r_trial;
+                break;
+            }
+            t *= 0.5;
+        }
+    }
+    let forces = force(&u);
+    for (j, f) in forces.iter().enumerate() {
+        for (qi, zi) in q.iter_mut().zip(&z[j * n..(j + 1) * n]) {
+            *qi -= f * zi;
+        }
+    }
+    Ok(SpringForces { forces, iterations })
+}
+
+/// Solves the small dense system `a x = b` (row-major `l x l`) in place by Gaussian
+/// elimination with partial pivoting; `None` when a pivot vanishes.
+fn solve_dense(a: &mut [f64], b: &mut [f64], l: usize) -> Option<()> {
+    for k in 0..l {
+        let p = (k..l).max_by(|&i, &j| a[i * l + k].abs().total_cmp(&a[j * l + k].abs()))?;
+        if a[p * l + k] == 0.0 || !a[p * l + k].is_finite() {
+            return None;
+        }
+        if p != k {
+            for c in 0..l {
+                a.swap(k * l + c, p * l + c);
+            }
+            b.swap(k, p);
+        }
+        for i in k + 1..l {
+            let m = a[i * l + k] / a[k * l + k];
+            for c in k..l {
+                a[i * l + c] -= m * a[k * l + c];
+            }
+            b[i] -= m * b[k];
+        }
+    }
+    for k in (0..l).rev() {
+        let s: f64 = (k + 1..l).map(|c| a[k * l + c] * b[c]).sum();
+        b[k] = (b[k] - s) / a[k * l + k];
+    }
+    Some(())
 }

@@ -46,6 +46,10 @@
 //! [`crate::integrate::Stepper`] (average acceleration, HHT-alpha or generalised-alpha)
 //! on `M`, `C`, `K` with both triangles stored; the effective matrix is factored once per
 //! `(scheme, dt)` and the stepper is kept in [`Context`] for the next transient case.
+//! The model's nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC
+//! SPRING`) are bound to the stepper as [`crate::integrate::PointLaw`]s on their free
+//! DOFs ([`Stepper::set_point_laws`]: an exact end-of-step correction, average
+//! acceleration only; other schemes are an error, and so is modal superposition).
 //!
 //! # Modal superposition
 //! The lowest `modes` modes from [`super::modal::solve`] on the stiffness factor the
@@ -411,6 +415,11 @@ pub fn solve(
                 &mut recorder,
             )?;
             None
+        }
+        TransientMethod::Modal { .. } if !system.point_laws()?.is_empty() => {
+            return Err(SolveError::NonlinearNeedsDirect {
+                case: title.to_string(),
+            });
         }
         TransientMethod::Modal { modes } => {
             let factor = factor.ok_or_else(|| SolveError::BadInput {
@@ -941,6 +950,9 @@ fn run_direct(
         }
     };
     let stepper = context.stepper.insert(stepper);
+    stepper
+        .set_point_laws(&system.point_laws()?)
+        .map_err(fail)?;
     let n = system.dim();
     let mut factors = vec![0.0; loads.count()];
     let mut force = |t: f64, f: &mut [f64]| {

@@ -5,8 +5,9 @@
 //! SIZING bounds, existing nodes and elements, no zero-length element, a material and
 //! a geometry for every element, orientations not parallel to their elements, the
 //! shear coefficient of type-98 sections, point masses under damped nodes, tables that
-//! exist, each DOF prescribed once and not both tied and prescribed, and rigid ties
-//! that neither overlap nor chain. Every error names the line of the card at fault.
+//! exist, each DOF prescribed once and not both tied and prescribed, rigid ties
+//! that neither overlap nor chain, and nonlinear point elements on existing, free
+//! DOFs (one line per card, node and DOF; the cards on one DOF combine). Every error names the line of the card at fault.
 //!
 //! Sets and tables must be defined on an earlier line than the list that uses them,
 //! so a set can never contain itself.
@@ -15,10 +16,13 @@ use std::collections::HashMap;
 
 use super::error::{DeckError, Loc};
 use super::lexer::ListItem;
-use super::raw::{RawDeck, RawDofValues, RawList, RawLoadCase, RawPointLoad, SetKind};
+use super::raw::{
+    PointLawKind, RawDeck, RawDofValues, RawList, RawLoadCase, RawPointLoad, SetKind,
+};
 use crate::model::{
     Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry, InitialVelocity,
-    LoadCase, Material, Model, Node, NodeSet, OutputRequest, PointLoad, PointMass, RigidTie, Table,
+    LoadCase, Material, Model, Node, NodeSet, OutputRequest, PointElement, PointLoad, PointMass,
+    RigidTie, Table,
 };
 
 /// Relative tolerance under which an element counts as zero-length: its length over
@@ -634,6 +638,83 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         }
     }
 
+    // Nonlinear point elements: free DOFs only, one line per card, node and DOF.
+    let mut point_laws: Vec<PointElement> = Vec::new();
+    let mut law_lines: HashMap<(u32, u8, PointLawKind), Loc> = HashMap::new();
+    for p in &raw.point_laws {
+        let card = p.kind.card();
+        if b.node_ids.binary_search(&p.node).is_err() {
+            return Err(b.err(
+                p.node_loc,
+                card,
+                format!("node {} does not exist", p.node),
+                "a node defined in COORDINATES",
+            ));
+        }
+        if let Some(at) = prescribed.get(&(p.node, p.dof)) {
+            return Err(b.err(
+                p.dof_loc,
+                card,
+                format!(
+                    "node {} DOF {} is prescribed by FIXED DISP (line {})",
+                    p.node, p.dof, at.line
+                ),
+                "a free DOF",
+            ));
+        }
+        let tie = raw
+            .rigid_ties
+            .iter()
+            .zip(&rigid_ties)
+            .find(|(_, t)| t.dofs.contains(&p.dof) && t.tied.binary_search(&p.node).is_ok());
+        if let Some((raw_tie, tie)) = tie {
+            return Err(b.err(
+                p.dof_loc,
+                card,
+                format!(
+                    "node {} DOF {} is tied by `{}` (line {}); put the element on the \
+                     reference node {}",
+                    p.node, p.dof, tie.name, raw_tie.loc.line, tie.reference
+                ),
+                "a free DOF",
+            ));
+        }
+        if let Some(first) = law_lines.insert((p.node, p.dof, p.kind), p.loc) {
+            return Err(b.err(
+                p.loc,
+                card,
+                format!(
+                    "node {} DOF {} is already given at line {}",
+                    p.node, p.dof, first.line
+                ),
+                "each DOF of a node once per card",
+            ));
+        }
+        let at = match point_laws
+            .iter()
+            .position(|e| (e.node, e.dof) == (p.node, p.dof))
+        {
+            Some(i) => i,
+            None => {
+                point_laws.push(PointElement {
+                    node: p.node,
+                    dof: p.dof,
+                    cubic: 0.0,
+                    quadratic: 0.0,
+                    friction: 0.0,
+                });
+                point_laws.len() - 1
+            }
+        };
+        let e = &mut point_laws[at];
+        match p.kind {
+            PointLawKind::Friction => e.friction = p.value,
+            PointLawKind::Quadratic => e.quadratic = p.value,
+            PointLawKind::Cubic => e.cubic = p.value,
+        }
+    }
+    point_laws.sort_by_key(|e| (e.node, e.dof));
+
     // Loads, initial velocities, outputs.
     let point_loads = raw
         .point_loads
@@ -700,6 +781,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         initial_velocities,
         outputs,
         load_cases,
+        point_laws,
     })
 }
 

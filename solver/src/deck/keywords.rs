@@ -12,8 +12,8 @@
 use super::error::DeckError;
 use super::lexer::{self, Line, LIST_WORDS};
 use super::raw::{
-    RawDamping, RawDofValues, RawElement, RawGeometry, RawMaterial, RawNode, RawOutput,
-    RawPointLoad, RawPointMass, RawSet, RawTable, RawTie, SetKind,
+    PointLawKind, RawDamping, RawDofValues, RawElement, RawGeometry, RawMaterial, RawNode,
+    RawOutput, RawPointLaw, RawPointLoad, RawPointMass, RawSet, RawTable, RawTie, SetKind,
 };
 use super::reader::CardCtx;
 use crate::model::{ElementType, Integrator, Quantity, Section, TransientMethod};
@@ -69,6 +69,15 @@ pub struct Keyword {
 }
 
 use DeckSection::{History, Model, Parameters};
+
+/// Notes shared by the three nonlinear point cards.
+const NONLINEAR_NOTES: &str = "Lines repeat until the next card. The node must exist and \
+    the DOF be free (neither in FIXED DISP nor tied by RBE2); one line of a card per node \
+    and DOF. FRICTION, QUADRATIC DAMPER and CUBIC SPRING on the same node and DOF add up \
+    to one law f = k3 u^3 + c2 v|v| + F sgn(v). A zero value is accepted and adds nothing. \
+    Transients run them by direct integration with average acceleration (NEWMARK) only; \
+    STATIC load cases see the cubic spring alone (friction and the dashpot exert no static \
+    force). See docs/transient.md.";
 
 /// Every card, in the order of the deck reference.
 pub static KEYWORDS: &[Keyword] = &[
@@ -305,6 +314,61 @@ pub static KEYWORDS: &[Keyword] = &[
         notes: "Lines repeat until the next card; one point mass per node.",
         example: "POINT MASS\n3, 1.5e-3, 0.0, 0.0, 0.0",
         parse: parse_point_mass,
+    },
+    Keyword {
+        name: "FRICTION",
+        sections: &[Model],
+        origin: Origin::Coil,
+        meaning: "Dry (Coulomb) friction between one DOF of a node and the ground: a force \
+                  F sgn(v) against the DOF's velocity v, any value in [-F, F] while the DOF \
+                  sticks (v = 0).",
+        layout: &[
+            ("FRICTION", ""),
+            (
+                "node, dof, force",
+                "one line per DOF: dof 1..6, force F >= 0 (N; N mm on a rotation)",
+            ),
+        ],
+        notes: NONLINEAR_NOTES,
+        example: "FRICTION\n10, 3, 0.25",
+        parse: parse_friction,
+    },
+    Keyword {
+        name: "QUADRATIC DAMPER",
+        sections: &[Model],
+        origin: Origin::Coil,
+        meaning: "A velocity-squared dashpot between one DOF of a node and the ground: the \
+                  drag force c2 v |v|.",
+        layout: &[
+            ("QUADRATIC DAMPER", ""),
+            (
+                "node, dof, c2",
+                "one line per DOF: dof 1..6, c2 >= 0 (N s^2/mm^2; 1 N s^2/m^2 = 1e-6 \
+                 N s^2/mm^2)",
+            ),
+        ],
+        notes: NONLINEAR_NOTES,
+        example: "QUADRATIC DAMPER\n10, 3, 2.0e-6",
+        parse: parse_quadratic_damper,
+    },
+    Keyword {
+        name: "CUBIC SPRING",
+        sections: &[Model],
+        origin: Origin::Coil,
+        meaning: "A cubic spring between one DOF of a node and the ground: the restoring \
+                  force k3 u^3, u the DOF's displacement from the reference (meshed) \
+                  configuration, so a spring meshed at its free length feels it from the \
+                  free length on, gravity preload included.",
+        layout: &[
+            ("CUBIC SPRING", ""),
+            (
+                "node, dof, k3",
+                "one line per DOF: dof 1..6, k3 >= 0 (N/mm^3; 1 N/m^3 = 1e-9 N/mm^3)",
+            ),
+        ],
+        notes: NONLINEAR_NOTES,
+        example: "CUBIC SPRING\n10, 3, 1.0e-4",
+        parse: parse_cubic_spring,
     },
     Keyword {
         name: "RBE2",
@@ -1074,6 +1138,47 @@ fn parse_point_mass(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     }
     if done == 0 {
         return Err(no_groups(c, LAYOUT));
+    }
+    Ok(())
+}
+
+fn parse_friction(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    parse_point_law(c, PointLawKind::Friction)
+}
+
+fn parse_quadratic_damper(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    parse_point_law(c, PointLawKind::Quadratic)
+}
+
+fn parse_cubic_spring(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    parse_point_law(c, PointLawKind::Cubic)
+}
+
+/// `node, dof, value` lines of the nonlinear point cards.
+fn parse_point_law(c: &mut CardCtx<'_, '_>, kind: PointLawKind) -> Result<(), DeckError> {
+    let layout = kind.layout();
+    c.no_args()?;
+    let mut done = 0;
+    while c.more_data() {
+        let l = c.data_line(layout)?;
+        c.field_count(l, 3, 3, layout)?;
+        let node = c.id(l, 0, "the node id")?;
+        let dof = c.dof(l, 1)?;
+        let x = c.real(l, 2, kind.what())?;
+        let value = c.non_negative(x, l.loc_of(2), kind.what())?;
+        c.deck.point_laws.push(RawPointLaw {
+            kind,
+            node,
+            loc: l.start_loc(),
+            node_loc: l.loc_of(0),
+            dof,
+            dof_loc: l.loc_of(1),
+            value,
+        });
+        done += 1;
+    }
+    if done == 0 {
+        return Err(no_groups(c, layout));
     }
     Ok(())
 }

@@ -96,6 +96,53 @@ pub(crate) struct RawPointMass {
     pub inertia: [f64; 3],
 }
 
+/// Which nonlinear point card a line came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum PointLawKind {
+    Friction,
+    Quadratic,
+    Cubic,
+}
+
+impl PointLawKind {
+    pub fn card(self) -> &'static str {
+        match self {
+            PointLawKind::Friction => "FRICTION",
+            PointLawKind::Quadratic => "QUADRATIC DAMPER",
+            PointLawKind::Cubic => "CUBIC SPRING",
+        }
+    }
+
+    /// The value's name in error messages.
+    pub fn what(self) -> &'static str {
+        match self {
+            PointLawKind::Friction => "the friction force (N)",
+            PointLawKind::Quadratic => "c2 (N s^2/mm^2)",
+            PointLawKind::Cubic => "k3 (N/mm^3)",
+        }
+    }
+
+    pub fn layout(self) -> &'static str {
+        match self {
+            PointLawKind::Friction => "node, dof, friction force (N)",
+            PointLawKind::Quadratic => "node, dof, c2 (N s^2/mm^2)",
+            PointLawKind::Cubic => "node, dof, k3 (N/mm^3)",
+        }
+    }
+}
+
+/// One line of `FRICTION`, `QUADRATIC DAMPER` or `CUBIC SPRING`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawPointLaw {
+    pub kind: PointLawKind,
+    pub node: u32,
+    pub loc: Loc,
+    pub node_loc: Loc,
+    pub dof: u8,
+    pub dof_loc: Loc,
+    pub value: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct RawTie {
     pub id: u32,
@@ -171,6 +218,7 @@ pub(crate) struct RawDeck {
     pub geometries: Vec<RawGeometry>,
     pub damping: Vec<RawDamping>,
     pub point_masses: Vec<RawPointMass>,
+    pub point_laws: Vec<RawPointLaw>,
     pub rigid_ties: Vec<RawTie>,
     pub fixed_disp: Vec<RawDofValues>,
     pub point_loads: Vec<RawPointLoad>,

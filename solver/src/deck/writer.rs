@@ -11,7 +11,12 @@
 
 use std::fmt::Write;
 
-use crate::model::{Analysis, Integrator, Model, PointLoad, Quantity, Section, TransientMethod};
+use crate::model::{
+    Analysis, Integrator, Model, PointElement, PointLoad, Quantity, Section, TransientMethod,
+};
+
+/// The value a nonlinear point card writes for an element, if it writes one.
+type PointValue = fn(&PointElement) -> Option<f64>;
 
 /// Ids per list line before a `C` continuation.
 const ITEMS_PER_LINE: usize = 10;
@@ -272,6 +277,34 @@ impl Writer<'_> {
                     p.node,
                     nums([p.mass, p.inertia[0], p.inertia[1], p.inertia[2]])
                 ));
+            }
+        }
+
+        // One card per kind; an element with every value zero is kept as a zero
+        // friction line so that it reads back.
+        let cards: [(&str, &str, PointValue); 3] = [
+            ("FRICTION", "node, dof, friction force (N)", |e| {
+                (e.friction != 0.0 || e.law().is_zero()).then_some(e.friction)
+            }),
+            ("QUADRATIC DAMPER", "node, dof, c2 (N s^2/mm^2)", |e| {
+                (e.quadratic != 0.0).then_some(e.quadratic)
+            }),
+            ("CUBIC SPRING", "node, dof, k3 (N/mm^3)", |e| {
+                (e.cubic != 0.0).then_some(e.cubic)
+            }),
+        ];
+        for (card, units, value) in cards {
+            let lines: Vec<String> = m
+                .point_laws
+                .iter()
+                .filter_map(|e| value(e).map(|x| format!("{}, {}, {}", e.node, e.dof, num(x))))
+                .collect();
+            if !lines.is_empty() {
+                self.line(card);
+                self.comment(units);
+                for l in &lines {
+                    self.line(l);
+                }
             }
         }
 

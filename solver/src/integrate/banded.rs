@@ -392,6 +392,23 @@ impl BandedEngine {
         }
     }
 
+    /// Solves `S x = b` in place, `b` in the caller's numbering, through the step's
+    /// right-hand-side buffer (the point laws' columns `S^{-1} e_i`, once per
+    /// `(scheme, dt)`).
+    pub(crate) fn solve_in_place(&mut self, b: &mut [f64]) {
+        let perm = self.ordering.perm();
+        let rhs = self.rhs.as_flattened_mut();
+        rhs.fill(0.0);
+        for (r, &i) in rhs.iter_mut().zip(perm) {
+            *r = b[i];
+        }
+        blocked::solve(&self.blocks, self.fma, &self.factor_panels, &mut self.rhs);
+        let rhs = self.rhs.as_flattened();
+        for (&r, &i) in rhs.iter().zip(perm) {
+            b[i] = r;
+        }
+    }
+
     /// One step (see the module docs); returns false when the new state is not
     /// finite. The state and loads are in the caller's numbering, of checked sizes.
     pub(crate) fn step(&mut self, state: &mut State, f_n: &[f64], f_next: &[f64]) -> bool {

@@ -90,4 +90,38 @@ pub enum IntegrateError {
     /// A requested output DOF lies outside the mode shapes.
     #[error("output DOF {dof} is out of range (mode shapes have {n_dofs} rows)")]
     DofOutOfRange { dof: usize, n_dofs: usize },
+
+    /// Nonlinear point laws were given to a scheme whose balance is not at the end of
+    /// the step (`alpha_m`, `alpha_f` not both zero).
+    #[error(
+        "nonlinear point laws need Newmark average acceleration (alpha_m = alpha_f = 0); \
+         {scheme} balances the forces at a shifted time, where the one-DOF implicit solve \
+         of a law does not apply"
+    )]
+    PointLawScheme { scheme: &'static str },
+
+    /// A point law's DOF is out of range or a coefficient is negative or not finite.
+    #[error(
+        "point law {index} on DOF {dof}: {reason}; coefficients must be finite and >= 0, \
+         DOFs below the operator size {n_dofs}"
+    )]
+    InvalidPointLaw {
+        index: usize,
+        dof: usize,
+        n_dofs: usize,
+        reason: &'static str,
+    },
+
+    /// The Gauss-Seidel sweeps over several point laws of one step did not converge.
+    #[error(
+        "the point laws of step {step} (t = {time}) did not converge in {sweeps} \
+         Gauss-Seidel sweeps (last change {change:e} N); the laws' DOFs are strongly \
+         coupled: try a smaller dt"
+    )]
+    PointLawsNotConverged {
+        step: usize,
+        time: f64,
+        sweeps: usize,
+        change: f64,
+    },
 }

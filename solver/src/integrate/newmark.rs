@@ -97,6 +97,38 @@
 //!   `T_num/T - 1 = ((1 - rho_inf + rho_inf^2) / (2 (1 + rho_inf)^2) - 1/24) W^2`.
 //!   `rho_inf = 1` is average acceleration (balance at mid-step, same solution).
 //!
+//! # Nonlinear point laws
+//! [`Stepper::set_point_laws`] adds restoring forces `f_i = law_i(u_i, v_i)`
+//! ([`PointLaw`]: cubic spring, velocity-squared dashpot, Coulomb friction) at a few
+//! DOFs `i`, so that the balance reads `M a + C v + K u + sum_i e_i f_i = f(t)`. They
+//! are enforced at the end of the step, which only average acceleration does
+//! (`am = af = 0`; other schemes are refused with
+//! [`IntegrateError::PointLawScheme`]). The step is split exactly:
+//! 1. the linear step above with the laws' end-of-step forces set to zero gives the
+//!    predictor `u*, v*, a*` (their start-of-step forces are in the balance at `t_n`,
+//!    through `a_n`);
+//! 2. an end-of-step force vector `f` changes `a` by `-S^{-1} E f`, so with the
+//!    columns `w_i = S^{-1} e_i` (computed once per `(scheme, dt)`, `S` being factored
+//!    already) and `H_ij = e_i^T S^{-1} e_j`:
+//!    `u_i = u*_i - beta dt^2 (H f)_i`, `v_i = v*_i - gamma dt (H f)_i`;
+//! 3. each law's force solves its scalar inclusion ([`PointLaw::solve`] with
+//!    `h = beta dt^2 H_ii`, `g = gamma dt H_ii` and the other laws' forces held): one
+//!    solve for one law, a nonlinear Gauss-Seidel sweep over the laws repeated until no
+//!    force changes by more than 1e-12 of the largest force (at most
+//!    [`MAX_LAW_SWEEPS`] sweeps, else [`IntegrateError::PointLawsNotConverged`]). `H`
+//!    is symmetric positive definite and each scalar law monotone, so the sweeps
+//!    contract when the laws' DOFs are weakly coupled (`|H_ij| << H_ii`, the usual
+//!    case: one law, or laws far apart);
+//! 4. `u -= beta dt^2 sum_j f_j w_j`, `v -= gamma dt sum_j f_j w_j`, `a -= sum_j f_j w_j`.
+//!
+//! Without laws the step is untouched (one branch per step). With `L` laws a step
+//! costs `L` more vector updates, and each new `(scheme, dt)` `L` more solves.
+//!
+//! The initial acceleration includes the laws' forces at `(u0, v0)`. A friction law
+//! whose DOF starts at rest takes the force the balance needs to keep it at rest
+//! (`a_0 = 0` there), clamped to `[-F, F]` (several such laws: projected Gauss-Seidel
+//! on `M^{-1}` restricted to their DOFs); on a massless DOF it takes zero.
+//!
 //! # Conventions
 //! Units are whatever the operators use, consistently (coil: mm, N, t, s). DOFs are
 //! the operators' rows, 0-based. Time starts at `State::t`.
@@ -105,8 +137,12 @@ use super::banded::BandedEngine;
 use super::error::IntegrateError;
 use super::factor::SpdFactor;
 use super::operator::MergedOperators;
+use super::point::PointLaw;
 use super::sparse::SparseEngine;
 use super::Operators;
+
+/// Most Gauss-Seidel sweeps over several point laws in one step.
+pub const MAX_LAW_SWEEPS: usize = 200;
 
 /// Name of the effective matrix in error messages.
 const EFFECTIVE: &str = "effective matrix S = (1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K";
@@ -269,6 +305,47 @@ pub struct Stepper {
     /// successful [`Stepper::set_step`].
     factor_error: Option<IntegrateError>,
     mass: Option<MassFactor>,
+    /// Nonlinear point laws; `None` keeps the linear step untouched.
+    laws: Option<Box<LawSet>>,
+}
+
+/// Nonlinear point laws bound to a stepper (module docs, "Nonlinear point laws").
+#[derive(Debug)]
+struct LawSet {
+    /// Operator rows of the laws, ascending and unique.
+    dofs: Vec<usize>,
+    laws: Vec<PointLaw>,
+    /// `w_j = S^{-1} e_{dofs[j]}` stored at `j n .. (j + 1) n`.
+    columns: Vec<f64>,
+    /// `H_ij = w_j[dofs[i]]`, row-major `L x L`.
+    schur: Vec<f64>,
+    /// The `(coefficients, dt)` the columns were computed for.
+    valid_for: Option<(Coefficients, f64)>,
+    /// End-of-step forces of the last step (the next step's starting guess).
+    forces: Vec<f64>,
+    /// Whether each friction law held its DOF at rest in the last step.
+    stuck: Vec<bool>,
+}
+
+impl Engine {
+    fn solve_in_place(&mut self, b: &mut [f64]) {
+        match self {
+            Engine::Banded(e) => e.solve_in_place(b),
+            Engine::Sparse(e) => e.solve_in_place(b),
+        }
+    }
+}
+
+/// The scheme's name when it does not balance at the end of the step.
+fn shifted_balance(scheme: Scheme, c: &Coefficients) -> Option<&'static str> {
+    if c.alpha_m == 0.0 && c.alpha_f == 0.0 {
+        return None;
+    }
+    Some(match scheme {
+        Scheme::AverageAcceleration => "average acceleration",
+        Scheme::Hht { .. } => "HHT-alpha",
+        Scheme::GeneralizedAlpha { .. } => "generalised-alpha",
+    })
 }
 
 /// How the step is computed: banded panels when the operators' envelope is narrow
@@ -325,6 +402,7 @@ impl Stepper {
             engine,
             factor_error: None,
             mass: None,
+            laws: None,
         };
         stepper.refactor()?;
         Ok(stepper)
@@ -379,9 +457,15 @@ impl Stepper {
 
     /// Switches to another scheme or time step. Refactors numerically (the symbolic
     /// analysis is reused) only when the effective matrix changes.
+    /// With point laws, only average acceleration is accepted.
     pub fn set_step(&mut self, scheme: Scheme, dt: f64) -> Result<(), IntegrateError> {
         let coefficients = scheme.coefficients()?;
         check_dt(dt)?;
+        if self.laws.is_some() {
+            if let Some(scheme) = shifted_balance(scheme, &coefficients) {
+                return Err(IntegrateError::PointLawScheme { scheme });
+            }
+        }
         let unchanged = coefficients == self.coefficients && dt == self.dt;
         self.scheme = scheme;
         self.coefficients = coefficients;
@@ -390,6 +474,76 @@ impl Stepper {
             return Ok(());
         }
         self.refactor()
+    }
+
+    /// Binds nonlinear point laws `(operator row, law)` to the stepper (module docs,
+    /// "Nonlinear point laws"), replacing any set before. Laws on the same row add up;
+    /// laws that do nothing are dropped, and an empty set restores the linear step.
+    /// Refused unless the scheme is average acceleration. Takes effect from the next
+    /// [`Stepper::initial_state`] or [`Stepper::step`].
+    pub fn set_point_laws(&mut self, laws: &[(usize, PointLaw)]) -> Result<(), IntegrateError> {
+        let n = self.n_dofs();
+        let mut merged: Vec<(usize, PointLaw)> = Vec::with_capacity(laws.len());
+        for (index, &(dof, law)) in laws.iter().enumerate() {
+            let reason = if dof >= n {
+                Some("the DOF is out of range")
+            } else if !law.is_valid() {
+                Some("a coefficient is negative or not finite")
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                return Err(IntegrateError::InvalidPointLaw {
+                    index,
+                    dof,
+                    n_dofs: n,
+                    reason,
+                });
+            }
+            match merged.iter_mut().find(|(d, _)| *d == dof) {
+                Some((_, sum)) => {
+                    sum.cubic += law.cubic;
+                    sum.quadratic += law.quadratic;
+                    sum.friction += law.friction;
+                }
+                None => merged.push((dof, law)),
+            }
+        }
+        merged.retain(|(_, law)| !law.is_zero());
+        merged.sort_by_key(|&(d, _)| d);
+        if merged.is_empty() {
+            self.laws = None;
+            return Ok(());
+        }
+        if let Some(scheme) = shifted_balance(self.scheme, &self.coefficients) {
+            return Err(IntegrateError::PointLawScheme { scheme });
+        }
+        let l = merged.len();
+        self.laws = Some(Box::new(LawSet {
+            dofs: merged.iter().map(|&(d, _)| d).collect(),
+            laws: merged.iter().map(|&(_, law)| law).collect(),
+            columns: vec![0.0; l * n],
+            schur: vec![0.0; l * l],
+            valid_for: None,
+            forces: vec![0.0; l],
+            stuck: vec![false; l],
+        }));
+        Ok(())
+    }
+
+    /// The bound point laws' rows, their forces at the end of the last step (or at
+    /// the initial state) and whether friction held each at rest, ascending by row.
+    pub fn point_law_forces(&self) -> Vec<(usize, f64, bool)> {
+        match &self.laws {
+            Some(l) => l
+                .dofs
+                .iter()
+                .zip(&l.forces)
+                .zip(&l.stuck)
+                .map(|((&d, &f), &s)| (d, f, s))
+                .collect(),
+            None => Vec::new(),
+        }
     }
 
     fn refactor(&mut self) -> Result<(), IntegrateError> {
@@ -430,12 +584,9 @@ impl Stepper {
         self.ops.residual_into(f0, &xyz, false, &mut rhs);
         let mut a = vec![0.0; n];
         if let Some(mass) = &mut self.mass {
-            let mut r: Vec<f64> = mass.massive.iter().map(|&i| rhs[i]).collect();
-            if !r.is_empty() {
-                mass.factor.solve_in_place(&mut r);
-            }
-            for (&i, &ai) in mass.massive.iter().zip(&r) {
-                a[i] = ai;
+            mass.solve_into(&rhs, &mut a);
+            if let Some(laws) = &mut self.laws {
+                initial_law_forces(laws, mass, u0, v0, &mut a);
             }
         }
         if let Some(dof) = a.iter().position(|x| !x.is_finite()) {
@@ -501,13 +652,29 @@ impl Stepper {
                 });
             }
         }
-        let finite = match &mut self.engine {
+        let mut finite = match &mut self.engine {
             Engine::Banded(engine) => engine.step(state, f_n, f_next),
             Engine::Sparse(engine) => {
                 engine.step(&self.ops, &self.coefficients, self.dt, state, f_n, f_next)
             }
         };
         let time = state.t + self.dt;
+        if finite {
+            if let Some(laws) = &mut self.laws {
+                if let Some(scheme) = shifted_balance(self.scheme, &self.coefficients) {
+                    return Err(IntegrateError::PointLawScheme { scheme });
+                }
+                finite = correct_for_laws(
+                    laws,
+                    &mut self.engine,
+                    &self.coefficients,
+                    self.dt,
+                    state,
+                    step,
+                    time,
+                )?;
+            }
+        }
         state.t = time;
         if finite {
             return Ok(());
@@ -548,6 +715,172 @@ impl Stepper {
         }
         Ok(())
     }
+}
+
+impl MassFactor {
+    /// `a = M^{-1} r` on the massive DOFs, `a` untouched elsewhere.
+    fn solve_into(&mut self, r: &[f64], a: &mut [f64]) {
+        let mut x: Vec<f64> = self.massive.iter().map(|&i| r[i]).collect();
+        if !x.is_empty() {
+            self.factor.solve_in_place(&mut x);
+        }
+        for (&i, &xi) in self.massive.iter().zip(&x) {
+            a[i] = xi;
+        }
+    }
+}
+
+/// Adds the point laws' forces at `(u0, v0)` to the initial acceleration `a`
+/// (`M^{-1}` of the linear balance on entry): module docs, "Nonlinear point laws".
+fn initial_law_forces(
+    laws: &mut LawSet,
+    mass: &mut MassFactor,
+    u0: &[f64],
+    v0: &[f64],
+    a: &mut [f64],
+) {
+    let n = a.len();
+    let l = laws.dofs.len();
+    // z_j = M^{-1} e_j (zero on a massless DOF).
+    let mut z = vec![0.0; l * n];
+    let mut unit = vec![0.0; n];
+    for (j, &d) in laws.dofs.iter().enumerate() {
+        unit[d] = 1.0;
+        mass.solve_into(&unit, &mut z[j * n..(j + 1) * n]);
+        unit[d] = 0.0;
+    }
+    for (j, (&d, law)) in laws.dofs.iter().zip(&laws.laws).enumerate() {
+        let f = law.force(u0[d], v0[d]);
+        laws.forces[j] = f;
+        laws.stuck[j] = false;
+        for (ai, zi) in a.iter_mut().zip(&z[j * n..(j + 1) * n]) {
+            *ai -= f * zi;
+        }
+    }
+    // Friction at rest: the force that keeps a_0 = 0 at its DOF, within [-F, F].
+    let resting: Vec<usize> = (0..l)
+        .filter(|&j| {
+            let d = laws.dofs[j];
+            v0[d] == 0.0 && laws.laws[j].friction > 0.0 && z[j * n + d] > 0.0
+        })
+        .collect();
+    let mut held = vec![0.0; l];
+    for _ in 0..MAX_LAW_SWEEPS {
+        let mut change: f64 = 0.0;
+        for &j in &resting {
+            let d = laws.dofs[j];
+            let others: f64 = resting
+                .iter()
+                .filter(|&&k| k != j)
+                .map(|&k| z[k * n + d] * held[k])
+                .sum();
+            let friction = laws.laws[j].friction;
+            let f = ((a[d] - others) / z[j * n + d]).clamp(-friction, friction);
+            change = change.max((f - held[j]).abs());
+            held[j] = f;
+        }
+        if resting.len() <= 1 || change <= 1e-12 * held.iter().fold(0.0f64, |m, f| m.max(f.abs())) {
+            break;
+        }
+    }
+    for &j in &resting {
+        for (ai, zi) in a.iter_mut().zip(&z[j * n..(j + 1) * n]) {
+            *ai -= held[j] * zi;
+        }
+        laws.forces[j] += held[j];
+        laws.stuck[j] = held[j].abs() < laws.laws[j].friction;
+    }
+}
+
+/// The point laws' correction of a predicted step (module docs, steps 2-4); returns
+/// whether the corrected state is finite.
+fn correct_for_laws(
+    laws: &mut LawSet,
+    engine: &mut Engine,
+    coefficients: &Coefficients,
+    dt: f64,
+    state: &mut State,
+    step: usize,
+    time: f64,
+) -> Result<bool, IntegrateError> {
+    let n = state.u.len();
+    let l = laws.dofs.len();
+    if laws.valid_for != Some((*coefficients, dt)) {
+        for (j, &d) in laws.dofs.iter().enumerate() {
+            let column = &mut laws.columns[j * n..(j + 1) * n];
+            column.fill(0.0);
+            column[d] = 1.0;
+            engine.solve_in_place(column);
+            for (i, &di) in laws.dofs.iter().enumerate() {
+                laws.schur[i * l + j] = column[di];
+            }
+        }
+        laws.valid_for = Some((*coefficients, dt));
+    }
+    let (hs, gs) = (coefficients.beta * dt * dt, coefficients.gamma * dt);
+    let non_finite = |dof| IntegrateError::NonFiniteState { step, time, dof };
+    let mut sweeps = 0;
+    loop {
+        sweeps += 1;
+        let mut change: f64 = 0.0;
+        let mut scale: f64 = 0.0;
+        for i in 0..l {
+            let d = laws.dofs[i];
+            let row = &laws.schur[i * l..(i + 1) * l];
+            let coupling: f64 = (0..l)
+                .filter(|&j| j != i)
+                .map(|j| row[j] * laws.forces[j])
+                .sum();
+            let h_ii = row[i];
+            let solved = laws.laws[i]
+                .solve(
+                    state.u[d] - hs * coupling,
+                    state.v[d] - gs * coupling,
+                    hs * h_ii,
+                    gs * h_ii,
+                )
+                .ok_or_else(|| non_finite(d))?;
+            change = change.max((solved.force - laws.forces[i]).abs());
+            scale = scale.max(solved.force.abs());
+            laws.forces[i] = solved.force;
+            laws.stuck[i] = solved.stuck;
+        }
+        if l == 1 || change <= 1e-12 * scale {
+            break;
+        }
+        if sweeps >= MAX_LAW_SWEEPS {
+            return Err(IntegrateError::PointLawsNotConverged {
+                step,
+                time,
+                sweeps,
+                change,
+            });
+        }
+    }
+    for (j, &f) in laws.forces.iter().enumerate() {
+        if f == 0.0 {
+            continue;
+        }
+        let column = &laws.columns[j * n..(j + 1) * n];
+        let (fu, fv) = (hs * f, gs * f);
+        for (((u, v), a), &w) in state
+            .u
+            .iter_mut()
+            .zip(state.v.iter_mut())
+            .zip(state.a.iter_mut())
+            .zip(column)
+        {
+            *u -= fu * w;
+            *v -= fv * w;
+            *a -= f * w;
+        }
+    }
+    Ok(state
+        .u
+        .iter()
+        .chain(&state.v)
+        .chain(&state.a)
+        .all(|x| x.is_finite()))
 }
 
 /// Integrates `M a + C v + K u = f(t)` from `u0`, `v0` at `t = 0`: builds a

@@ -45,6 +45,11 @@ impl SparseEngine {
         self.factor.factor(ops.view(&self.s_values))
     }
 
+    /// Solves `S x = b` in place (the current factor).
+    pub(crate) fn solve_in_place(&mut self, b: &mut [f64]) {
+        self.factor.solve_in_place(b);
+    }
+
     /// One step; returns false when the new state is not finite.
     pub(crate) fn step(
         &mut self,

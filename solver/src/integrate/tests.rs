@@ -929,6 +929,7 @@ fn paper_like_spring(coils: usize, per_coil: usize, lumped_mass: bool) -> (Mck, 
         initial_velocities: Vec::new(),
         outputs: Vec::new(),
         load_cases: Vec::new(),
+        point_laws: Vec::new(),
     };
     let system = System::new(&model).unwrap();
     let weight = match system.dofs.status(system.dofs.full_index(1, 3).unwrap()) {
@@ -1025,4 +1026,252 @@ fn empty_operators_step_trivially() {
         assert_eq!(count, 4);
         assert!(last.u.is_empty() && (last.t - 3e-3).abs() < 1e-15);
     }
+}
+
+/// Average acceleration with smooth point laws on dense matrices, the step's balance
+/// `M a + C v + K u + E f(u, v) = f(t)` solved for `a_{n+1}` by Newton's method on
+/// the whole system (tangent `S + E (beta dt^2 df/du + gamma dt df/dv) E^T`): an
+/// independent reference for the stepper's end-of-step correction.
+#[allow(clippy::too_many_arguments)]
+fn dense_nonlinear_reference(
+    (m, c, k): &Mck,
+    laws: &[(usize, PointLaw)],
+    dt: f64,
+    n_steps: usize,
+    u0: &[f64],
+    v0: &[f64],
+    load: &dyn Fn(f64, &mut [f64]),
+) -> Vec<State> {
+    let n = k.nrows();
+    let (md, cd, kd) = (m.to_dense(), c.to_dense(), k.to_dense());
+    let (beta, gamma) = (0.25, 0.5);
+    let mul = |a: &Mat<f64>, x: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| (0..n).map(|j| a[(i, j)] * x[j]).sum())
+            .collect()
+    };
+    let law_force = |u: &[f64], v: &[f64], out: &mut [f64]| {
+        for &(d, law) in laws {
+            out[d] += law.force(u[d], v[d]);
+        }
+    };
+    let mut f0 = vec![0.0; n];
+    load(0.0, &mut f0);
+    let (cv, ku) = (mul(&cd, v0), mul(&kd, u0));
+    let mut fl = vec![0.0; n];
+    law_force(u0, v0, &mut fl);
+    let r = Mat::from_fn(n, 1, |i, _| f0[i] - cv[i] - ku[i] - fl[i]);
+    let a0 = md.llt(faer::Side::Lower).unwrap().solve(&r);
+    let mut state = State {
+        t: 0.0,
+        u: u0.to_vec(),
+        v: v0.to_vec(),
+        a: (0..n).map(|i| a0[(i, 0)]).collect(),
+    };
+    let mut out = vec![state.clone()];
+    let mut f_next = vec![0.0; n];
+    for step in 1..=n_steps {
+        let t = step as f64 * dt;
+        f_next.fill(0.0);
+        load(t, &mut f_next);
+        let ut: Vec<f64> = (0..n)
+            .map(|i| state.u[i] + dt * state.v[i] + dt * dt * (0.5 - beta) * state.a[i])
+            .collect();
+        let vt: Vec<f64> = (0..n)
+            .map(|i| state.v[i] + dt * (1.0 - gamma) * state.a[i])
+            .collect();
+        let mut a = state.a.clone();
+        for _ in 0..50 {
+            let u: Vec<f64> = (0..n).map(|i| ut[i] + beta * dt * dt * a[i]).collect();
+            let v: Vec<f64> = (0..n).map(|i| vt[i] + gamma * dt * a[i]).collect();
+            let (ma, cv, ku) = (mul(&md, &a), mul(&cd, &v), mul(&kd, &u));
+            let mut fl = vec![0.0; n];
+            law_force(&u, &v, &mut fl);
+            let residual: Vec<f64> = (0..n)
+                .map(|i| ma[i] + cv[i] + ku[i] + fl[i] - f_next[i])
+                .collect();
+            let mut jac = Mat::from_fn(n, n, |i, j| {
+                md[(i, j)] + gamma * dt * cd[(i, j)] + beta * dt * dt * kd[(i, j)]
+            });
+            for &(d, law) in laws {
+                jac[(d, d)] += beta * dt * dt * law.tangent_stiffness(u[d])
+                    + gamma * dt * 2.0 * law.quadratic * v[d].abs();
+            }
+            let rhs = Mat::from_fn(n, 1, |i, _| -residual[i]);
+            let da = jac.llt(faer::Side::Lower).unwrap().solve(&rhs);
+            let size = (0..n).fold(0.0f64, |s, i| s.max(da[(i, 0)].abs()));
+            for (i, ai) in a.iter_mut().enumerate() {
+                *ai += da[(i, 0)];
+            }
+            if size <= 1e-15 * a.iter().fold(1.0f64, |s, x| s.max(x.abs())) {
+                break;
+            }
+        }
+        for i in 0..n {
+            state.u[i] = ut[i] + beta * dt * dt * a[i];
+            state.v[i] = vt[i] + gamma * dt * a[i];
+            state.a[i] = a[i];
+        }
+        state.t = t;
+        out.push(state.clone());
+    }
+    out
+}
+
+/// Cubic springs and velocity-squared dashpots at three DOFs of the helix (the hub
+/// among them): the Gauss-Seidel over the laws' Schur matrix against Newton on the
+/// whole system.
+#[test]
+fn point_laws_match_a_monolithic_newton_reference() {
+    let (nodes, dt, n_steps) = (8, 0.02, 200);
+    let mck = helix_like(nodes, false);
+    let n = mck.2.nrows();
+    let laws = [
+        (
+            0,
+            PointLaw {
+                cubic: 50.0,
+                quadratic: 2.0,
+                friction: 0.0,
+            },
+        ),
+        (
+            7,
+            PointLaw {
+                cubic: 400.0,
+                ..Default::default()
+            },
+        ),
+        (
+            8,
+            PointLaw {
+                quadratic: 5.0,
+                ..Default::default()
+            },
+        ),
+    ];
+    let load = |t: f64, f: &mut [f64]| f[0] = 2.0 * (3.0 * t).sin();
+    let u0: Vec<f64> = (0..n).map(|i| 0.05 * (0.3 * i as f64).sin()).collect();
+    let mut v0 = vec![0.0; n];
+    v0[0] = 1.0;
+    let reference = dense_nonlinear_reference(&mck, &laws, dt, n_steps, &u0, &v0, &load);
+    let ops = Operators {
+        m: mck.0.as_ref(),
+        c: Some(mck.1.as_ref()),
+        k: mck.2.as_ref(),
+    };
+    for banded in [true, false] {
+        let mut stepper = if banded {
+            Stepper::new(ops, Scheme::AverageAcceleration, dt).unwrap()
+        } else {
+            Stepper::new_sparse(ops, Scheme::AverageAcceleration, dt).unwrap()
+        };
+        stepper.set_point_laws(&laws).unwrap();
+        let errors = relative_differences(&mut stepper, &reference, &u0, &v0, &load);
+        let forces = stepper.point_law_forces();
+        eprintln!(
+            "point laws, banded {banded}: max |du|, |dv|, |da| relative {:.2e} {:.2e} {:.2e}; final forces {forces:?}",
+            errors[0], errors[1], errors[2]
+        );
+        // Both solve the same discrete equations, each to round-off (the Gauss-Seidel
+        // stops at 1e-12 of the largest force).
+        assert!(errors.iter().all(|&e| e <= 1e-11), "{errors:?}");
+        assert_eq!(forces.len(), 3);
+    }
+}
+
+#[test]
+fn point_laws_need_average_acceleration_and_valid_coefficients() {
+    let (m, c, k) = two_dof_mck();
+    let ops = Operators {
+        m: m.as_ref(),
+        c: Some(c.as_ref()),
+        k: k.as_ref(),
+    };
+    let friction = PointLaw {
+        friction: 1.0,
+        ..Default::default()
+    };
+    let mut hht = Stepper::new(ops, Scheme::Hht { alpha: -0.1 }, 0.01).unwrap();
+    assert!(matches!(
+        hht.set_point_laws(&[(0, friction)]),
+        Err(IntegrateError::PointLawScheme {
+            scheme: "HHT-alpha"
+        })
+    ));
+    // HHT with alpha = 0 is average acceleration.
+    let mut zero = Stepper::new(ops, Scheme::Hht { alpha: 0.0 }, 0.01).unwrap();
+    zero.set_point_laws(&[(0, friction)]).unwrap();
+    let mut stepper = Stepper::new(ops, Scheme::AverageAcceleration, 0.01).unwrap();
+    stepper.set_point_laws(&[(1, friction)]).unwrap();
+    assert!(matches!(
+        stepper.set_step(Scheme::GeneralizedAlpha { rho_inf: 0.8 }, 0.01),
+        Err(IntegrateError::PointLawScheme { .. })
+    ));
+    for (dof, law) in [
+        (2, friction),
+        (
+            0,
+            PointLaw {
+                cubic: -1.0,
+                ..Default::default()
+            },
+        ),
+        (
+            0,
+            PointLaw {
+                quadratic: f64::NAN,
+                ..Default::default()
+            },
+        ),
+    ] {
+        assert!(matches!(
+            stepper.set_point_laws(&[(dof, law)]),
+            Err(IntegrateError::InvalidPointLaw { .. })
+        ));
+    }
+}
+
+#[test]
+fn without_laws_the_step_is_bitwise_the_linear_one() {
+    let (m, c, k) = two_dof_mck();
+    let ops = Operators {
+        m: m.as_ref(),
+        c: Some(c.as_ref()),
+        k: k.as_ref(),
+    };
+    let run = |laws: Option<&[(usize, PointLaw)]>| {
+        let mut stepper = Stepper::new(ops, Scheme::AverageAcceleration, 0.01).unwrap();
+        if let Some(laws) = laws {
+            stepper
+                .set_point_laws(&[(
+                    0,
+                    PointLaw {
+                        cubic: 3.0,
+                        ..Default::default()
+                    },
+                )])
+                .unwrap();
+            stepper.set_point_laws(laws).unwrap();
+        }
+        let mut state = stepper
+            .initial_state(0.0, &[0.01, -0.02], &[0.3, 0.0], &[0.0, 1.0])
+            .unwrap();
+        stepper
+            .run(&mut state, 100, &mut |t, f| f[1] = t.cos(), &mut |_, _| {})
+            .unwrap();
+        state
+    };
+    let linear = run(None);
+    // Cleared laws, and a law that does nothing, leave the linear step.
+    assert_eq!(run(Some(&[])), linear);
+    assert_eq!(run(Some(&[(1, PointLaw::default())])), linear);
+}
+
+fn two_dof_mck() -> Mck {
+    (
+        sparse(&[&[2.0, 0.0], &[0.0, 1.0]]),
+        sparse(&[&[0.4, -0.1], &[-0.1, 0.2]]),
+        sparse(&[&[300.0, -100.0], &[-100.0, 100.0]]),
+    )
 }

@@ -71,6 +71,9 @@ pub struct CycleSummary {
 #[derive(Debug, Clone, Serialize)]
 pub struct Signatures {
     pub axial_hz: f64,
+    /// Robust estimate of the record's white noise (m/s^2; median absolute deviation of
+    /// its sample-to-sample differences, `coil_postproc::signature::cycles`).
+    pub noise_rms_m_s2: f64,
     pub cycles: f64,
     pub loss: Option<LossSummary>,
     pub backbone: Option<BackboneSummary>,

@@ -286,6 +286,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         &candidates,
         &choice,
         &sigs,
+        sigs.noise_rms_m_s2 / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt(),
         clock.elapsed().as_secs_f64(),
     );
     Ok(Outcome {

@@ -78,6 +78,11 @@ pub struct Candidate {
 pub struct Gain {
     pub residual_rms_ratio: f64,
     pub forecast_rms_ratio: f64,
+    /// The same ratio with the record's noise removed from both figures,
+    /// `sqrt((e^2 - n^2) / (b^2 - n^2))`, `n` = `noise_floor_rms`: the share of the
+    /// baseline's model error that the extension leaves. `residual_rms_ratio` cannot
+    /// fall below `n / b`, however right the extension is.
+    pub model_error_ratio: f64,
 }
 
 /// The whole `diagnosis.json`.
@@ -90,6 +95,9 @@ pub struct Diagnosis {
     pub gain: Option<Gain>,
     pub reference: Reference,
     pub signatures: Signatures,
+    /// The record's noise as a `residual_rms`: noise RMS over the record's RMS. No
+    /// model's residual can go below it.
+    pub noise_floor_rms: f64,
     pub runtime_s: f64,
 }
 
@@ -110,6 +118,7 @@ pub fn assemble(
     candidates: &[(&dyn Effect, Proposal, std::result::Result<ModelRun, String>)],
     choice: &Choice,
     signatures: &Signatures,
+    noise_floor_rms: f64,
     runtime_s: f64,
 ) -> Diagnosis {
     let baseline = Baseline {
@@ -167,9 +176,13 @@ pub fn assemble(
             .copied()
             .unwrap_or(f64::NAN),
     });
+    let floor = noise_floor_rms;
     let gain = extended.as_ref().map(|e| Gain {
         residual_rms_ratio: e.residual_rms / baseline.residual_rms,
         forecast_rms_ratio: e.forecast_rms / baseline.forecast_rms,
+        model_error_ratio: ((e.residual_rms.powi(2) - floor * floor).max(0.0)
+            / (baseline.residual_rms.powi(2) - floor * floor).max(1e-300))
+        .sqrt(),
     });
     Diagnosis {
         cause: extended
@@ -186,6 +199,7 @@ pub fn assemble(
             forecast_rms: reference.forecast_rms,
         },
         signatures: signatures.clone(),
+        noise_floor_rms: floor,
         runtime_s,
     }
 }
@@ -232,13 +246,17 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
             ));
         }
         m.push_str(&format!(
-            ". Residual RMS {} -> {} (ratio {:.3}); forecast RMS {} -> {} (ratio {:.3}).\n\n",
+            ". Residual RMS {} -> {} (ratio {:.3}); forecast RMS {} -> {} (ratio {:.3}). The \
+             record's noise floor is {}: the extension leaves {:.1} % of the baseline's model \
+             error.\n\n",
             f(b.residual_rms),
             f(e.residual_rms),
             g.residual_rms_ratio,
             f(b.forecast_rms),
             f(e.forecast_rms),
-            g.forecast_rms_ratio
+            g.forecast_rms_ratio,
+            f(d.noise_floor_rms),
+            100.0 * g.model_error_ratio
         ));
     } else {
         m.push_str(

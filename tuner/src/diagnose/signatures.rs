@@ -119,6 +119,7 @@ pub fn compute(
     Ok((
         Signatures {
             axial_hz,
+            noise_rms_m_s2: series.as_ref().map_or(f64::NAN, |c| c.noise_rms),
             cycles: axial_hz * duration,
             loss,
             backbone,

@@ -15,8 +15,9 @@
 //!   `S = M + gamma dt C + beta dt^2 K` inverted once in [`DenseStepper::new`]. The
 //!   inverse is formed from the Cholesky factor of `D S D`, `D = diag(S)^-1/2`, so the
 //!   mixed units of reduced coordinates (mm, rad, modal) do not spoil it; the step then
-//!   uses the precomputed products `S^-1 K`, `S^-1 C` and `S^-1 f` (two `r x r`
-//!   products per step, nothing allocated);
+//!   uses the precomputed `[S^-1 K | S^-1 C]` and `S^-1 f` (one `r x 2r` product per
+//!   step, rows zero-padded to a multiple of 4 for four partial sums; nothing
+//!   allocated);
 //! - the law correction: with the law forces `f_L`, `a = a_lin - W f_L`, `W = S^-1 E`
 //!   (`E` the unit columns of the law DOFs), so at law DOF `j`
 //!   `u_j = u_lin,j - h (G f_L)_j`, `v_j = v_lin,j - g (G f_L)_j` with
@@ -107,10 +108,11 @@ pub struct DenseStepper {
     c: Vec<f64>,
     /// `M^-1` (row-major) for the initial acceleration.
     m_inv: Vec<f64>,
-    /// `S^-1`, `S^-1 K`, `S^-1 C` (row-major) and `S^-1 f`.
+    /// `S^-1` (row-major), `[S^-1 K | S^-1 C | 0]` (row-major, rows padded with zeros to
+    /// [`padded`]`(r)`, so one step's linear part is one product with `[u*; v*; 0]`) and
+    /// `S^-1 f`.
     s_inv: Vec<f64>,
-    s_inv_k: Vec<f64>,
-    s_inv_c: Vec<f64>,
+    s_inv_kc: Vec<f64>,
     s_inv_f: Vec<f64>,
     load: Vec<f64>,
     laws: Vec<Law>,
@@ -120,8 +122,8 @@ pub struct DenseStepper {
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    u_star: Vec<f64>,
-    v_star: Vec<f64>,
+    /// The predictor `[u*; v*; 0]` (length `padded(r)`).
+    star: Vec<f64>,
     forces: Vec<f64>,
     stuck: Vec<bool>,
     step_count: usize,
@@ -195,6 +197,25 @@ fn row_major(a: &DMatrix<f64>) -> Vec<f64> {
         }
     }
     out
+}
+
+/// Row length of the step's `[S^-1 K | S^-1 C]`: `2r` rounded up to a multiple of 4.
+fn padded(r: usize) -> usize {
+    (2 * r).div_ceil(4) * 4
+}
+
+/// `x . y` for lengths that are multiples of 4, with four partial sums: a single
+/// running sum is a chain of dependent additions, which for the short rows here costs
+/// more than the products.
+#[inline]
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    for (p, q) in x.chunks_exact(4).zip(y.chunks_exact(4)) {
+        for k in 0..4 {
+            acc[k] += p[k] * q[k];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 /// `y = A x` for row-major `A` (r x r).
@@ -288,8 +309,19 @@ impl DenseStepper {
             c: row_major(c),
             m_inv: row_major(&m_inv),
             s_inv: row_major(&s_inv),
-            s_inv_k: row_major(&(&s_inv * k)),
-            s_inv_c: row_major(&(&s_inv * c)),
+            s_inv_kc: {
+                let (sk, sc) = (&s_inv * k, &s_inv * c);
+                (0..r)
+                    .flat_map(|i| {
+                        let (sk, sc) = (&sk, &sc);
+                        (0..padded(r)).map(move |j| match j {
+                            j if j < r => sk[(i, j)],
+                            j if j < 2 * r => sc[(i, j - r)],
+                            _ => 0.0,
+                        })
+                    })
+                    .collect()
+            },
             s_inv_f: vec![0.0; r],
             load: vec![0.0; r],
             laws: kept,
@@ -297,8 +329,7 @@ impl DenseStepper {
             u: vec![0.0; r],
             v: vec![0.0; r],
             a: vec![0.0; r],
-            u_star: vec![0.0; r],
-            v_star: vec![0.0; r],
+            star: vec![0.0; padded(r)],
             forces: vec![0.0; p],
             stuck: vec![false; p],
             step_count: 0,
@@ -424,27 +455,28 @@ impl DenseStepper {
         let dt = self.dt;
         let h = BETA * dt * dt;
         let g = GAMMA * dt;
+        let (u_star, rest) = self.star.split_at_mut(r);
+        let v_star = &mut rest[..r];
         for i in 0..r {
-            self.u_star[i] = self.u[i] + dt * self.v[i] + (0.5 - BETA) * dt * dt * self.a[i];
-            self.v_star[i] = self.v[i] + (1.0 - GAMMA) * dt * self.a[i];
+            u_star[i] = self.u[i] + dt * self.v[i] + (0.5 - BETA) * dt * dt * self.a[i];
+            v_star[i] = self.v[i] + (1.0 - GAMMA) * dt * self.a[i];
         }
-        // a_lin = S^-1 f - S^-1 K u* - S^-1 C v*.
-        for i in 0..r {
-            let kr = &self.s_inv_k[i * r..(i + 1) * r];
-            let cr = &self.s_inv_c[i * r..(i + 1) * r];
-            let mut acc = self.s_inv_f[i];
-            for j in 0..r {
-                acc -= kr[j] * self.u_star[j] + cr[j] * self.v_star[j];
-            }
-            self.a[i] = acc;
+        // a_lin = S^-1 f - [S^-1 K | S^-1 C] [u*; v*].
+        for ((ai, row), fi) in self
+            .a
+            .iter_mut()
+            .zip(self.s_inv_kc.chunks_exact(padded(r)))
+            .zip(&self.s_inv_f)
+        {
+            *ai = fi - dot(row, &self.star);
         }
         self.step_count += 1;
         if !self.laws.is_empty() {
             self.correct_laws(h, g)?;
         }
         for i in 0..r {
-            self.u[i] = self.u_star[i] + h * self.a[i];
-            self.v[i] = self.v_star[i] + g * self.a[i];
+            self.u[i] = self.star[i] + h * self.a[i];
+            self.v[i] = self.star[r + i] + g * self.a[i];
         }
         // A stuck DOF is at rest exactly (the solve's v* - g f leaves rounding).
         for (law, &stuck) in self.laws.iter().zip(&self.stuck) {
@@ -452,7 +484,9 @@ impl DenseStepper {
                 self.v[law.dof] = 0.0;
             }
         }
-        if let Some(dof) = self.a.iter().position(|x| !x.is_finite()) {
+        // One sum flags any NaN or infinity (or an overflow, equally fatal).
+        if !self.a.iter().sum::<f64>().is_finite() {
+            let dof = self.a.iter().position(|x| !x.is_finite()).unwrap_or(0);
             return Err(IntegrateError::NonFiniteState {
                 step: self.step_count,
                 time: self.step_count as f64 * dt,
@@ -470,7 +504,7 @@ impl DenseStepper {
         // Linear end-of-step values at the law DOFs.
         let lin = |s: &Self, j: usize| {
             let d = s.laws[j].dof;
-            (s.u_star[d] + h * s.a[d], s.v_star[d] + g * s.a[d])
+            (s.star[d] + h * s.a[d], s.star[s.r + d] + g * s.a[d])
         };
         if p == 1 {
             let (ul, vl) = lin(self, 0);

@@ -99,7 +99,10 @@ fn diagnose_names_the_hidden_effect_recovers_it_and_gains() {
     for t in EFFECTS {
         print!("{t:26}");
         for c in EFFECTS {
-            print!("{:>26}", confusion.get(&(t, c.to_string())).copied().unwrap_or(0));
+            print!(
+                "{:>26}",
+                confusion.get(&(t, c.to_string())).copied().unwrap_or(0)
+            );
         }
         println!();
     }
@@ -113,9 +116,11 @@ fn diagnose_names_the_hidden_effect_recovers_it_and_gains() {
             r.name,
             r.truth,
             r.cause,
-            r.parameter_error.map_or("-".into(), |e| format!("{:+.2}%", 100.0 * e)),
+            r.parameter_error
+                .map_or("-".into(), |e| format!("{:+.2}%", 100.0 * e)),
             r.residual_ratio.map_or("-".into(), |x| format!("{x:.3}")),
-            r.model_error_ratio.map_or("-".into(), |x| format!("{x:.3}")),
+            r.model_error_ratio
+                .map_or("-".into(), |x| format!("{x:.3}")),
             if r.noise_limited { "yes" } else { "no" },
             r.runtime_s
         );
@@ -131,15 +136,15 @@ fn diagnose_names_the_hidden_effect_recovers_it_and_gains() {
             continue;
         }
         let err = r.parameter_error.unwrap_or(f64::NAN);
-        if !(err.abs() < 0.15) {
+        if err.is_nan() || err.abs() >= 0.15 {
             failures.push(format!("{}: parameter error {err:+.3}", r.name));
         }
         let model = r.model_error_ratio.unwrap_or(f64::NAN);
-        if !(model < 0.5) {
+        if model.is_nan() || model >= 0.5 {
             failures.push(format!("{}: model error ratio {model:.3}", r.name));
         }
         let ratio = r.residual_ratio.unwrap_or(f64::NAN);
-        if !r.noise_limited && !(ratio < 0.5) {
+        if !r.noise_limited && (ratio.is_nan() || ratio >= 0.5) {
             failures.push(format!("{}: residual ratio {ratio:.3}", r.name));
         }
     }

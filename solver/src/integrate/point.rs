@@ -212,7 +212,11 @@ fn solve_increasing(
     }
     // Newton from the start when it lies in the bracket (a warm start from the last
     // step's force converges in one or two steps), else from the bracket's middle.
-    let mut x = if x0 >= lo && x0 <= hi { x0 } else { 0.5 * (lo + hi) };
+    let mut x = if x0 >= lo && x0 <= hi {
+        x0
+    } else {
+        0.5 * (lo + hi)
+    };
     for _ in 0..200 {
         let p = phi(x);
         if !p.is_finite() {
@@ -233,8 +237,7 @@ fn solve_increasing(
             0.5 * (lo + hi)
         };
         let scale = x.abs().max(next.abs()).max(f64::MIN_POSITIVE);
-        if (next - x).abs() <= 4.0 * f64::EPSILON * scale || hi - lo <= 4.0 * f64::EPSILON * scale
-        {
+        if (next - x).abs() <= 4.0 * f64::EPSILON * scale || hi - lo <= 4.0 * f64::EPSILON * scale {
             return Some(next);
         }
         x = next;
@@ -281,7 +284,13 @@ mod tests {
             },
         ];
         for law in &laws {
-            for &(u, v) in &[(0.3, 1.2), (-2.0, 0.05), (1.0, -3.0), (0.0, 0.0), (5.0, -0.01)] {
+            for &(u, v) in &[
+                (0.3, 1.2),
+                (-2.0, 0.05),
+                (1.0, -3.0),
+                (0.0, 0.0),
+                (5.0, -0.01),
+            ] {
                 for &(h, g) in &[(0.01, 2.0), (1.0, 0.5), (0.0, 1.0)] {
                     let s = law.solve(u, v, h, g).expect("finite");
                     let r = residual(law, s, u, v, h, g);

@@ -153,7 +153,7 @@ mod tests {
         (0..n)
             .map(|i| {
                 let t = i as f64 / n as f64;
-                let x = (-1.0 * t).exp() * (std::f64::consts::TAU * cycles * t + 0.3).sin();
+                let x = (-t).exp() * (std::f64::consts::TAU * cycles * t + 0.3).sin();
                 (x.clamp(-clip, clip) * 3000.0).round() / 3000.0
             })
             .collect()

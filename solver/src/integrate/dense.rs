@@ -512,7 +512,7 @@ impl DenseStepper {
             let sol =
                 self.laws[0]
                     .law
-                    .solve(ul, vl, h * gjj, g * gjj)
+                    .solve_from(ul, vl, h * gjj, g * gjj, Some(self.forces[0]))
                     .ok_or(DenseError::LawSolve {
                         step,
                         dof: self.laws[0].dof,
@@ -534,7 +534,13 @@ impl DenseStepper {
                     let gjj = self.schur[j * p + j];
                     let sol = self.laws[j]
                         .law
-                        .solve(ul - h * others, vl - g * others, h * gjj, g * gjj)
+                        .solve_from(
+                            ul - h * others,
+                            vl - g * others,
+                            h * gjj,
+                            g * gjj,
+                            Some(self.forces[j]),
+                        )
                         .ok_or(DenseError::LawSolve {
                             step,
                             dof: self.laws[j].dof,

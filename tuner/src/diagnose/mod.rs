@@ -49,6 +49,7 @@ use evidence::Signatures;
 use fit::{Fitted, Knob, Problem, StaticBlock};
 use model::{EffectKind, Mount, Physical, ReducedSpring};
 use report::Diagnosis;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
@@ -249,28 +250,32 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
             sigma_n: s.cubic_rms_n.max(1e-12),
         });
 
-    let mut candidates = Vec::new();
-    for effect in CATALOGUE {
-        progress(settings, &clock, &format!("candidate {}", effect.name()));
-        let proposal = effect.propose(&sigs, &figures);
-        let model = match effect.mount() {
-            Mount::Guided => &guided,
-            Mount::FreeRotation => &free,
-        };
-        let fitted = fit_effect(
-            *effect,
-            &proposal.starts,
-            model,
-            &reference,
-            &measured,
-            step,
-            noise,
-            statics_block.as_ref().filter(|_| effect.uses_static()),
-            static_fit.as_ref(),
-            settings.max_iterations,
-        );
-        candidates.push((*effect, proposal, fitted));
-    }
+    // The candidates are independent: they run in parallel (each fit's Jacobian
+    // columns run in parallel too).
+    progress(settings, &clock, "candidates");
+    let candidates: Vec<_> = CATALOGUE
+        .par_iter()
+        .map(|effect| {
+            let proposal = effect.propose(&sigs, &figures);
+            let model = match effect.mount() {
+                Mount::Guided => &guided,
+                Mount::FreeRotation => &free,
+            };
+            let fitted = fit_effect(
+                *effect,
+                &proposal.starts,
+                model,
+                &reference,
+                &measured,
+                step,
+                noise,
+                statics_block.as_ref().filter(|_| effect.uses_static()),
+                static_fit.as_ref(),
+                settings.max_iterations,
+            );
+            (*effect, proposal, fitted)
+        })
+        .collect();
 
     let choice = select::choose(&reference, &candidates, &measured);
     let diagnosis = report::assemble(

@@ -186,9 +186,13 @@ impl Effect for CubicStiffness {
         if let Some(bb) = s.backbone {
             let z = bb.b_per_m2 / bb.b_se;
             text.push(format!(
-                "backbone f^2 = f0^2 (1 + b A^2), b = {:.4e} 1/m^2 ({z:.1} standard errors) \
-                 gives k3 = {:.4e} N/m^3",
-                bb.b_per_m2, bb.k3_n_m3
+                "backbone f^2 = f0^2 (1 + b A^2), b = {:.4e} 1/m^2 ({z:.1} standard errors){}",
+                bb.b_per_m2,
+                if bb.k3_n_m3.is_finite() {
+                    format!(" gives k3 = {:.4e} N/m^3", bb.k3_n_m3)
+                } else {
+                    ", more bend than a cubic spring at this preload can give".to_string()
+                }
             ));
             values.push(bb.k3_n_m3);
             z_score = z_score.max(z);

@@ -47,8 +47,9 @@ pub struct Extended {
     pub forecast_rms: f64,
     pub mass_kg: f64,
     pub rayleigh_beta: f64,
-    /// Relative standard error of the effect's parameter (indicative: residuals are
-    /// correlated).
+    /// Relative standard error of the effect's parameter: the fit's, inflated by
+    /// `sqrt(N / N_eff)` for the residuals' correlation (indicative; the mesh and the
+    /// model's form bias it more, see docs/diagnose.md).
     pub parameter_relative_error: f64,
 }
 
@@ -158,23 +159,29 @@ pub fn assemble(
             }
         })
         .collect();
+    // The fit's standard error assumes independent residuals; a fitted decay's are
+    // correlated, so it is inflated by sqrt(N / N_eff) (the AR(1) variance inflation
+    // that `select` uses for the BIC).
     let chosen = choice.cause.and_then(|i| {
         let (effect, _, run) = &candidates[i];
-        run.as_ref().ok().map(|r| (*effect, r))
+        let n = run.as_ref().map_or(1.0, |r| r.full.simulated.len() as f64);
+        let inflate = choice.scores[i].map_or(1.0, |s| (n / s.n_eff).sqrt());
+        run.as_ref().ok().map(|r| (*effect, r, inflate))
     });
-    let extended = chosen.map(|(effect, run)| Extended {
+    let extended = chosen.map(|(effect, run, inflate)| Extended {
         effect: effect.name().to_string(),
         parameters: BTreeMap::from([(effect.parameter().to_string(), run.full.physical.effect)]),
         residual_rms: run.residual_rms,
         forecast_rms: run.forecast_rms,
         mass_kg: run.full.physical.mass_kg,
         rayleigh_beta: run.full.physical.beta_s,
-        parameter_relative_error: run
-            .full
-            .knob_rel_errors
-            .first()
-            .copied()
-            .unwrap_or(f64::NAN),
+        parameter_relative_error: inflate
+            * run
+                .full
+                .knob_rel_errors
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN),
     });
     let floor = noise_floor_rms;
     let gain = extended.as_ref().map(|e| Gain {
@@ -240,9 +247,10 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
     if let (Some(e), Some(g)) = (&d.extended, &d.gain) {
         for (name, value) in &e.parameters {
             m.push_str(&format!(
-                " with `{name}` = {} (relative standard error {:.2} %)",
+                " with `{name}` = {} (relative standard error {:.2e}, inflated for the \
+                 residuals' correlation)",
                 f(*value),
-                100.0 * e.parameter_relative_error
+                e.parameter_relative_error
             ));
         }
         m.push_str(&format!(
@@ -440,6 +448,19 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
             markers: false,
         });
     }
+    // The last four cycles, where a wrong frequency or damping shows as a phase or an
+    // amplitude error the full view hides.
+    let tail_start = t
+        .len()
+        .saturating_sub(((4.0 / o.signatures.axial_hz.max(1e-9)) / o.decay.signal.step_s) as usize);
+    let zoom: Vec<Series> = fit_series
+        .iter()
+        .map(|s| Series {
+            label: s.label.clone(),
+            points: s.points[tail_start..].to_vec(),
+            markers: false,
+        })
+        .collect();
     plots::draw(
         &dir.join("decay_fit.png"),
         vec![
@@ -448,6 +469,12 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 x: "time (s)".into(),
                 y: "m/s^2".into(),
                 series: fit_series,
+            },
+            Panel {
+                title: "the last four cycles".into(),
+                x: "time (s)".into(),
+                y: "m/s^2".into(),
+                series: zoom,
             },
             Panel {
                 title: "residual".into(),

@@ -17,8 +17,6 @@
 //!
 //! Run: `cargo run --release -p coil-solver --example bench_integrate [ELEMENTS_PER_COIL...]`
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use coil_solver::analysis::{static_analysis, System};
@@ -28,27 +26,10 @@ use coil_solver::linalg::upper_to_full;
 use coil_solver::model::*;
 
 mod common;
-
-struct CountingAllocator;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
-    }
-}
+mod counting;
 
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+static GLOBAL: counting::CountingAllocator = counting::CountingAllocator;
 
 /// The paper's spring (see the module docs) with `weight_t` on the guided reference.
 fn spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) -> Model {
@@ -129,7 +110,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let mut history = vec![0.0; n_steps + 1];
                 history[0] = state.u[weight_dof];
                 let cpu_start = thread_cpu_seconds();
-                let before = ALLOCATIONS.load(Ordering::Relaxed);
+                let before = counting::allocations();
                 let start = Instant::now();
                 for (step, h) in history.iter_mut().enumerate().skip(1) {
                     stepper.step(&mut state, &f_n, &f_next, step)?;
@@ -137,7 +118,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     std::mem::swap(&mut f_n, &mut f_next);
                 }
                 let elapsed = start.elapsed().as_secs_f64();
-                let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+                let allocations = counting::allocations() - before;
                 let cpu = thread_cpu_seconds()
                     .zip(cpu_start)
                     .map(|(end, start)| end - start);

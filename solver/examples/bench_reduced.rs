@@ -15,8 +15,6 @@
 //!
 //! Run: `cargo run --release -p coil-solver --example bench_reduced [N_MODES]` (default 4)
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use coil_solver::analysis::{static_analysis, System};
@@ -25,27 +23,10 @@ use coil_solver::integrate::{DenseStepper, PointLaw};
 use coil_solver::reduce::craig_bampton;
 
 mod common;
-
-struct CountingAllocator;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
-    }
-}
+mod counting;
 
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+static GLOBAL: counting::CountingAllocator = counting::CountingAllocator;
 
 /// CPU time of this thread (Linux scheduler statistics); wall time elsewhere.
 fn cpu_seconds(start: &Instant) -> f64 {
@@ -140,11 +121,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let cpu_ms = (cpu_seconds(&clock) - cpu0) * 1e3 / repetitions as f64;
             stepper.set_state(&u0, &v0)?;
-            let before = ALLOCATIONS.load(Ordering::Relaxed);
+            let before = counting::allocations();
             for _ in 0..10_000 {
                 stepper.step()?;
             }
-            let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+            let allocations = counting::allocations() - before;
             let ms = median(times);
             let last = samples.last().map_or(0.0, |s| s.u);
             println!(

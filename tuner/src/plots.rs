@@ -61,7 +61,7 @@ fn colour(t: f64) -> RGBColor {
 }
 
 /// Short number for ticks: up to 4 decimals or 3 significant digits.
-fn short(x: &f64) -> String {
+pub(crate) fn short(x: &f64) -> String {
     let x = *x;
     if x.abs() < 1e-15 {
         return "0".into();
@@ -84,7 +84,7 @@ fn whole(x: &f64) -> String {
     }
 }
 
-fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);

@@ -2,6 +2,7 @@
 //! points), drawn by the post-processor's renderer (embedded font, atomic output).
 
 use crate::error::{Result, TuneError};
+use crate::plots::{range_of as range, short};
 use coil_postproc::plot::{self, Draw, Figure, FONT};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -38,35 +39,6 @@ pub struct Panels(pub Vec<Panel>);
 
 fn e<T: std::fmt::Display>(x: T) -> String {
     x.to_string()
-}
-
-fn short(x: &f64) -> String {
-    let a = x.abs();
-    if a < 1e-15 {
-        "0".into()
-    } else if (1e-2..1e5).contains(&a) {
-        let s = format!("{x:.4}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
-fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if !lo.is_finite() {
-        return (0.0, 1.0);
-    }
-    let pad = if hi > lo {
-        0.05 * (hi - lo)
-    } else {
-        0.5 * lo.abs().max(1e-12)
-    };
-    (lo - pad, hi + pad)
 }
 
 /// Min/max decimation of a long line to about 4000 points (keeps its envelope).

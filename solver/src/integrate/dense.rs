@@ -509,14 +509,13 @@ impl DenseStepper {
         if p == 1 {
             let (ul, vl) = lin(self, 0);
             let gjj = self.schur[0];
-            let sol =
-                self.laws[0]
-                    .law
-                    .solve_from(ul, vl, h * gjj, g * gjj, Some(self.forces[0]))
-                    .ok_or(DenseError::LawSolve {
-                        step,
-                        dof: self.laws[0].dof,
-                    })?;
+            let sol = self.laws[0]
+                .law
+                .solve_from(ul, vl, h * gjj, g * gjj, Some(self.forces[0]))
+                .ok_or(DenseError::LawSolve {
+                    step,
+                    dof: self.laws[0].dof,
+                })?;
             self.forces[0] = sol.force;
             self.stuck[0] = sol.stuck;
         } else {

@@ -1198,6 +1198,14 @@ pub fn standard_cases() -> Vec<TruthCase> {
             test(800.0, 30.0, 0.01, 0.0008, 4.0, 202),
             0.6,
         ),
+        // Friction that stops the weight within the record (it sticks for the last
+        // third): the decay ends in a dead band, not in noise.
+        friction_case(
+            "friction_paper_sticks",
+            PAPER_RIG,
+            test(1000.0, 30.0, 0.005, 0.00175, 3.0, 204),
+            1.6,
+        ),
         friction_case(
             "friction_g2_weak",
             RIG_G2,

@@ -4,8 +4,9 @@
 //! this module adds what a free-decay fit needs:
 //!
 //! - **length**: at least [`MIN_CYCLES`] cycles of the dominant oscillation, counted
-//!   from the zero crossings of the mean-removed record (the decrement and the
-//!   per-cycle curves need that many; the paper used every 10th crest);
+//!   from the zero crossings of the mean-removed record with hysteresis (noise in a
+//!   dead band does not count; the decrement and the per-cycle curves need that many;
+//!   the paper used every 10th crest);
 //! - **not flat**: at least [`MIN_LEVELS`] distinct values and a non-zero spread;
 //! - **not clipped**: a clipped record dwells at its extreme value; if more than
 //!   [`CLIP_FRACTION`] of the samples sit within half a quantisation step of the
@@ -31,8 +32,10 @@ pub const MIN_BRANCH: usize = 4;
 #[derive(Debug, Clone)]
 pub struct DecayData {
     pub signal: Signal,
-    /// Zero crossings of the mean-removed record divided by two.
+    /// Zero crossings of the mean-removed record (with hysteresis) divided by two.
     pub cycles: usize,
+    /// Mean frequency of those crossings (Hz).
+    pub frequency_hz: f64,
     /// Smallest step between distinct values (the ADC's resolution, if quantised).
     pub resolution: f64,
 }
@@ -85,10 +88,7 @@ pub fn check_decay(signal: Signal) -> Result<DecayData> {
             "a record within the sensor's range (lower the gain or the impulse)",
         ));
     }
-    let crossings = x
-        .windows(2)
-        .filter(|w| (w[0] - mean) * (w[1] - mean) < 0.0)
-        .count();
+    let (crossings, span_s) = crossings(&signal, mean);
     let cycles = crossings / 2;
     if cycles < MIN_CYCLES {
         return Err(bad(
@@ -101,10 +101,55 @@ pub fn check_decay(signal: Signal) -> Result<DecayData> {
         ));
     }
     Ok(DecayData {
+        frequency_hz: if span_s > 0.0 {
+            (crossings.saturating_sub(1)) as f64 / (2.0 * span_s)
+        } else {
+            0.0
+        },
         signal,
         cycles,
         resolution,
     })
+}
+
+/// Zero crossings of the oscillation about `mean` with hysteresis, and the time between
+/// the first and the last: a crossing counts only once the signal has gone beyond
+/// `+-h` on the other side, `h` the larger of 5 % of the largest excursion and four
+/// standard deviations of the noise (estimated from the sample-to-sample differences,
+/// `sigma = 1.4826 MAD / sqrt 2`), so noise in a dead band or after the decay does not
+/// count as cycles.
+fn crossings(signal: &Signal, mean: f64) -> (usize, f64) {
+    let x = &signal.values;
+    let peak = x.iter().fold(0.0_f64, |m, v| m.max((v - mean).abs()));
+    let mut diffs: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    diffs.sort_by(f64::total_cmp);
+    let mad = diffs.get(diffs.len() / 2).copied().unwrap_or(0.0);
+    let sigma = 1.4826 * mad / std::f64::consts::SQRT_2;
+    let h = (0.05 * peak).max(4.0 * sigma);
+    let mut side = 0i8;
+    let mut count = 0;
+    let (mut first, mut last) = (f64::NAN, f64::NAN);
+    for (v, t) in x.iter().zip(&signal.time_s) {
+        let now = if v - mean > h {
+            1
+        } else if v - mean < -h {
+            -1
+        } else {
+            0
+        };
+        if now != 0 && now != side {
+            if side != 0 {
+                count += 1;
+                if first.is_nan() {
+                    first = *t;
+                }
+                last = *t;
+            }
+            side = now;
+        }
+    }
+    let span = if count > 1 { last - first } else { 0.0 };
+    (count, span)
 }
 
 /// Checks that a static record has a loading branch; returns the index range of the

@@ -161,7 +161,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
             time_s: decay.signal.time_s[range.clone()].to_vec(),
             accel_m_s2: measured[range].to_vec(),
         };
-        let f_guess = decay.cycles as f64 / (decay.signal.time_s[n - 1] - decay.signal.time_s[0]);
+        let f_guess = decay.frequency_hz;
         // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
         // a record whose crests carry jumps (dry friction reverses its force at every
         // crest) needs a lower cut-off before its crests are regular.

@@ -27,8 +27,8 @@
 //! # Nonlinear extras (optional, zero by default)
 //! `friction_n`, `quadratic_damping_n_s2_m2` and `cubic_stiffness_n_m3` put the deck
 //! cards `FRICTION`, `QUADRATIC DAMPER` and `CUBIC SPRING` on the weight's axial DOF
-//! (node 1, DOF 3), converted to solver units (N; N s^2/mm^2 = 1e-6 N s^2/m^2;
-//! N/mm^3 = 1e-9 N/m^3). They need the axial DOF free (not `held`) and a Newmark
+//! (node 1, DOF 3), converted to solver units (N; 1 N s^2/m^2 = 1e-6 N s^2/mm^2;
+//! 1 N/m^3 = 1e-9 N/mm^3). They need the axial DOF free (not `held`) and a Newmark
 //! transient.
 //!
 //! # Units

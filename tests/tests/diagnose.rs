@@ -60,8 +60,8 @@ fn diagnose_case(dir: &std::path::Path, case: &TruthCase) -> Row {
         truth: case.effect.name(),
         cause: d.cause.clone(),
         parameter_error,
-        residual_ratio: d.gain.map(|g| g.residual_rms_ratio),
-        model_error_ratio: d.gain.map(|g| g.model_error_ratio),
+        residual_ratio: d.extended.as_ref().map(|_| d.gain.residual_rms_ratio),
+        model_error_ratio: d.extended.as_ref().map(|_| d.gain.model_error_ratio),
         noise_limited: d.noise_floor_rms >= 0.4 * d.baseline.residual_rms,
         runtime_s: d.runtime_s,
     }

@@ -123,9 +123,9 @@ pub enum Command {
         /// Beams per coil of the helix.
         #[arg(long, default_value_t = 24)]
         elements_per_coil: u32,
-        /// Fixed-interface modes kept in the reduced model.
-        #[arg(long, default_value_t = 4)]
-        modes: usize,
+        /// Fixed-interface modes kept in the reduced model (0 to 50).
+        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u16).range(0..=50))]
+        modes: u16,
         /// No figures (tables and report.md only).
         #[arg(long)]
         no_plots: bool,
@@ -217,7 +217,7 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             let mut settings = crate::diagnose::DiagnoseSettings::default();
             settings.fe.elements_per_coil = elements_per_coil;
-            settings.modes = modes;
+            settings.modes = usize::from(modes);
             settings.plots = !no_plots;
             settings.progress = !quiet;
             let outcome = crate::diagnose::diagnose(&case, &settings)?;

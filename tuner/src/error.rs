@@ -82,6 +82,13 @@ pub enum TuneError {
         #[source]
         source: Box<TuneError>,
     },
+    /// A diagnosis step that failed after the case's records were read and checked.
+    #[error("{}: {source}", case.display())]
+    InCase {
+        case: PathBuf,
+        #[source]
+        source: Box<TuneError>,
+    },
     /// A plot could not be drawn.
     #[error("{}: cannot draw the plot: {message}", path.display())]
     Plot { path: PathBuf, message: String },

@@ -115,16 +115,13 @@ pub fn check_decay(signal: Signal) -> Result<DecayData> {
 /// Zero crossings of the oscillation about `mean` with hysteresis, and the time between
 /// the first and the last: a crossing counts only once the signal has gone beyond
 /// `+-h` on the other side, `h` the larger of 5 % of the largest excursion and four
-/// standard deviations of the noise (estimated from the sample-to-sample differences,
-/// `sigma = 1.4826 MAD / sqrt 2`), so noise in a dead band or after the decay does not
-/// count as cycles.
+/// standard deviations of the noise (the post-processor's robust estimate from fourth
+/// differences, which a sampled oscillation barely reaches at 10 or more samples per
+/// cycle), so noise in a dead band or after the decay does not count as cycles.
 fn crossings(signal: &Signal, mean: f64) -> (usize, f64) {
     let x = &signal.values;
     let peak = x.iter().fold(0.0_f64, |m, v| m.max((v - mean).abs()));
-    let mut diffs: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
-    diffs.sort_by(f64::total_cmp);
-    let mad = diffs.get(diffs.len() / 2).copied().unwrap_or(0.0);
-    let sigma = 1.4826 * mad / std::f64::consts::SQRT_2;
+    let sigma = coil_postproc::peaks::noise_rms(x);
     let h = (0.05 * peak).max(4.0 * sigma);
     let mut side = 0i8;
     let mut count = 0;
@@ -150,6 +147,33 @@ fn crossings(signal: &Signal, mean: f64) -> (usize, f64) {
     }
     let span = if count > 1 { last - first } else { 0.0 };
     (count, span)
+}
+
+/// Checks the decay's size against the spring: its displacement amplitude, the peak
+/// acceleration over `(2 pi f)^2` at the record's mean crossing frequency, must fit in
+/// the coils' free travel `n (h - d)` (beyond it the coils touch; a record that claims
+/// more is in the wrong unit, e.g. mm/s^2 for m/s^2).
+pub fn check_amplitude(decay: &DecayData, case: &crate::case::MeasuredCase) -> Result<()> {
+    let x = &decay.signal.values;
+    let mean = x.iter().sum::<f64>() / x.len().max(1) as f64;
+    let peak = x.iter().fold(0.0_f64, |m, v| m.max((v - mean).abs()));
+    let w = std::f64::consts::TAU * decay.frequency_hz;
+    let amplitude_mm = 1e3 * peak / (w * w);
+    let s = &case.spring;
+    let travel_mm = s.active_coils * (s.pitch_mm - s.wire_diameter_mm);
+    if !(amplitude_mm.is_finite() && amplitude_mm <= travel_mm) {
+        return Err(bad(
+            &decay.signal,
+            format!(
+                "a peak of {peak:.4e} m/s^2 at {:.3} Hz is a displacement amplitude of \
+                 {amplitude_mm:.4e} mm, more than the coils' free travel n (h - d) = \
+                 {travel_mm:.3} mm",
+                decay.frequency_hz
+            ),
+            "the weight's acceleration in m/s^2 (not mm/s^2 or g) within the spring's travel",
+        ));
+    }
+    Ok(())
 }
 
 /// Checks that a static record has a loading branch; returns the index range of the
@@ -208,6 +232,29 @@ mod tests {
     fn a_decay_passes() {
         let d = check_decay(signal(decay(40.0, 2.0), 1e-3)).unwrap();
         assert!((39..=41).contains(&d.cycles));
+    }
+
+    #[test]
+    fn a_coarsely_sampled_noisy_decay_counts_its_cycles() {
+        // 14 samples per cycle (a 35 Hz spring at 500 Hz) with 1 % noise: the hysteresis
+        // must follow the noise, not the signal's sample-to-sample slope.
+        let mut seed = 7_u64;
+        let mut noise = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let n = 1000;
+        let values = (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64;
+                (-t).exp() * (std::f64::consts::TAU * 71.0 * t).sin() + 0.035 * noise()
+            })
+            .collect();
+        let d = check_decay(signal(values, 2e-3)).unwrap();
+        assert!((69..=72).contains(&d.cycles), "{}", d.cycles);
+        assert!((d.frequency_hz - 35.5).abs() < 0.5, "{}", d.frequency_hz);
     }
 
     #[test]

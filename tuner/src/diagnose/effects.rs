@@ -95,19 +95,27 @@ impl Effect for CoulombFriction {
             .loss
             .map(|l| (l.a0_m * b.stiffness_n_m / 4.0, l.a0_m / l.a0_se));
         let mut text = match from_loss {
-            Some((f, z)) => format!(
+            Some((f, z)) if f > 0.0 => format!(
                 "constant loss per cycle a0 = 4F/k gives F = {f:.4} N ({z:.1} standard errors); \
                  envelope {} (R^2 linear {:.4}, exponential {:.4})",
                 s.envelope.kind, s.envelope.r2_linear, s.envelope.r2_exponential
             ),
+            Some((_, z)) => format!(
+                "no constant loss per cycle (a0 <= 0, {z:.1} standard errors); envelope {}",
+                s.envelope.kind
+            ),
             None => "no per-cycle loss curve".to_string(),
         };
         if let Some(st) = &s.statics {
-            text.push_str(&format!(
-                "; static hysteresis half-width {:.4} N ({:.1} standard errors)",
-                st.friction_n,
-                st.friction_n / st.friction_se
-            ));
+            if st.friction_n > 0.0 && st.friction_se.is_finite() {
+                text.push_str(&format!(
+                    "; static hysteresis half-width {:.4} N ({:.1} standard errors)",
+                    st.friction_n,
+                    st.friction_n / st.friction_se
+                ));
+            } else {
+                text.push_str("; no static hysteresis");
+            }
         }
         // A fallback that loses a tenth of the largest amplitude over the record's
         // cycles: detectable, not dominant.
@@ -137,10 +145,11 @@ impl Effect for QuadraticDamping {
             .loss
             .map(|l| (3.0 * l.a2_per_m * b.mass_kg / 8.0, l.a2_per_m / l.a2_se));
         let text = match from_loss {
-            Some((c2, z)) => format!(
+            Some((c2, z)) if c2 > 0.0 => format!(
                 "loss per cycle growing with A^2: a2 = (8/3) c2/m gives c2 = {c2:.4} N s^2/m^2 \
                  ({z:.1} standard errors)"
             ),
+            Some((_, z)) => format!("no loss growing with A^2 (a2 <= 0, {z:.1} standard errors)"),
             None => "no per-cycle loss curve".to_string(),
         };
         let fallback = 0.1 * b.mass_kg / b.amplitude_m.max(1e-9) / s.cycles.max(1.0);

@@ -39,14 +39,14 @@ pub struct PeakSummary {
     pub frequency_hz: f64,
     /// Its amplitude over the axial line's.
     pub relative_amplitude: f64,
-    /// Its height over the spectrum's noise floor, in standard deviations.
+    /// Its relative amplitude over the detection threshold (2 % of the axial line).
     pub z_score: f64,
 }
 
 /// The static record's fits.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct StaticSummary {
-    /// Secant stiffness of a straight line through the loading branch (N/mm).
+    /// Stiffness of the straight line `F = k x + s F_f` through both branches (N/mm).
     pub linear_k_n_mm: f64,
     /// `F = k x + k3 x^3 + s Ff` (s = +1 loading, -1 unloading).
     pub k_n_mm: f64,
@@ -71,8 +71,9 @@ pub struct CycleSummary {
 #[derive(Debug, Clone, Serialize)]
 pub struct Signatures {
     pub axial_hz: f64,
-    /// Robust estimate of the record's white noise (m/s^2; median absolute deviation of
-    /// its sample-to-sample differences, `coil_postproc::signature::cycles`).
+    /// Robust estimate of the record's white noise (m/s^2; from the median absolute
+    /// fourth difference, `coil_postproc::signature::cycles`; NaN if no cycles were
+    /// found).
     pub noise_rms_m_s2: f64,
     pub cycles: f64,
     pub loss: Option<LossSummary>,

@@ -6,8 +6,8 @@
 //! 1. **Records** are read and checked ([`data`]) before anything is computed; nothing
 //!    is written unless the whole diagnosis succeeds, and then every file goes through
 //!    a temporary name ([`write`]).
-//! 2. **Baseline, the paper's model**: K from the static record (least-squares line
-//!    through the loading branch), E by the paper's loop 1 on the FE model; T and zeta
+//! 2. **Baseline, the paper's model**: K from the static record (the least-squares line
+//!    `F = k x + s F_f` through both branches, `s = +-1`), E by the paper's loop 1 on the FE model; T and zeta
 //!    by the paper's decrement (every 10th crest, Eqs. 2-3) on the decay record; the
 //!    weight's mass by loop 2; damping stiffness-proportional, `alpha = 0`,
 //!    `beta = 2 zeta / w`. One decay identifies one combination of alpha and beta
@@ -129,14 +129,49 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
             case.file.display()
         )));
     }
+    let mut warnings = Vec::new();
+    if decays.len() > 1 {
+        warnings.push(format!(
+            "{} decay records; only the first, {}, is diagnosed",
+            decays.len(),
+            decays[0].source.display()
+        ));
+    }
     let decay = data::check_decay(decays.swap_remove(0))?;
-    let statics = match case.static_records()?.into_iter().next() {
+    let mut static_records = case.static_records()?;
+    if static_records.len() > 1 {
+        warnings.push(format!(
+            "{} static records; only the first, {}, is used",
+            static_records.len(),
+            static_records[0].file.display()
+        ));
+    }
+    let statics = match static_records.drain(..).next() {
         Some(record) => {
             let branch = data::check_static(&record)?;
             Some((record, branch))
         }
         None => None,
     };
+    data::check_amplitude(&decay, &case)?;
+    // Past the records' checks every failure is a model or fit failure: name the case.
+    compute(case, decay, statics, warnings, settings, clock).map_err(|e| match e {
+        TuneError::InCase { .. } => e,
+        other => TuneError::InCase {
+            case: path.to_path_buf(),
+            source: Box::new(other),
+        },
+    })
+}
+
+fn compute(
+    case: MeasuredCase,
+    decay: DecayData,
+    statics: Option<(crate::case::StaticRecord, Range<usize>)>,
+    mut warnings: Vec<String>,
+    settings: &DiagnoseSettings,
+    clock: Instant,
+) -> Result<Outcome> {
     let n = decay.signal.values.len();
     let half = n / 2;
     let measured = decay.signal.values.clone();
@@ -157,6 +192,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
 
     let paper = |range: Range<usize>| -> Result<(Physical, f64, f64)> {
+        let span = range.clone();
         let record = DecayRecord {
             time_s: decay.signal.time_s[range.clone()].to_vec(),
             accel_m_s2: measured[range].to_vec(),
@@ -165,20 +201,32 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
         // a record whose crests carry jumps (dry friction reverses its force at every
         // crest) needs a lower cut-off before its crests are regular.
+        // A short record (the forecast's first half of a 20-30 cycle decay) has too few
+        // crests for spans of 10; spans of 5, then 3, keep the estimator's form.
         let mut attempt = Err(TuneError::Invalid("no decrement".into()));
-        for factor in [5.0, 2.0, 1.4] {
-            attempt = decay::measure(
-                &record,
-                &DecaySettings {
-                    lowpass_hz: Some(factor * f_guess),
-                    ..DecaySettings::default()
-                },
-            );
-            if attempt.is_ok() {
-                break;
+        'search: for every in [10, 5, 3] {
+            for factor in [5.0, 2.0, 1.4] {
+                attempt = decay::measure(
+                    &record,
+                    &DecaySettings {
+                        lowpass_hz: Some(factor * f_guess),
+                        every,
+                        ..DecaySettings::default()
+                    },
+                );
+                if attempt.is_ok() {
+                    break 'search;
+                }
             }
         }
-        let m = attempt?;
+        let m = attempt.map_err(|e| {
+            TuneError::Invalid(format!(
+                "{}: the paper's logarithmic decrement fails on samples {}..{}: {e}",
+                decay.signal.source.display(),
+                span.start,
+                span.end
+            ))
+        })?;
         let zeta = m.zeta_mean;
         let period_n = m.period_s * (1.0 - zeta * zeta).max(0.0).sqrt();
         let mut s = state;
@@ -278,6 +326,37 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         .collect();
 
     let choice = select::choose(&reference, &candidates, &measured);
+    let noise_floor =
+        sigs.noise_rms_m_s2 / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
+    // Plausibility: what the calibration had to do to the nominal values, and a misfit
+    // no catalogue effect explains.
+    for (what, value, nominal) in [
+        (
+            "Young's modulus",
+            state.youngs_modulus_mpa,
+            case.material.youngs_modulus_mpa,
+        ),
+        ("the weight's mass", base_phys.mass_kg, case.mass_kg),
+    ] {
+        let ratio = value / nominal;
+        if !(0.5..=2.0).contains(&ratio) {
+            warnings.push(format!(
+                "the calibrated {what} is {ratio:.3} times the nominal value in case.json; \
+                 check the records' units (mm and N for static.csv, s and m/s^2 for decay.csv)"
+            ));
+        }
+    }
+    if choice.cause.is_none() && reference.residual_rms > 3.0 * noise_floor {
+        warnings.push(format!(
+            "no catalogue effect explains the linear model's misfit, residual_rms {:.4} \
+             against a noise floor of {:.4}: look for an effect outside the catalogue, an \
+             offset or a drift in the record",
+            reference.residual_rms, noise_floor
+        ));
+    }
+    for w in &warnings {
+        progress(settings, &clock, &format!("warning: {w}"));
+    }
     let diagnosis = report::assemble(
         &report::BaselineInputs {
             state: &state,
@@ -291,7 +370,8 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         &candidates,
         &choice,
         &sigs,
-        sigs.noise_rms_m_s2 / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt(),
+        noise_floor,
+        warnings,
         clock.elapsed().as_secs_f64(),
     );
     Ok(Outcome {
@@ -321,6 +401,9 @@ fn model_run(full: Fitted, half: Fitted, measured: &[f64], split: usize) -> Mode
         half,
     }
 }
+
+/// Levenberg-Marquardt iterations of each start's first-quarter fit.
+const SEED_ITERATIONS: usize = 10;
 
 /// Fits one effect from its starting values: the cheapest start (one run each) seeds
 /// the full-record fit, whose result seeds the first-half fit.
@@ -372,7 +455,21 @@ fn fit_effect(
     let mut last_error = String::from("no starting value");
     for &s in starts {
         let start = Physical { effect: s, ..base };
-        match fit::run(&problem(start, 0..n / 4, initial.clone()), max_iterations) {
+        // A seed only: a few iterations tell a good start from a bad one.
+        let quarter = fit::run(
+            &problem(start, 0..n / 4, initial.clone()),
+            max_iterations.min(SEED_ITERATIONS),
+        );
+        if let (Ok(f), true) = (&quarter, std::env::var_os("COIL_DIAGNOSE_TRACE").is_some()) {
+            eprintln!(
+                "  {}: quarter from {s:.4e}: {} iterations {} runs -> {:.4e}",
+                effect.name(),
+                f.iterations,
+                f.evaluations,
+                f.physical.effect
+            );
+        }
+        match quarter {
             Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
             Ok(_) => {}
             Err(e) => last_error = e,
@@ -438,7 +535,7 @@ pub fn summary(o: &Outcome) -> String {
         ));
     }
     s.push_str(&format!("cause: {}", d.cause));
-    if let (Some(e), Some(g)) = (&d.extended, &d.gain) {
+    if let (Some(e), g) = (&d.extended, &d.gain) {
         for (k, v) in &e.parameters {
             s.push_str(&format!(", {k} = {v:.6e}"));
         }

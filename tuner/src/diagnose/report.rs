@@ -93,12 +93,16 @@ pub struct Diagnosis {
     pub baseline: Baseline,
     pub extended: Option<Extended>,
     pub candidates: Vec<Candidate>,
-    pub gain: Option<Gain>,
+    /// Extended over baseline figures; all 1 when the cause is `none`.
+    pub gain: Gain,
     pub reference: Reference,
     pub signatures: Signatures,
     /// The record's noise as a `residual_rms`: noise RMS over the record's RMS. No
     /// model's residual can go below it.
     pub noise_floor_rms: f64,
+    /// What a person should check: records ignored, calibrated values far from the
+    /// nominal ones, a misfit no effect explains.
+    pub warnings: Vec<String>,
     pub runtime_s: f64,
 }
 
@@ -113,6 +117,7 @@ pub struct BaselineInputs<'a> {
 }
 
 /// Builds the report's data.
+#[allow(clippy::too_many_arguments)]
 pub fn assemble(
     base: &BaselineInputs<'_>,
     reference: &ModelRun,
@@ -120,6 +125,7 @@ pub fn assemble(
     choice: &Choice,
     signatures: &Signatures,
     noise_floor_rms: f64,
+    warnings: Vec<String>,
     runtime_s: f64,
 ) -> Diagnosis {
     let baseline = Baseline {
@@ -184,13 +190,21 @@ pub fn assemble(
                 .unwrap_or(f64::NAN),
     });
     let floor = noise_floor_rms;
-    let gain = extended.as_ref().map(|e| Gain {
-        residual_rms_ratio: e.residual_rms / baseline.residual_rms,
-        forecast_rms_ratio: e.forecast_rms / baseline.forecast_rms,
-        model_error_ratio: ((e.residual_rms.powi(2) - floor * floor).max(0.0)
-            / (baseline.residual_rms.powi(2) - floor * floor).max(1e-300))
-        .sqrt(),
-    });
+    // Without an extension the model stays the baseline: every ratio is 1.
+    let gain = extended.as_ref().map_or(
+        Gain {
+            residual_rms_ratio: 1.0,
+            forecast_rms_ratio: 1.0,
+            model_error_ratio: 1.0,
+        },
+        |e| Gain {
+            residual_rms_ratio: e.residual_rms / baseline.residual_rms,
+            forecast_rms_ratio: e.forecast_rms / baseline.forecast_rms,
+            model_error_ratio: ((e.residual_rms.powi(2) - floor * floor).max(0.0)
+                / (baseline.residual_rms.powi(2) - floor * floor).max(1e-300))
+            .sqrt(),
+        },
+    );
     Diagnosis {
         cause: extended
             .as_ref()
@@ -207,6 +221,7 @@ pub fn assemble(
         },
         signatures: signatures.clone(),
         noise_floor_rms: floor,
+        warnings,
         runtime_s,
     }
 }
@@ -244,7 +259,7 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         o.decay.cycles
     ));
     m.push_str(&format!("**Cause: `{}`**", d.cause));
-    if let (Some(e), Some(g)) = (&d.extended, &d.gain) {
+    if let (Some(e), g) = (&d.extended, &d.gain) {
         for (name, value) in &e.parameters {
             m.push_str(&format!(
                 " with `{name}` = {} (relative standard error {:.2e}, inflated for the \
@@ -272,9 +287,16 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
                     than the linear model.\n\n",
         );
     }
+    if !d.warnings.is_empty() {
+        m.push_str("**Check:**\n\n");
+        for w in &d.warnings {
+            m.push_str(&format!("- {w}\n"));
+        }
+        m.push('\n');
+    }
     m.push_str("## 1. Baseline: the paper's model\n\n");
     m.push_str(
-        "K from the static record (straight line through the loading branch), E by loop 1, T and \
+        "K from the static record (the line F = k x +- F_f through both branches), E by loop 1, T and \
                 zeta by the logarithmic decrement (every 10th crest), the weight's mass by loop 2, \
                 damping stiffness-proportional (alpha = 0, beta = 2 zeta / w: one decay identifies \
                 one combination of alpha and beta). The decay is simulated on the reduced FE model \

@@ -19,7 +19,7 @@
 
 use std::time::Instant;
 
-use coil_solver::analysis::{static_analysis, System};
+use coil_solver::analysis::System;
 use coil_solver::integrate::modal::{integrate_modal, ModalBasis, ModalState};
 use coil_solver::integrate::{Operators, Scheme, Stepper};
 use coil_solver::linalg::upper_to_full;
@@ -58,15 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n_steps, dt) = (20_000, 1e-3);
     for per_coil in sizes {
         for lumped in [false, true] {
-            let probe = spring(per_coil, 1e-3, lumped);
-            let stiffness = {
-                let system = System::new(&probe)?;
-                let factor = system.factor_stiffness()?;
-                static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
-                    .stiffness_n_mm
-                    .ok_or("no stiffness")?
-            };
-            let weight = stiffness * (0.23 / std::f64::consts::TAU).powi(2);
+            let weight = common::weight_for_period(&spring(per_coil, 1e-3, lumped), 0.23)?;
             let model = spring(per_coil, weight, lumped);
             let system = System::new(&model)?;
             let weight_dof = system

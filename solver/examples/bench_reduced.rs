@@ -17,7 +17,6 @@
 
 use std::time::Instant;
 
-use coil_solver::analysis::{static_analysis, System};
 use coil_solver::integrate::dense::Sample;
 use coil_solver::integrate::{DenseStepper, PointLaw};
 use coil_solver::reduce::craig_bampton;
@@ -44,15 +43,7 @@ fn median(mut x: Vec<f64>) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let clock = Instant::now();
     let per_coil = 24;
-    let probe = common::paper_spring(per_coil, 1e-3, false);
-    let stiffness = {
-        let system = System::new(&probe)?;
-        let factor = system.factor_stiffness()?;
-        static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
-            .stiffness_n_mm
-            .ok_or("no stiffness")?
-    };
-    let weight = stiffness * (0.23 / std::f64::consts::TAU).powi(2);
+    let weight = common::weight_for_period(&common::paper_spring(per_coil, 1e-3, false), 0.23)?;
     let n_modes: usize = match std::env::args().nth(1) {
         Some(arg) => arg.parse()?,
         None => 4,

@@ -108,3 +108,16 @@ pub fn damp_wire(model: &mut Model, alpha: f64, beta: f64) {
         mass_nodes: Vec::new(),
     }];
 }
+
+/// The weight (t) that puts `probe`'s axial period near `period_s`: `K (T / 2 pi)^2`, `K`
+/// the static stiffness at the weight from the probe's first (static) load case.
+#[allow(dead_code)] // not every benchmark sizes its weight
+pub fn weight_for_period(probe: &Model, period_s: f64) -> Result<f64, Box<dyn std::error::Error>> {
+    use coil_solver::analysis::{static_analysis, System};
+    let system = System::new(probe)?;
+    let factor = system.factor_stiffness()?;
+    let stiffness = static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
+        .stiffness_n_mm
+        .ok_or("no stiffness")?;
+    Ok(stiffness * (period_s / std::f64::consts::TAU).powi(2))
+}

@@ -525,14 +525,16 @@ pub fn summary(o: &Outcome) -> String {
         d.baseline.forecast_rms
     );
     for c in &d.candidates {
-        s.push_str(&format!(
-            "  {:<26} residual_rms {:>8} forecast_rms {:>8} dBIC {:>10} {}\n",
+        let line = format!(
+            "  {:<26} residual_rms {:>8} forecast_rms {:>8} dBIC {:>10} {}",
             c.effect,
             c.residual_rms.map_or("-".into(), |x| format!("{x:.4}")),
             c.forecast_rms.map_or("-".into(), |x| format!("{x:.4}")),
             c.delta_bic.map_or("-".into(), |x| format!("{x:.1}")),
             if c.significant { "significant" } else { "" }
-        ));
+        );
+        s.push_str(line.trim_end());
+        s.push('\n');
     }
     s.push_str(&format!("cause: {}", d.cause));
     if let (Some(e), g) = (&d.extended, &d.gain) {

@@ -589,6 +589,16 @@ fn dense_stepper_with_friction_or_drag_follows_the_full_transient() {
             );
             assert!(rest < 1e-4, "{name}: rest {rest:e}");
             assert!(stuck < 2.0 / (w * dt) * 1e-4, "{name}: held {stuck:e}");
+            // Held for a second sample in a row, the weight has no acceleration in
+            // either model: the steppers zero a held DOF's acceleration after the step
+            // that stopped it (without that, the trapezoidal rule flips its sign at
+            // every step).
+            for k in 1..n {
+                if r.held(k) && r.held(k - 1) {
+                    assert_eq!(r.full_a[k], 0.0, "{name}: full a at held sample {k}");
+                    assert_eq!(r.reduced[k].a, 0.0, "{name}: reduced a at held sample {k}");
+                }
+            }
         }
     }
 }

@@ -37,7 +37,8 @@
 //! rest takes the force that keeps it at rest (`a_i = 0`) if that force is within
 //! `[-F, F]`, else `F` against the net force (projected Gauss-Seidel over
 //! `E^T M^-1 E`). A wrong `a0` there would not fade: the trapezoidal rule then
-//! alternates the acceleration of a stuck DOF between `a0` and `-a0` for ever.
+//! alternates the acceleration of a stuck DOF between `a0` and `-a0` for ever. For the
+//! same reason a DOF stuck for a second step in a row gets zero acceleration.
 //!
 //! # Static equilibrium
 //! [`DenseStepper::static_equilibrium`] solves `K u + sum_l e_l k3_l u_l^3 = f` (at rest
@@ -126,6 +127,8 @@ pub struct DenseStepper {
     star: Vec<f64>,
     forces: Vec<f64>,
     stuck: Vec<bool>,
+    /// `stuck` of the step before the last.
+    was_stuck: Vec<bool>,
     step_count: usize,
 }
 
@@ -332,6 +335,7 @@ impl DenseStepper {
             star: vec![0.0; padded(r)],
             forces: vec![0.0; p],
             stuck: vec![false; p],
+            was_stuck: vec![false; p],
             step_count: 0,
         })
     }
@@ -472,16 +476,26 @@ impl DenseStepper {
         }
         self.step_count += 1;
         if !self.laws.is_empty() {
+            self.was_stuck.copy_from_slice(&self.stuck);
             self.correct_laws(h, g)?;
         }
         for i in 0..r {
             self.u[i] = self.star[i] + h * self.a[i];
             self.v[i] = self.star[r + i] + g * self.a[i];
         }
-        // A stuck DOF is at rest exactly (the solve's v* - g f leaves rounding).
-        for (law, &stuck) in self.laws.iter().zip(&self.stuck) {
+        // A stuck DOF is at rest exactly: v = 0 (the solve's v* - g f leaves rounding).
+        // Stuck for a second step in a row, its acceleration is zero too: the step that
+        // stopped it left the stopping acceleration in `a`, and the trapezoidal rule
+        // with v pinned at 0 would flip its sign at every later step (a_{n+1} = -a_n),
+        // feeding an alternating inertia force to the coordinates coupled to it by M.
+        // From a = 0 every later held step gives a = 0 exactly. (One held step alone is
+        // a turning point that friction catches for a step; its acceleration is real.)
+        for ((law, &stuck), &was) in self.laws.iter().zip(&self.stuck).zip(&self.was_stuck) {
             if stuck {
                 self.v[law.dof] = 0.0;
+                if was {
+                    self.a[law.dof] = 0.0;
+                }
             }
         }
         // One sum flags any NaN or infinity (or an overflow, equally fatal).

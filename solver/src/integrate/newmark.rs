@@ -325,6 +325,8 @@ struct LawSet {
     forces: Vec<f64>,
     /// Whether each friction law held its DOF at rest in the last step.
     stuck: Vec<bool>,
+    /// The same for the step before it.
+    was_stuck: Vec<bool>,
 }
 
 impl Engine {
@@ -527,6 +529,7 @@ impl Stepper {
             valid_for: None,
             forces: vec![0.0; l],
             stuck: vec![false; l],
+            was_stuck: vec![false; l],
         }));
         Ok(())
     }
@@ -818,6 +821,7 @@ fn correct_for_laws(
         laws.valid_for = Some((*coefficients, dt));
     }
     let (hs, gs) = (coefficients.beta * dt * dt, coefficients.gamma * dt);
+    laws.was_stuck.copy_from_slice(&laws.stuck);
     let non_finite = |dof| IntegrateError::NonFiniteState { step, time, dof };
     let mut sweeps = 0;
     loop {
@@ -873,6 +877,21 @@ fn correct_for_laws(
             *u -= fu * w;
             *v -= fv * w;
             *a -= f * w;
+        }
+    }
+    // A DOF that friction holds is at rest: v = 0 (the solve leaves it to rounding).
+    // Held for a second step in a row, it is also without acceleration: the step that
+    // stopped it left the stopping acceleration in `a`, and the trapezoidal rule with v
+    // pinned at 0 would flip its sign at every later step (a_{n+1} = -a_n), feeding an
+    // alternating inertia force to the DOFs coupled to it by the mass matrix. From
+    // a = 0 every later held step gives a = 0 exactly. (A single held step is a turning
+    // point that friction catches for one step; its acceleration is real.)
+    for ((&d, &stuck), &was) in laws.dofs.iter().zip(&laws.stuck).zip(&laws.was_stuck) {
+        if stuck {
+            state.v[d] = 0.0;
+            if was {
+                state.a[d] = 0.0;
+            }
         }
     }
     Ok(state

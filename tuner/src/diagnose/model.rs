@@ -230,24 +230,13 @@ impl ReducedSpring {
         u0: &[f64],
         v0: &[f64],
         n: usize,
-        friction: bool,
     ) -> std::result::Result<Vec<f64>, String> {
         let samples = stepper
             .simulate(u0, v0, n, substeps, 0)
             .map_err(|e| e.to_string())?;
-        // A weight held by friction has v = 0 exactly and no acceleration; average
-        // acceleration keeps flipping the sign of a held DOF's a from step to step (the
-        // trapezoidal rule with v pinned at 0), which is not the weight's motion.
-        Ok(samples
-            .iter()
-            .map(|s| {
-                if friction && s.v == 0.0 {
-                    0.0
-                } else {
-                    s.a * 1e-3
-                }
-            })
-            .collect())
+        // A weight held by friction reads a = 0 (the stepper zeroes a held DOF's
+        // acceleration from its second held step).
+        Ok(samples.iter().map(|s| s.a * 1e-3).collect())
     }
 
     /// The weight's axial acceleration (m/s^2) at `n` samples `step_s` apart for unit
@@ -273,7 +262,7 @@ impl ReducedSpring {
                 } else {
                     u[b] = 1.0;
                 }
-                out.push(self.run(&mut stepper, substeps, &u, &v, n, false)?);
+                out.push(self.run(&mut stepper, substeps, &u, &v, n)?);
             }
         }
         // Order: u_b0, v_b0, u_b1, v_b1 ... ; report it as [u, v] pairs per DOF.
@@ -312,7 +301,7 @@ impl ReducedSpring {
             u[b] += state[2 * b];
             v[b] = state[2 * b + 1];
         }
-        self.run(&mut stepper, substeps, &u, &v, n, p.law().friction > 0.0)
+        self.run(&mut stepper, substeps, &u, &v, n)
     }
 
     /// The static equilibrium's compression of the weight (m) under gravity.

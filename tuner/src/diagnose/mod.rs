@@ -434,7 +434,7 @@ fn fit_effect(
         ..base
     });
     let initial = if nonlinear {
-        Some(model.translate_state(&reference.full.initial_state))
+        Some(reference.full.initial_state.clone())
     } else {
         None
     };

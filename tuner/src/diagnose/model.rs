@@ -37,8 +37,8 @@ use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{Top, WEIGHT_NODE};
 use coil_solver::integrate::dense::DenseStepper;
 use coil_solver::integrate::PointLaw;
+use coil_solver::model::units;
 use coil_solver::reduce::{craig_bampton, Reduction};
-use nalgebra::DMatrix;
 
 /// Largest `w dt` of the axial mode.
 pub const OMEGA_DT: f64 = 0.01;
@@ -109,11 +109,11 @@ impl Physical {
                 ..PointLaw::default()
             },
             EffectKind::Quadratic => PointLaw {
-                quadratic: x * 1e-6,
+                quadratic: units::quadratic_damping_from_si(x),
                 ..PointLaw::default()
             },
             EffectKind::Cubic => PointLaw {
-                cubic: x * 1e-9,
+                cubic: units::cubic_stiffness_from_si(x),
                 ..PointLaw::default()
             },
             EffectKind::None | EffectKind::Rotary => PointLaw::default(),
@@ -157,25 +157,20 @@ impl ReducedSpring {
         })
     }
 
-    /// Number of initial-state components (displacement and velocity per boundary DOF).
-    pub fn state_len(&self) -> usize {
-        2 * self.reduction.boundary.len()
-    }
-
     /// True when the parameters put a nonlinear force on the weight.
     pub fn is_nonlinear(&self, p: &Physical) -> bool {
         !p.law().is_zero()
     }
 
     fn extra_mass(&self, p: &Physical) -> Vec<f64> {
-        let mut extra = vec![(p.mass_kg - self.meshed_mass_kg) * 1e-3];
+        let mut extra = vec![units::mass_from_si(p.mass_kg - self.meshed_mass_kg)];
         if self.mount == Mount::FreeRotation {
             let j = if p.kind == EffectKind::Rotary {
                 p.effect
             } else {
                 0.0
             };
-            extra.push(j * 1e3);
+            extra.push(units::inertia_from_si(j));
         }
         extra
     }
@@ -236,7 +231,7 @@ impl ReducedSpring {
             .map_err(|e| e.to_string())?;
         // A weight held by friction reads a = 0 (the stepper zeroes a held DOF's
         // acceleration from its second held step).
-        Ok(samples.iter().map(|s| s.a * 1e-3).collect())
+        Ok(samples.iter().map(|s| units::length_to_si(s.a)).collect())
     }
 
     /// The weight's axial acceleration (m/s^2) at `n` samples `step_s` apart for unit
@@ -302,29 +297,5 @@ impl ReducedSpring {
             v[b] = state[2 * b + 1];
         }
         self.run(&mut stepper, substeps, &u, &v, n)
-    }
-
-    /// The static equilibrium's compression of the weight (m) under gravity.
-    pub fn preload_m(&self, p: &Physical) -> f64 {
-        let k = self.stiffness_n_m(p);
-        let (k3, w) = (p.cubic_n_m3(), p.mass_kg * p.gravity_m_s2);
-        // k x + k3 x^3 = w, Newton from the linear deflection (convex, monotone).
-        let mut x = w / k;
-        for _ in 0..60 {
-            let r = k * x + k3 * x * x * x - w;
-            let d = k + 3.0 * k3 * x * x;
-            x -= r / d;
-        }
-        x
-    }
-
-    /// A state from the linear projection, in this model's layout (the same here).
-    pub fn translate_state(&self, linear: &[f64]) -> Vec<f64> {
-        linear.to_vec()
-    }
-
-    /// Reduced stiffness (for reports).
-    pub fn stiffness_matrix(&self) -> &DMatrix<f64> {
-        &self.reduction.k
     }
 }

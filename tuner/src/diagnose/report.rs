@@ -150,9 +150,7 @@ pub fn assemble(
                 evidence: proposal.evidence.clone(),
                 forecast_rms: ok.map(|r| r.forecast_rms),
                 parameters: ok
-                    .map(|r| {
-                        BTreeMap::from([(effect.parameter().to_string(), r.full.physical.effect)])
-                    })
+                    .map(|r| super::parameters(*effect, &r.full.physical))
                     .unwrap_or_default(),
                 signature_z: proposal.z_score,
                 delta_bic: score.map(|s| s.delta_bic),
@@ -176,7 +174,7 @@ pub fn assemble(
     });
     let extended = chosen.map(|(effect, run, inflate)| Extended {
         effect: effect.name().to_string(),
-        parameters: BTreeMap::from([(effect.parameter().to_string(), run.full.physical.effect)]),
+        parameters: super::parameters(effect, &run.full.physical),
         residual_rms: run.residual_rms,
         forecast_rms: run.forecast_rms,
         mass_kg: run.full.physical.mass_kg,

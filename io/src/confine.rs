@@ -149,6 +149,19 @@ pub fn resolve_inside(folder: &Path, entry: &str) -> Result<PathBuf, ConfineErro
 /// Reads a text input of at most `limit` bytes (`what` names the kind for the error). A
 /// non-regular file is refused before it is opened.
 pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<String, ConfineError> {
+    let bytes = read_bounded_bytes(path, limit, what)?;
+    String::from_utf8(bytes).map_err(|e| ConfineError::NotText {
+        path: path.into(),
+        at: e.utf8_error().valid_up_to(),
+    })
+}
+
+/// [`read_bounded`] without the UTF-8 check.
+pub fn read_bounded_bytes(
+    path: &Path,
+    limit: u64,
+    what: &'static str,
+) -> Result<Vec<u8>, ConfineError> {
     let io = |source| ConfineError::Io {
         path: path.into(),
         source,
@@ -172,10 +185,7 @@ pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Strin
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
-    String::from_utf8(bytes).map_err(|e| ConfineError::NotText {
-        path: path.into(),
-        at: e.utf8_error().valid_up_to(),
-    })
+    Ok(bytes)
 }
 
 #[cfg(test)]

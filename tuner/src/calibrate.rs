@@ -124,7 +124,7 @@ pub fn calibrate(
     if let Some(out) = out {
         plots::loops_figure(
             &[&calibration.stiffness, &calibration.period],
-            &out.path("fig7_loops.png"),
+            &out.staged("fig7_loops.png")?,
         )?;
         let json = serde_json::to_string_pretty(&calibration)
             .map_err(|e| TuneError::Invalid(format!("calibration.json: {e}")))?;

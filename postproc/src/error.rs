@@ -26,6 +26,10 @@ pub enum PostError {
     #[error(transparent)]
     Input(#[from] coil_io::ConfineError),
 
+    /// An output file cannot be written (or would replace a non-regular file).
+    #[error(transparent)]
+    Output(#[from] coil_io::WriteError),
+
     /// The input file could not be opened or read.
     #[error("{}: cannot read the file: {source}", path.display())]
     Read {

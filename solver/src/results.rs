@@ -43,6 +43,7 @@ use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
 use crate::vtk;
 use serde::{Deserialize, Serialize};
+use coil_io::OutputSet;
 use std::path::Path;
 
 /// The whole `results.json`.
@@ -191,13 +192,40 @@ pub struct TransientEntry {
     pub warnings: Vec<String>,
 }
 
-/// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
-/// in the error.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    crate::atomic::write_atomic(path, bytes).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+/// Where a non-finite number (`NaN`, `inf`) sits in generated text (VTU, CSV or the
+/// `Debug` form of the results), skipping quoted strings (titles); `None` if all finite.
+fn non_finite_token(text: &str) -> Option<usize> {
+    let mut quoted = false;
+    let mut start = 0;
+    let bytes = text.as_bytes();
+    for (i, &b) in bytes.iter().chain(std::iter::once(&b' ')).enumerate() {
+        let separator = matches!(
+            b,
+            b' ' | b'\n' | b'\t' | b',' | b'[' | b']' | b'(' | b')' | b'{' | b'}' | b'<' | b'>' | b'=' | b':' | b'"'
+        );
+        if separator {
+            if !quoted && matches!(&text[start..i], "NaN" | "inf" | "-inf") {
+                return Some(start);
+            }
+            if b == b'"' && (i == 0 || bytes[i - 1] != b'\\') {
+                quoted = !quoted;
+            }
+            start = i + 1;
+        }
+    }
+    None
+}
+
+/// Stages `text` as `name` in `set` unless it holds a non-finite number.
+fn stage(set: &OutputSet, name: &str, text: &str) -> Result<(), Error> {
+    if let Some(at) = non_finite_token(text) {
+        return Err(Error::NonFinite {
+            file: name.to_string(),
+            at,
+        });
+    }
+    set.write(Path::new(name), text.as_bytes())?;
+    Ok(())
 }
 
 fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDisplacement> {
@@ -346,17 +374,19 @@ pub fn history_file_name(first_transient: bool, case_number: usize) -> String {
     }
 }
 
-/// Builds the `results.json` content and writes every file of a run into `dir`
-/// (created if missing).
+/// Builds the `results.json` content and writes every file of a run into `dir` (created
+/// if missing) as one set: locked, staged, moved in together ([`coil_io::set`]).
 pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
-    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    write_atomic(
-        &dir.join("model.vtu"),
-        vtk::unstructured_grid(model, None).as_bytes(),
-    )?;
+    let set = OutputSet::open(dir, "coil-solve (results)")?;
+    let file = write_set(&set, model, cases)?;
+    set.commit()?;
+    Ok(file)
+}
+
+/// Stages every file of a run in `set` (the caller commits). A non-finite number in any
+/// of them is an error ([`Error::NonFinite`]) and nothing is written.
+pub fn write_set(set: &OutputSet, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
+    stage(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -364,9 +394,10 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         match &case.solution {
             CaseSolution::Static(s) => {
                 let file = format!("case{c}_static.vtu");
-                write_atomic(
-                    &dir.join(&file),
-                    vtk::unstructured_grid(model, Some(&s.displacement)).as_bytes(),
+                stage(
+                    set,
+                    &file,
+                    &vtk::unstructured_grid(model, Some(&s.displacement)),
                 )?;
                 entries.push(CaseEntry::Static(static_entry(model, &case.title, s, file)));
             }
@@ -374,9 +405,10 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
                 let width = m.modes.len().to_string().len();
                 let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
                 for (k, mode) in m.modes.iter().enumerate() {
-                    write_atomic(
-                        &dir.join(name(k + 1)),
-                        vtk::unstructured_grid(model, Some(&mode.shape)).as_bytes(),
+                    stage(
+                        set,
+                        &name(k + 1),
+                        &vtk::unstructured_grid(model, Some(&mode.shape)),
                     )?;
                 }
                 entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
@@ -384,7 +416,7 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
             CaseSolution::Transient(t) => {
                 let file = history_file_name(first_transient, c);
                 first_transient = false;
-                write_atomic(&dir.join(&file), t.history.to_csv().as_bytes())?;
+                stage(set, &file, &t.history.to_csv())?;
                 entries.push(CaseEntry::Transient(transient_entry(&case.title, t, file)));
             }
         }
@@ -393,13 +425,18 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         title: model.title.clone(),
         load_cases: entries,
     };
-    // Serialising plain structs of numbers and strings cannot fail except on non-finite
-    // floats, which serde_json writes as null.
+    // serde_json writes a non-finite float as null: check the numbers themselves.
+    if let Some(at) = non_finite_token(&format!("{file:?}")) {
+        return Err(Error::NonFinite {
+            file: "results.json".into(),
+            at,
+        });
+    }
     let json = serde_json::to_string_pretty(&file).map_err(|e| Error::Io {
-        path: dir.join("results.json"),
+        path: set.destination(Path::new("results.json")),
         source: std::io::Error::other(e),
     })?;
-    write_atomic(&dir.join("results.json"), json.as_bytes())?;
+    stage(set, "results.json", &json)?;
     Ok(file)
 }
 

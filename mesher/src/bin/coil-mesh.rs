@@ -235,12 +235,10 @@ fn run(args: &Args) -> Result<(), String> {
         .build()
         .map_err(|e| format!("invalid spring spec: {e}"))?;
     let deck = coil_solver::deck::write(&model);
-    coil_solver::atomic::write_atomic(&args.output, deck.as_bytes())
-        .map_err(|e| format!("{}: {e}", args.output.display()))?;
+    coil_io::write_file(&args.output, deck.as_bytes()).map_err(|e| e.to_string())?;
     if let Some(path) = &args.write_spec {
         let json = serde_json::to_string_pretty(&spec).map_err(|e| e.to_string())?;
-        coil_solver::atomic::write_atomic(path, json.as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        coil_io::write_file(path, json.as_bytes()).map_err(|e| e.to_string())?;
     }
     Ok(())
 }

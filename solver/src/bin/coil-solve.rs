@@ -113,8 +113,12 @@ fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
         }
         None => {}
     }
+    // The folder is held for the whole run: a second run into it is refused at once.
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let set = coil_io::OutputSet::open(&cli.out, &command)?;
     let cases = analysis::run(&model)?;
-    results::write_all(&cli.out, &model, &cases)?;
+    results::write_set(&set, &model, &cases)?;
+    set.commit()?;
     Ok(cases)
 }
 

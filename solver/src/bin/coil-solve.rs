@@ -33,7 +33,11 @@ struct Cli {
     /// Modes of `--method modal` [default: the deck's count, else 20].
     #[arg(long, value_name = "N", requires = "method", value_parser = clap::value_parser!(u32).range(1..))]
     modes: Option<u32>,
-    /// Print nothing on success.
+    /// Run a transient above the work limit (steps x DOFs > 1e10, about a minute;
+    /// docs/files.md).
+    #[arg(long)]
+    allow_large: bool,
+    /// Print nothing on success (no step counts, no progress).
     #[arg(long, short)]
     quiet: bool,
 }
@@ -116,7 +120,11 @@ fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
     // The folder is held for the whole run: a second run into it is refused at once.
     let command = std::env::args().collect::<Vec<_>>().join(" ");
     let set = coil_io::OutputSet::open(&cli.out, &command)?;
-    let cases = analysis::run(&model)?;
+    let options = transient::RunOptions {
+        progress: !cli.quiet,
+        allow_large: Some(cli.allow_large),
+    };
+    let cases = analysis::run_with(&model, &options)?;
     results::write_set(&set, &model, &cases)?;
     set.commit()?;
     Ok(cases)

@@ -49,13 +49,14 @@ pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
 /// [`DeckError`] too (naming the line and column of the first bad byte).
 pub fn read_file(path: &Path) -> Result<Model, DeckError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
-        DeckError::file_level(
-            &name,
-            format!("cannot read the file: {e}"),
-            "a readable deck file",
-        )
-    })?;
+    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_DECK_BYTES, "a deck")
+        .map_err(|e| {
+            DeckError::file_level(
+                &name,
+                format!("cannot read the deck: {e}"),
+                "a readable deck file within the size limit (docs/files.md)",
+            )
+        })?;
     match String::from_utf8(bytes) {
         Ok(text) => read_str(&text, &name),
         Err(e) => {

@@ -26,6 +26,10 @@ pub enum PostError {
     #[error(transparent)]
     Input(#[from] coil_io::ConfineError),
 
+    /// An analysis produced a non-finite number (the data is outside its numeric range).
+    #[error("the {what} holds a non-finite number (inf or NaN): the data is outside the range this analysis can represent (e.g. values near 1e308); expected finite results, nothing was printed")]
+    NonFiniteResult { what: String },
+
     /// An output file cannot be written (or would replace a non-regular file).
     #[error(transparent)]
     Output(#[from] coil_io::WriteError),

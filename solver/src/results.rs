@@ -192,33 +192,9 @@ pub struct TransientEntry {
     pub warnings: Vec<String>,
 }
 
-/// Where a non-finite number (`NaN`, `inf`) sits in generated text (VTU, CSV or the
-/// `Debug` form of the results), skipping quoted strings (titles); `None` if all finite.
-fn non_finite_token(text: &str) -> Option<usize> {
-    let mut quoted = false;
-    let mut start = 0;
-    let bytes = text.as_bytes();
-    for (i, &b) in bytes.iter().chain(std::iter::once(&b' ')).enumerate() {
-        let separator = matches!(
-            b,
-            b' ' | b'\n' | b'\t' | b',' | b'[' | b']' | b'(' | b')' | b'{' | b'}' | b'<' | b'>' | b'=' | b':' | b'"'
-        );
-        if separator {
-            if !quoted && matches!(&text[start..i], "NaN" | "inf" | "-inf") {
-                return Some(start);
-            }
-            if b == b'"' && (i == 0 || bytes[i - 1] != b'\\') {
-                quoted = !quoted;
-            }
-            start = i + 1;
-        }
-    }
-    None
-}
-
 /// Stages `text` as `name` in `set` unless it holds a non-finite number.
 fn stage(set: &OutputSet, name: &str, text: &str) -> Result<(), Error> {
-    if let Some(at) = non_finite_token(text) {
+    if let Some(at) = coil_io::non_finite_token(text) {
         return Err(Error::NonFinite {
             file: name.to_string(),
             at,
@@ -426,7 +402,7 @@ pub fn write_set(set: &OutputSet, model: &Model, cases: &[CaseResult]) -> Result
         load_cases: entries,
     };
     // serde_json writes a non-finite float as null: check the numbers themselves.
-    if let Some(at) = non_finite_token(&format!("{file:?}")) {
+    if let Some(at) = coil_io::non_finite_token(&format!("{file:?}")) {
         return Err(Error::NonFinite {
             file: "results.json".into(),
             at,

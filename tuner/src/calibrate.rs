@@ -46,7 +46,12 @@ pub struct Targets {
 
 impl Targets {
     /// The case's targets; each missing one is an error naming `targets.<field>`.
+    ///
+    /// The case's records are read and checked as well, whatever the targets: a case with
+    /// a junk record is refused rather than calibrated beside it.
     pub fn of(case: &MeasuredCase) -> Result<Self> {
+        case.static_records()?;
+        case.decay_records()?;
         Ok(Targets {
             stiffness_n_mm: case.target("stiffness_n_mm")?,
             period_s: case.target("period_s")?,

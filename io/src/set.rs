@@ -64,12 +64,15 @@ pub struct OutputSet {
     staging: PathBuf,
     lock: Mutex<Lock>,
     committed: AtomicBool,
+    /// The run created the folder: a failed run removes it again if it is empty.
+    created_root: bool,
 }
 
 impl OutputSet {
     /// Creates `root` if needed, locks it for `command` (a short description shown to a
     /// second run), finishes or removes what a killed run left, and opens a staging folder.
     pub fn open(root: &Path, command: &str) -> Result<Self, SetError> {
+        let created_root = std::fs::symlink_metadata(root).is_err();
         std::fs::create_dir_all(root).map_err(|e| io(root, e))?;
         let meta = std::fs::metadata(root).map_err(|e| io(root, e))?;
         if !meta.is_dir() {
@@ -87,6 +90,7 @@ impl OutputSet {
             staging,
             lock: Mutex::new(lock),
             committed: AtomicBool::new(false),
+            created_root,
         })
     }
 
@@ -175,6 +179,9 @@ impl Drop for OutputSet {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
         self.lock.lock().unwrap_or_else(|p| p.into_inner()).release();
+        if self.created_root && !self.committed.load(Ordering::SeqCst) {
+            let _ = std::fs::remove_dir(&self.root);
+        }
     }
 }
 

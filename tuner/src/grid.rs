@@ -418,18 +418,13 @@ where
                 std::fs::create_dir_all(parent).map_err(|e| TuneError::io(parent, e))?;
             }
             let mut keep_len = 0;
-            if path.exists() {
+            // A regular file with one link, or nothing (never through a symlink).
+            let mut file = coil_io::open_journal(path)?;
+            if file.metadata().map_err(|e| TuneError::io(path, e))?.len() > 0 {
                 let (points, len) = read_journal(path, &header)?;
                 done = points;
                 keep_len = len;
             }
-            let mut file = std::fs::OpenOptions::new()
-                .create(true)
-                .read(true)
-                .write(true)
-                .truncate(false)
-                .open(path)
-                .map_err(|e| TuneError::io(path, e))?;
             file.set_len(keep_len).map_err(|e| TuneError::io(path, e))?;
             file.seek(std::io::SeekFrom::End(0))
                 .map_err(|e| TuneError::io(path, e))?;

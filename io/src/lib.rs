@@ -47,7 +47,20 @@ pub fn non_finite_token(text: &str) -> Option<usize> {
     for (i, &b) in bytes.iter().chain(std::iter::once(&b' ')).enumerate() {
         let separator = matches!(
             b,
-            b' ' | b'\n' | b'\t' | b',' | b'[' | b']' | b'(' | b')' | b'{' | b'}' | b'<' | b'>' | b'=' | b':' | b'"'
+            b' ' | b'\n'
+                | b'\t'
+                | b','
+                | b'['
+                | b']'
+                | b'('
+                | b')'
+                | b'{'
+                | b'}'
+                | b'<'
+                | b'>'
+                | b'='
+                | b':'
+                | b'"'
         );
         if separator {
             if !quoted && matches!(&text[start..i], "NaN" | "inf" | "-inf") {

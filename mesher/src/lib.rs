@@ -293,7 +293,8 @@ impl SpringSpec {
         // a pitch angle near 90 degrees would make the axis-parallel orientation vector
         // parallel to the wire.
         check(
-            self.pitch_mm > self.wire_diameter_mm && self.pitch_mm < 2.0 * PI * self.mean_diameter_mm,
+            self.pitch_mm > self.wire_diameter_mm
+                && self.pitch_mm < 2.0 * PI * self.mean_diameter_mm,
             "pitch_mm",
             self.pitch_mm,
             "a pitch above the wire diameter (coils that do not pass through each other) and \

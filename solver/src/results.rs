@@ -42,8 +42,8 @@ use crate::dof::dof_name;
 use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
 use crate::vtk;
-use serde::{Deserialize, Serialize};
 use coil_io::OutputSet;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The whole `results.json`.
@@ -361,7 +361,11 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
 
 /// Stages every file of a run in `set` (the caller commits). A non-finite number in any
 /// of them is an error ([`Error::NonFinite`]) and nothing is written.
-pub fn write_set(set: &OutputSet, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
+pub fn write_set(
+    set: &OutputSet,
+    model: &Model,
+    cases: &[CaseResult],
+) -> Result<ResultsFile, Error> {
     stage(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;

@@ -88,7 +88,11 @@ fn assert_whole_set(out: &Path) {
     let n = names(out);
     assert!(n.contains(&".coil-manifest".to_string()), "{n:?}");
     assert!(n.contains(&"results.json".to_string()), "{n:?}");
-    assert!(!n.iter().any(|f| f.starts_with(".coil-staging") || f == ".coil-lock"), "{n:?}");
+    assert!(
+        !n.iter()
+            .any(|f| f.starts_with(".coil-staging") || f == ".coil-lock"),
+        "{n:?}"
+    );
 }
 
 #[test]
@@ -110,11 +114,18 @@ fn outputs_never_replace_or_follow_special_files() {
 
     // A FIFO (opening it would block) and, where allowed (root), a device node.
     let fifo = out.join("model.vtu");
-    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
     let o = solve(&cantilever(), &out);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("FIFO"), "{}", stderr(&o));
-    assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
     std::fs::remove_file(&fifo).unwrap();
 
     let device = out.join("case1_static.vtu");
@@ -170,7 +181,10 @@ fn decks_without_nodes_or_load_cases_are_refused() {
     let o = solve(&empty, &dir.path().join("out"));
     assert!(!o.status.success());
     assert!(stderr(&o).contains("no nodes"), "{}", stderr(&o));
-    assert!(!dir.path().join("out").exists(), "a folder the run created is removed");
+    assert!(
+        !dir.path().join("out").exists(),
+        "a folder the run created is removed"
+    );
 
     let text = std::fs::read_to_string(cantilever()).unwrap();
     let cut = text.find("end option,").unwrap() + "end option,\n".len();
@@ -203,7 +217,10 @@ fn a_set_repeated_in_a_list_is_read_once() {
 
 /// A clamped cantilever of `n` type-52 beams along x with a tip load, then `cases`.
 fn long_cantilever(n: usize, cases: &str) -> String {
-    let mut d = format!("title long\nsizing, 0, {n}, {}, 0\nelements, 52\nend,\nconnectivity,\n  0, 0, 1\n", n + 1);
+    let mut d = format!(
+        "title long\nsizing, 0, {n}, {}, 0\nelements, 52\nend,\nconnectivity,\n  0, 0, 1\n",
+        n + 1
+    );
     for e in 1..=n {
         d.push_str(&format!("  {e}, 52, {e}, {}\n", e + 1));
     }

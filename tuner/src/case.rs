@@ -472,14 +472,20 @@ pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
                 Ok(_) => {
                     return Err(fail(
                         line,
-                        format!("column `{column}`: `{}` is not finite", coil_io::excerpt(cell)),
+                        format!(
+                            "column `{column}`: `{}` is not finite",
+                            coil_io::excerpt(cell)
+                        ),
                         "a finite number",
                     ))
                 }
                 Err(_) => {
                     return Err(fail(
                         line,
-                        format!("column `{column}`: `{}` is not a number", coil_io::excerpt(cell)),
+                        format!(
+                            "column `{column}`: `{}` is not a number",
+                            coil_io::excerpt(cell)
+                        ),
                         "a number",
                     ))
                 }

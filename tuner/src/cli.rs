@@ -226,7 +226,10 @@ pub fn run(cli: Cli) -> Result<()> {
             out.commit()?;
             say!(
                 "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
-                material.youngs_modulus_mpa, material.mass_kg, material.alpha, material.beta
+                material.youngs_modulus_mpa,
+                material.mass_kg,
+                material.alpha,
+                material.beta
             )?;
             text(&result.table())?;
             say!("files in {}", out.root().display())?;
@@ -316,7 +319,10 @@ pub fn run(cli: Cli) -> Result<()> {
             if let Some(s) = result.state {
                 say!(
                     "final: E = {} MPa, mass = {} kg, alpha = {} 1/s, beta = {} s",
-                    s.youngs_modulus_mpa, s.mass_kg, s.alpha, s.beta
+                    s.youngs_modulus_mpa,
+                    s.mass_kg,
+                    s.alpha,
+                    s.beta
                 )?;
             }
             Ok(())

@@ -510,7 +510,10 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
         }
         "out" => {
             arity(w, 2, 2, usage)?;
-            Step::Out(inside_name(&w[1], "an output folder relative to the working directory")?)
+            Step::Out(inside_name(
+                &w[1],
+                "an output folder relative to the working directory",
+            )?)
         }
         "set" => {
             arity(w, 3, 3, usage)?;
@@ -519,7 +522,9 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
         }
         "mesh" => {
             arity(w, 1, 2, usage)?;
-            let file = w.get(1).map(|f| inside_name(f, "a deck file name inside the output folder"));
+            let file = w
+                .get(1)
+                .map(|f| inside_name(f, "a deck file name inside the output folder"));
             Step::Mesh(file.transpose()?)
         }
         "solve" => {

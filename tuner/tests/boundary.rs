@@ -56,7 +56,10 @@ fn case_with_record(dir: &Path, entry: &str) -> PathBuf {
     let text = std::fs::read_to_string(paper_case().join("case.json")).unwrap();
     let text = text.replace(
         r#""records": { "static": [], "decay": [] }"#,
-        &format!(r#""records": {{ "static": [{}], "decay": [] }}"#, serde_json::json!(entry)),
+        &format!(
+            r#""records": {{ "static": [{}], "decay": [] }}"#,
+            serde_json::json!(entry)
+        ),
     );
     std::fs::write(case.join("case.json"), text).unwrap();
     case
@@ -77,17 +80,20 @@ fn record_paths_stay_in_the_case_folder() {
         let case = case_with_record(dir.path(), entry);
         let _ = std::fs::remove_file(case.join("link.csv"));
         std::os::unix::fs::symlink(dir.path().join("secret.csv"), case.join("link.csv")).unwrap();
-        let o = run(
-            &["calibrate", "case", "--out", "out"],
-            dir.path(),
-        );
+        let o = run(&["calibrate", "case", "--out", "out"], dir.path());
         assert_eq!(o.status.code(), Some(1), "{entry}: {}", stderr(&o));
         let e = stderr(&o);
         assert!(e.contains(expected), "{entry}: {e}");
-        assert!(e.contains("case.json:"), "names the case file and line: {e}");
+        assert!(
+            e.contains("case.json:"),
+            "names the case file and line: {e}"
+        );
         assert!(!e.contains("SECRET"), "never the target's content: {e}");
         assert!(!e.contains("PATH="), "never the environment: {e}");
-        assert!(!dir.path().join("out").exists(), "{entry}: no output folder left");
+        assert!(
+            !dir.path().join("out").exists(),
+            "{entry}: no output folder left"
+        );
     }
 }
 
@@ -135,7 +141,10 @@ fn procedures_write_only_inside_their_output_folder() {
             "grid alpha 0:1:1 beta 0:1e-5:1e-5 name ../../escaped",
             "grid name",
         ),
-        ("grid alpha -0.1:0.1:0.1 beta 0:1e-5:1e-5", "negative damping"),
+        (
+            "grid alpha -0.1:0.1:0.1 beta 0:1e-5:1e-5",
+            "negative damping",
+        ),
     ] {
         let proc_file = sandbox.join("work/p.proc");
         std::fs::write(&proc_file, format!("case {}\n{line}\n", case.display())).unwrap();

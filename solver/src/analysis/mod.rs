@@ -555,8 +555,7 @@ pub fn run_with(
 ) -> Result<Vec<CaseResult>, SolveError> {
     if model.nodes.is_empty() {
         return Err(SolveError::BadInput {
-            what: "the model has no nodes (COORDINATES); expected a structure to solve"
-                .into(),
+            what: "the model has no nodes (COORDINATES); expected a structure to solve".into(),
         });
     }
     if model.load_cases.is_empty() {

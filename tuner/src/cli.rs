@@ -37,7 +37,15 @@ macro_rules! say {
 /// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
 /// paper's tables reproduced on coil's solver.
 #[derive(Debug, Parser)]
-#[command(name = "coil-tune", version, about)]
+#[command(
+    name = "coil-tune",
+    version,
+    about,
+    after_help = "Files (docs/files.md): --out is locked for the run and its files appear as a whole \
+set (a failed or killed run leaves the previous set); record paths in case.json stay inside the case \
+folder; procedure files write only inside their output folder. Records up to 64 MiB. A closed \
+stdout (| head) ends the printing, not the run."
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,

@@ -38,7 +38,14 @@ enum MethodArg {
 
 /// Mesh a helical spring into a coil input deck (mm, N, t, s).
 #[derive(Debug, Parser)]
-#[command(name = "coil-mesh", version, about)]
+#[command(
+    name = "coil-mesh",
+    version,
+    about,
+    after_help = "Geometry refused (docs/files.md): fewer than 1 coil, a pitch at or below the wire \
+diameter (coils through each other), D/d outside [3, 25] (EN 13906-1 recommends 4 to 20). \
+The deck is written as a regular file; an existing symlink, device or FIFO at -o is refused."
+)]
 struct Args {
     /// JSON spec file (fields of SpringSpec); flags override it.
     spec: Option<PathBuf>,

@@ -23,7 +23,9 @@ use coil_postproc::{output, plot, PostError, Result};
     name = "coil-post",
     version,
     about = "Period, logarithmic decrement, damping ratio, spectra, envelopes and plots of \
-             free-decay records (CSV with a time_s column)"
+             free-decay records (CSV with a time_s column)",
+    after_help = "Files (docs/files.md): records up to 64 MiB; a report with a non-finite number is \
+an error; --out files are written as regular files (an existing symlink, device or FIFO is refused)."
 )]
 struct Cli {
     #[command(subcommand)]

@@ -20,7 +20,14 @@ enum Method {
 
 /// Solve a coil deck (static, modal and transient load cases of 3D beam models).
 #[derive(Debug, Parser)]
-#[command(name = "coil-solve", version)]
+#[command(
+    name = "coil-solve",
+    version,
+    after_help = "Files (docs/files.md): --out is locked for the run (a second run into it is refused) and \
+its files appear as a whole set or not at all; existing symlinks, devices and FIFOs there are never \
+replaced. Limits: decks up to 64 MiB; a transient of at most 1e8 steps and 1e10 steps x DOFs \
+unless --allow-large. A transient announces its steps and shows progress past 2 s on stderr."
+)]
 struct Cli {
     /// The input deck (Marc-style, see docs/deck.md).
     deck: PathBuf,

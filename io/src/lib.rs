@@ -80,7 +80,7 @@ mod tests {
     #[test]
     fn non_finite_tokens_are_found_outside_quotes() {
         use super::non_finite_token as t;
-        assert_eq!(t("a: 1.0, b: [2.0, NaN]"), Some(16));
+        assert_eq!(t("a: 1.0, b: [2.0, NaN]"), Some(17));
         assert_eq!(t("x,inf\n"), Some(2));
         assert_eq!(t("<v>-inf</v>"), Some(3));
         assert_eq!(t("title: \"inf NaN\", k: 3.5"), None);

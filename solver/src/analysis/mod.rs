@@ -805,7 +805,15 @@ mod tests {
             steps: 1,
             time: 1.0,
         };
-        assert!(run(&empty).is_ok());
+        // A model without nodes is nonsense, refused (issue 9), not an empty result.
+        let e = run(&empty).unwrap_err().to_string();
+        assert!(e.contains("no nodes"), "{e}");
+        let mut no_case = model.clone();
+        no_case.load_cases.clear();
+        assert!(run(&no_case)
+            .unwrap_err()
+            .to_string()
+            .contains("no load case"));
     }
 
     /// Massless beams with one point mass carry three modes; a fourth is an error that

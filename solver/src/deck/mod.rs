@@ -50,12 +50,17 @@ pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
 pub fn read_file(path: &Path) -> Result<Model, DeckError> {
     let name = path.display().to_string();
     let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_DECK_BYTES, "a deck")
-        .map_err(|e| {
-            DeckError::file_level(
+        .map_err(|e| match e {
+            coil_io::ConfineError::Io { source, .. } => DeckError::file_level(
                 &name,
-                format!("cannot read the deck: {e}"),
-                "a readable deck file within the size limit (docs/files.md)",
-            )
+                format!("cannot read the file: {source}"),
+                "a readable deck file",
+            ),
+            other => DeckError::file_level(
+                &name,
+                other.to_string(),
+                "a deck file within the size limit (docs/files.md)",
+            ),
         })?;
     match String::from_utf8(bytes) {
         Ok(text) => read_str(&text, &name),

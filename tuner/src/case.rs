@@ -132,8 +132,17 @@ pub enum CaseError {
     },
 }
 
+/// A bounded read's error: an unreadable file stays [`CaseError::Io`].
+fn input(e: coil_io::ConfineError) -> CaseError {
+    match e {
+        coil_io::ConfineError::Io { path, source } => CaseError::Io { path, source },
+        other => CaseError::Input(other),
+    }
+}
+
 fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
-    let text = coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input")?;
+    let text =
+        coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input").map_err(input)?;
     let node = json::parse(&text).map_err(|e| CaseError::Syntax {
         path: path.to_path_buf(),
         line: e.line,
@@ -411,7 +420,7 @@ impl MeasuredCase {
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
 /// allowed, `#` comment lines and blank lines skipped), finite numbers, at least 2 rows.
 pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
-    let text = coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)")?;
+    let text = coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)").map_err(input)?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let fail = |line: usize, problem: String, expected: &str| CaseError::StaticRecord {
         path: path.to_path_buf(),

@@ -269,3 +269,47 @@ fn a_transient_announces_its_steps() {
         stderr(&o)
     );
 }
+
+/// A run killed by SIGKILL mid-analysis leaves the previous set, a stale lock and a
+/// staging folder; the next run takes the lock over, removes the staging folder and
+/// writes its own whole set.
+#[test]
+fn a_killed_run_leaves_the_previous_set_and_the_next_run_cleans_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = solve(&cantilever(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = std::fs::read(out.join("results.json")).unwrap();
+    // Long enough to be killed mid-way (1200 DOFs x 2e6 steps; the limit is waived).
+    let deck = long_cantilever(200, "title, long\ndynamic change,\n1e-6, 2.0\ncontinue\n");
+    let path = dir.path().join("long.dat");
+    std::fs::write(&path, deck).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_coil-solve"))
+        .arg(&path)
+        .args([
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--allow-large".as_ref(),
+            "--quiet".as_ref(),
+        ])
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !names(&out).iter().any(|n| n.starts_with(".coil-staging")) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "finished before the kill"
+        );
+        assert!(start.elapsed().as_secs() < 60, "never started");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(std::fs::read(out.join("results.json")).unwrap(), before);
+    assert!(names(&out).contains(&".coil-lock".to_string()));
+
+    let o = solve(&cantilever(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_whole_set(&out);
+}

@@ -420,7 +420,8 @@ impl MeasuredCase {
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
 /// allowed, `#` comment lines and blank lines skipped), finite numbers, at least 2 rows.
 pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
-    let text = coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)").map_err(input)?;
+    let text =
+        coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)").map_err(input)?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let fail = |line: usize, problem: String, expected: &str| CaseError::StaticRecord {
         path: path.to_path_buf(),

@@ -72,6 +72,23 @@ pub fn excerpt_n(text: &str, max_chars: usize) -> String {
     out
 }
 
+/// A message that may quote user text: every `` `quoted` `` span is cut to an
+/// [`excerpt`], and the whole is sanitised and capped at `max_chars`.
+pub fn sanitise_message(message: &str, max_chars: usize) -> String {
+    let mut out = String::new();
+    for (k, part) in message.split('`').enumerate() {
+        if k > 0 {
+            out.push('`');
+        }
+        if k % 2 == 1 {
+            out.push_str(&excerpt(part));
+        } else {
+            out.push_str(part);
+        }
+    }
+    excerpt_n(&out, max_chars)
+}
+
 /// Bidirectional overrides that reorder what a terminal shows.
 fn is_bidi_control(c: char) -> bool {
     matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
@@ -198,6 +215,8 @@ mod tests {
         let long = "x".repeat(500);
         assert_eq!(excerpt(&long).chars().count(), EXCERPT_CHARS + 3);
         assert_eq!(excerpt("\u{202e}abc"), "?abc");
+        let m = sanitise_message(&format!("bad `{}` here", "7".repeat(500)), 200);
+        assert_eq!(m, format!("bad `{}...` here", "7".repeat(EXCERPT_CHARS)));
     }
 
     #[test]

@@ -174,7 +174,7 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
                     "99999999999999999999",
                     "3.5e7",
                 ]);
-                let words: Vec<&str> = lines[i].split(|c: char| c == ',' || c == ' ').collect();
+                let words: Vec<&str> = lines[i].split([',', ' ']).collect();
                 let k = rng.below(words.len());
                 let replaced: Vec<&str> = words
                     .iter()

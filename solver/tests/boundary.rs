@@ -313,3 +313,49 @@ fn a_killed_run_leaves_the_previous_set_and_the_next_run_cleans_up() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_whole_set(&out);
 }
+
+/// Unmounts on drop (the test may fail between mount and unmount).
+struct Mounted(PathBuf);
+
+impl Drop for Mounted {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
+/// A full disk (a 64 KiB tmpfs, mounted where permitted: root) stops a run mid-write:
+/// the previous set stays, byte for byte, and no staging folder is left.
+#[test]
+fn a_full_disk_keeps_the_previous_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let disk = dir.path().join("disk");
+    std::fs::create_dir(&disk).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+        .arg(&disk)
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("mount not permitted here: full-disk case skipped (it runs as root)");
+        return;
+    }
+    let _guard = Mounted(disk.clone());
+    let out = disk.join("out");
+    let o = solve(&cantilever(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = std::fs::read(out.join("results.json")).unwrap();
+    let listing = names(&out);
+    // 400 beams: its VTU files do not fit in what is left.
+    let deck = long_cantilever(
+        400,
+        "title, push\nauto load,\n  1, 0, 0\ntime step,\n  1.0,\ncontinue,\n",
+    );
+    let path = dir.path().join("big.dat");
+    std::fs::write(&path, deck).unwrap();
+    let o = solve(&path, &out);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("No space left"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(out.join("results.json")).unwrap(), before);
+    assert_eq!(names(&out), listing);
+}

@@ -359,3 +359,34 @@ fn a_full_disk_keeps_the_previous_set() {
     assert_eq!(std::fs::read(out.join("results.json")).unwrap(), before);
     assert_eq!(names(&out), listing);
 }
+
+/// Past 2 s a transient shows progress on a piped stderr (plain lines, not a terminal).
+#[test]
+fn a_long_transient_shows_progress_when_piped() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let deck = long_cantilever(200, "title, long\ndynamic change,\n1e-6, 2.0\ncontinue\n");
+    let path = dir.path().join("long.dat");
+    std::fs::write(&path, deck).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_coil-solve"))
+        .arg(&path)
+        .args([
+            "--out".as_ref(),
+            dir.path().join("out").as_os_str(),
+            "--allow-large".as_ref(),
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.next().unwrap().unwrap();
+    assert!(first.contains("transient of 2000000 steps"), "{first}");
+    let progress = lines.next().unwrap().unwrap();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        progress.starts_with("load case 'long': ") && progress.contains("/2000000 steps ("),
+        "{progress}"
+    );
+}

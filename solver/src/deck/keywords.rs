@@ -583,19 +583,38 @@ pub(crate) fn match_keyword(line: &Line) -> Option<(&'static Keyword, usize)> {
     if !first.text.starts_with(|c: char| c.is_ascii_alphabetic()) {
         return None;
     }
-    let mut best: Option<(&'static Keyword, usize)> = None;
+    // A fixed-format keyword field: its words, as Marc reads them (the first 10
+    // characters count: `large stra` is LARGE STRAIN).
+    let lead = (line.fixed.is_some() && line.lead_words > 0).then(|| {
+        line.fields[..line.lead_words]
+            .iter()
+            .map(|f| f.text.to_ascii_uppercase())
+            .collect::<Vec<_>>()
+            .join(" ")
+    });
+    let mut best: Option<(&'static Keyword, usize, usize)> = None;
     for kw in KEYWORDS {
         let words: Vec<&str> = kw.name.split(' ').collect();
-        let matches = words.len() <= line.fields.len()
+        let full = words.len() <= line.fields.len()
             && words
                 .iter()
                 .zip(&line.fields)
                 .all(|(w, f)| f.text.eq_ignore_ascii_case(w));
-        if matches && best.is_none_or(|(_, n)| words.len() > n) {
-            best = Some((kw, words.len()));
+        let cut = lead
+            .as_deref()
+            .is_some_and(|s| s.len() == 10 && kw.name.len() > 10 && kw.name.starts_with(s));
+        let taken = if full {
+            words.len()
+        } else if cut {
+            line.lead_words
+        } else {
+            continue;
+        };
+        if best.is_none_or(|(_, _, n)| words.len() > n) {
+            best = Some((kw, taken, words.len()));
         }
     }
-    best
+    best.map(|(kw, taken, _)| (kw, taken))
 }
 
 /// Up to `k` keywords nearest (by edit distance) to the line's first words: the best

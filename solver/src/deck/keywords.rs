@@ -15,6 +15,7 @@ use super::raw::{
     PointLawKind, RawDamping, RawDofValues, RawElement, RawGeometry, RawMaterial, RawNode,
     RawOutput, RawPointLaw, RawPointLoad, RawPointMass, RawSet, RawTable, RawTie, SetKind,
 };
+use super::mentat;
 use super::reader::CardCtx;
 use crate::model::{ElementType, Integrator, Quantity, Section, TransientMethod};
 
@@ -435,7 +436,7 @@ pub static KEYWORDS: &[Keyword] = &[
     },
     Keyword {
         name: "TABLE",
-        sections: &[Model],
+        sections: &[Parameters, Model],
         origin: Origin::Coil,
         meaning: "A piecewise-linear load factor against time, for POINT LOAD.",
         layout: &[
@@ -445,8 +446,9 @@ pub static KEYWORDS: &[Keyword] = &[
                 "one line per point (s, -); times strictly increasing",
             ),
         ],
-        notes: "Points repeat until the next card; at least one. Marc's TABLE parameter \
-                and table-driven layout are not read.",
+        notes: "Points repeat until the next card; at least one. In the parameter section \
+                TABLE is Marc's parameter (table-driven input; read and not needed); \
+                Mentat's model-definition table layout (integer header lines) is not read.",
         example: "TABLE, ramp\n0.0, 0.0\n0.1, 1.0",
         parse: parse_table,
     },
@@ -573,6 +575,277 @@ pub static KEYWORDS: &[Keyword] = &[
                 SHAPE, or DYNAMIC CHANGE.",
         example: "TITLE, modes\nMODAL SHAPE\n10\nCONTINUE",
         parse: parse_continue,
+    },
+    // ---- Cards of decks that Mentat writes (issue 12); parse functions in mentat.rs.
+    Keyword {
+        name: "EXTENDED",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's extended fixed format: from the next line on, a line without a comma is cut in columns of 10 (integers) and 20 (reals, words).",
+        layout: &[("EXTENDED", "")],
+        notes: "The reader switches format when it splits the deck into lines (see Fixed format above).",
+        example: "EXTENDED",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "ALLOC",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's memory allocation.",
+        layout: &[("ALLOC, n", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "ALLOC, 25",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "VERSION",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "The version of Marc's input format; 13 and later give each GEOMETRY block an id and a name line.",
+        layout: &[("VERSION, n[, ...]", "")],
+        notes: "Read; coil also recognises the GEOMETRY layout by its lines.",
+        example: "VERSION, 11",
+        parse: mentat::parse_version,
+    },
+    Keyword {
+        name: "PROCESSOR",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's processor and parallel options.",
+        layout: &[("PROCESSOR, flags ...", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "PROCESSOR, 1, 1, 1, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "ALL POINTS",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's output at all integration points.",
+        layout: &[("ALL POINTS", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "ALL POINTS",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "NO ECHO",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's echo of the input in its output file.",
+        layout: &[("NO ECHO, flags ...", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "NO ECHO, 1, 2, 3",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "SETNAME",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's allocation of set names.",
+        layout: &[("SETNAME, n", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "SETNAME, 9",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "SOLVER",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's linear solver choice (coil chooses its own).",
+        layout: &[("SOLVER", ""), ("type, flags ...", "integers")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "SOLVER\n8, 0, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "OPTIMIZE",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's bandwidth optimiser (coil orders its own unknowns).",
+        layout: &[("OPTIMIZE, n[, ...]", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "OPTIMIZE, 11",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "NO PRINT",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's printed output.",
+        layout: &[("NO PRINT", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "NO PRINT",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "POST",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's post file contents (coil writes its own result files).",
+        layout: &[("POST", ""), ("flags ...", "integers; more lines may follow")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "POST\n0, 16, 17, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "PARAMETERS",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Marc's numerical constants (tolerances, physical constants).",
+        layout: &[("PARAMETERS", ""), ("values ...", "lines of reals")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "PARAMETERS\n1.0, 1.0e9, 100.0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "CONTROL",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Marc's convergence control of nonlinear increments; a linear solve needs none.",
+        layout: &[("CONTROL[, qualifier]", ""), ("flags ...", "integers"), ("tolerances ...", "reals")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "CONTROL\n99999, 10, 0\n0.1, 0.0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "MAT COLOR",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Mentat's colours of materials.",
+        layout: &[("MAT COLOR", ""), ("", "a header line (often blank)"), ("id, ...", "integers")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "MAT COLOR\n\n1, 1, 230, 0, 0",
+        parse: mentat::parse_mat_color,
+    },
+    Keyword {
+        name: "LOADCASE",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Mentat's list of the named loads and supports active in the model's own load case (model definition) or in the load case it appears in (history).",
+        layout: &[("LOADCASE, name", ""), ("n", "number of active blocks"), ("name", "one line per block (FIXED DISP, POINT LOAD, DIST LOADS)")],
+        notes: "A named POINT LOAD or DIST LOADS acts in a load case whose LOADCASE lists it (in every load case if no history LOADCASE is given). coil's supports are the same in every load case: a named FIXED DISP missing from a history LOADCASE is an error. The model definition's LOADCASE (Marc's increment 0) is read and checked for names.",
+        example: "LOADCASE, lc1\n1\nclamp",
+        parse: mentat::parse_loadcase,
+    },
+    Keyword {
+        name: "BEAM SECT",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Named beam cross-sections, numbered from 1 in their order, referred to by a GEOMETRY whose area is 0.",
+        layout: &[("BEAM SECT", ""), ("name", "the section name"), ("0, type, dimensions", "type -2: a solid circle, dimension 1 its radius r (mm)"), ("n, ...", "integration points (not needed)"), ("LAST", "after the last section")],
+        notes: "coil reads the solid circle (type -2, radius r: A = pi r^2, I = pi r^4 / 4, J = pi r^4 / 2, the polar moment, exact for a circle; shear coefficient 6(1+nu)/(7+6nu)). Other types are an error naming the type. The meaning of -2 and of its dimension (radius) is inferred from public Mentat decks, not from Marc's manual.",
+        example: "BEAM SECT\nwire\n0, -2.0, 1.5\n5, 0, 0, 0\nLAST",
+        parse: mentat::parse_beam_sect,
+    },
+    Keyword {
+        name: "DIST LOADS",
+        sections: &[Parameters, Model],
+        origin: Origin::Marc,
+        meaning: "As a parameter, Marc's allocation of distributed loads (not needed). In the model definition, Mentat's named blocks of a uniform load per unit length on beams, applied as the consistent nodal forces and moments of each element (qL/2 at each node, moments +-(L^2/12) e x q).",
+        layout: &[("DIST LOADS", ""), ("", "a header line (blank)"), ("flags..., name", "integers then the block name; field 2 = 1 (FORCEM) is an error"), ("qx, qy, qz", "the load per unit length, global components (N/mm)"), ("0, 0, 0", "table ids, 0"), ("0, type", "load type 110 (a global load vector)"), ("1", "list kind 1: elements"), ("list", "the beams")],
+        notes: "Only type 110 with three components is read (the layout of the corpus's beam deck, inferred, not from Marc's manual); every other type is an error naming it.",
+        example: "DIST LOADS, 0, 0, 10",
+        parse: mentat::parse_dist_loads,
+    },
+    Keyword {
+        name: "LARGE STRAIN",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's large-strain (finite deformation) analysis.",
+        layout: &[("LARGE STRAIN, ...", "")],
+        notes: "coil solves small displacements and strains (linear analyses).",
+        example: "LARGE STRAIN",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "LARGE DISP",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's large-displacement analysis.",
+        layout: &[("LARGE DISP", "")],
+        notes: "coil solves small displacements (linear analyses).",
+        example: "LARGE DISP",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "UPDATE",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's updated Lagrange formulation.",
+        layout: &[("UPDATE", "")],
+        notes: "coil solves small displacements (linear analyses).",
+        example: "UPDATE",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FINITE",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's finite strain.",
+        layout: &[("FINITE", "")],
+        notes: "coil solves small strains (linear analyses).",
+        example: "FINITE",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FOLLOW FOR",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's follower forces.",
+        layout: &[("FOLLOW FOR", "")],
+        notes: "coil's loads keep their direction (linear analyses).",
+        example: "FOLLOW FOR",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "PLASTICITY",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's plasticity procedure.",
+        layout: &[("PLASTICITY, ...", "")],
+        notes: "coil's materials are linear elastic.",
+        example: "PLASTICITY",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "WORK HARD",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's work-hardening data of plastic materials.",
+        layout: &[("WORK HARD, ...", "")],
+        notes: "coil's materials are linear elastic.",
+        example: "WORK HARD",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FORCDT",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's user subroutine FORCDT (nodal loads and displacements computed by Fortran code).",
+        layout: &[("FORCDT, n", ""), ("list", "nodes")],
+        notes: "the user subroutine FORCDT is Fortran code coil cannot run; give the load as POINT LOAD values.",
+        example: "FORCDT, 1",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "UMOTION",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's user subroutine UMOTION (rigid-surface motion).",
+        layout: &[("UMOTION, n", "")],
+        notes: "the user subroutine UMOTION is Fortran code coil cannot run.",
+        example: "UMOTION, 0",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "USDATA",
+        sections: &[Parameters, Model],
+        origin: Origin::Marc,
+        meaning: "Marc's user data for user subroutines.",
+        layout: &[("USDATA, n", "")],
+        notes: "user subroutines are Fortran code coil cannot run.",
+        example: "USDATA, 1",
+        parse: mentat::parse_unsupported,
     },
 ];
 
@@ -710,8 +983,30 @@ fn parse_sizing(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const WHAT: &str =
         "non-negative integers: SIZING, memory, elements, nodes, boundary conditions";
     let mut values = Vec::new();
-    for j in 0..c.args().len() {
-        values.push(c.uint_or(c.line, c.kw_fields + j, 0, WHAT)?);
+    if let Some(w) = c.line.fixed {
+        // Fixed format: the memory field is two integer fields wide.
+        let chars: Vec<char> = c.line.raw.chars().collect();
+        let mut p = w.word;
+        let mut width = 2 * w.int;
+        while p < chars.len() {
+            let end = (p + width).min(chars.len());
+            let t: String = chars[p..end].iter().collect();
+            let t = t.trim();
+            let v = if t.is_empty() {
+                0
+            } else {
+                lexer::parse_uint(t).map_err(|m| {
+                    c.err(super::error::Loc::new(c.line.no, p + 1), m, WHAT)
+                })?
+            };
+            values.push(v);
+            p = end;
+            width = w.int;
+        }
+    } else {
+        for j in 0..c.args().len() {
+            values.push(c.uint_or(c.line, c.kw_fields + j, 0, WHAT)?);
+        }
     }
     let get = |i: usize| values.get(i).copied().unwrap_or(0);
     c.deck.sizing = Some((get(1), get(2), c.loc()));
@@ -812,6 +1107,15 @@ fn header_count(
         c.uint_or(line, i, 0, "Marc's header flags: integers")?;
     }
     Ok(n)
+}
+
+/// Fails unless the keyword line has nothing after the keyword but, optionally, the
+/// qualifier word Mentat writes (`isotropic           structural`).
+fn qualifier(c: &CardCtx<'_, '_>, word: &str) -> Result<(), DeckError> {
+    match c.args() {
+        [q] if q.text.eq_ignore_ascii_case(word) => Ok(()),
+        _ => c.no_args(),
+    }
 }
 
 fn no_groups(c: &CardCtx<'_, '_>, layout: &str) -> DeckError {
@@ -937,12 +1241,37 @@ fn parse_define(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const NAME_LINE: &str = "id, name";
     const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
-    c.no_args()?;
+    qualifier(c, "STRUCTURAL")?;
     let header = c.data_line("the number of materials (0 = until the next card)")?;
-    c.field_count(header, 0, 1, "the number of materials")?;
+    if header.fixed.is_none() {
+        c.field_count(header, 0, 1, "the number of materials")?;
+    }
     let n = c.uint_or(header, 0, 0, "the number of materials")?;
+    let n = if header.fixed.is_some() && header.fields.len() > 1 {
+        0
+    } else {
+        n
+    };
     let mut done = 0;
     while another(c, n, done) {
+        let mentat = c.cur.peek_significant().is_some_and(|l| {
+            l.fixed.is_some() && l.fields.len() > 2 && lexer::is_name(&l.fields[1].text)
+        });
+        if mentat {
+            let (id, name, loc, [youngs_modulus, poisson, density], elements) =
+                mentat::isotropic_material(c)?;
+            c.deck.materials.push(RawMaterial {
+                id,
+                name,
+                loc,
+                youngs_modulus,
+                poisson,
+                density,
+                elements,
+            });
+            done += 1;
+            continue;
+        }
         let l = c.data_line(&format!("the line `{NAME_LINE}` of material {}", done + 1))?;
         c.field_count(l, 1, 2, NAME_LINE)?;
         let id = c.id(l, 0, "the material id")?;
@@ -995,10 +1324,30 @@ const SECTION_LINE: &str = "the section: wire diameter d, or A, I1, I2, J[, shea
 fn parse_geometry(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     c.no_args()?;
     let header = c.data_line("the number of geometries (0 = until the next card)")?;
-    c.field_count(header, 0, 1, "the number of geometries")?;
+    if header.fixed.is_none() {
+        c.field_count(header, 0, 1, "the number of geometries")?;
+    }
     let n = c.uint_or(header, 0, 0, "the number of geometries")?;
     let mut done = 0;
     while another(c, n, done) {
+        if c.cur.peek_significant().is_some_and(|l| l.fixed.is_some()) {
+            let (id, name, section, has_shear_coefficient, section_loc, orientation, orientation_loc) =
+                mentat::geometry_values(c)?;
+            let elements = c.list("the list of elements")?;
+            c.deck.geometries.push(RawGeometry {
+                id,
+                name,
+                loc: section_loc,
+                section,
+                has_shear_coefficient,
+                section_loc,
+                orientation,
+                orientation_loc,
+                elements,
+            });
+            done += 1;
+            continue;
+        }
         let first = c.data_line(&format!(
             "geometry {}: `id, name` or {SECTION_LINE}",
             done + 1
@@ -1295,6 +1644,13 @@ fn dof_value_groups(
 
 fn parse_fixed_disp(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     c.no_args()?;
+    if mentat::blank_header_follows(c) {
+        let groups = mentat::fixed_disp(c)?;
+        if !groups.is_empty() {
+            c.deck.fixed_disp.extend(groups);
+            return Ok(());
+        }
+    }
     let groups = dof_value_groups(c, "prescribed values (mm or rad)", false)?;
     c.deck.fixed_disp.extend(groups);
     Ok(())
@@ -1322,6 +1678,12 @@ fn parse_initial_vel(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const VALUES: &str = "the load in DOF order: Fx, Fy, Fz (N), Mx, My, Mz (N mm)";
+    if *c.section == History && c.line.fixed.is_some() {
+        return mentat::history_point_load(c);
+    }
+    if *c.section == Model && c.args().is_empty() && mentat::blank_header_follows(c) {
+        return mentat::point_load_blocks(c);
+    }
     let args = c.args();
     let table = match args.len() {
         0 => None,
@@ -1372,6 +1734,9 @@ fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const POINT: &str = "time (s), factor";
+    if *c.section == Parameters {
+        return mentat::parse_not_needed(c);
+    }
     if c.args().len() != 1 {
         let loc = c.arg_loc(c.args().len().min(1));
         return Err(c.err(loc, "TABLE needs exactly one name", "TABLE, name"));
@@ -1506,7 +1871,11 @@ fn parse_auto_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     one_analysis(c, Kind::Static)?;
     let l = c.data_line("the number of steps")?;
     let steps = c.count(l, 0, 1, "the number of steps")?;
-    c.zeros_from(l, 1, "Marc's further AUTO LOAD fields")?;
+    // Marc's further fields (Mentat writes `n 0 10`) control nonlinear increments,
+    // which change nothing in a linear solve: integers, not used.
+    for i in 1..l.fields.len() {
+        c.uint_or(l, i, 0, "Marc's further AUTO LOAD fields: integers")?;
+    }
     let loc = c.loc();
     c.case().auto_load = Some((steps, loc));
     Ok(())

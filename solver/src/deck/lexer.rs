@@ -464,6 +464,8 @@ pub(crate) enum ListItem {
         by: u32,
     },
     Set(String),
+    /// Every node or element (Mentat's blank element list of a material).
+    All,
 }
 
 /// The items of one list line with their locations, and whether it ends with `C`.

@@ -156,6 +156,7 @@ fn the_every_card_deck_uses_every_card() {
 struct Expectation {
     stage: String,
     line: Option<usize>,
+    column: Option<usize>,
     message: String,
 }
 
@@ -173,11 +174,16 @@ fn expectation(path: &Path) -> Expectation {
         l.parse()
             .unwrap_or_else(|_| panic!("{}: bad expect-line", path.display()))
     });
+    let column = field("column").map(|c| {
+        c.parse()
+            .unwrap_or_else(|_| panic!("{}: bad expect-column", path.display()))
+    });
     let message =
         field("message").unwrap_or_else(|| panic!("{}: no expect-message", path.display()));
     Expectation {
         stage,
         line,
+        column,
         message,
     }
 }
@@ -209,6 +215,13 @@ fn bad_decks_fail_at_their_line_with_their_message() {
                     "{}: expected line {line}, got: {e}",
                     f.display()
                 );
+                if let Some(col) = x.column {
+                    assert!(
+                        e.contains(&format!(":{line}:{col}:")),
+                        "{}: expected line {line} column {col}, got: {e}",
+                        f.display()
+                    );
+                }
                 assert!(
                     e.contains(&x.message),
                     "{}: expected `{}`, got: {e}",

@@ -1330,7 +1330,15 @@ fn parse_geometry(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     let n = c.uint_or(header, 0, 0, "the number of geometries")?;
     let mut done = 0;
     while another(c, n, done) {
-        if c.cur.peek_significant().is_some_and(|l| l.fixed.is_some()) {
+        // Mentat's blocks: a line of 6 or more values, or (version 13+) an integer
+        // line before the name line; coil's own lines are shorter or free format.
+        let mentat_block = c.cur.peek_significant().is_some_and(|l| {
+            l.fixed.is_some()
+                && (l.fields.len() >= 6
+                    || (l.fields.len() >= 2
+                        && l.fields.iter().all(|f| lexer::parse_uint(&f.text).is_ok())))
+        });
+        if mentat_block {
             let (id, name, section, has_shear_coefficient, section_loc, orientation, orientation_loc) =
                 mentat::geometry_values(c)?;
             let elements = c.list("the list of elements")?;
@@ -1678,7 +1686,7 @@ fn parse_initial_vel(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const VALUES: &str = "the load in DOF order: Fx, Fy, Fz (N), Mx, My, Mz (N mm)";
-    if *c.section == History && c.line.fixed.is_some() {
+    if *c.section == History && c.line.fixed.is_some() && !c.args().is_empty() {
         return mentat::history_point_load(c);
     }
     if *c.section == Model && c.args().is_empty() && mentat::blank_header_follows(c) {

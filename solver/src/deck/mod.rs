@@ -109,3 +109,9 @@ pub fn read_file_noting(path: &Path) -> Result<(Model, Vec<NotNeeded>), DeckErro
 pub fn write(model: &Model) -> String {
     writer::write(model)
 }
+
+/// Writes a model in Marc's extended fixed format, the format Mentat writes (see
+/// [`writer::write_mentat`]); it reads back to an equal model too.
+pub fn write_mentat(model: &Model) -> String {
+    writer::write_mentat(model)
+}

@@ -47,6 +47,9 @@ pub enum Origin {
     Marc,
     /// coil's own definition (Marc has no public layout for it, or coil's differs).
     Coil,
+    /// A Marc card whose physics coil does not model: reading it is an error that
+    /// names it and what coil supports.
+    Unsupported,
 }
 
 pub(crate) type ParseFn = fn(&mut CardCtx<'_, '_>) -> Result<(), DeckError>;
@@ -750,7 +753,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "LARGE STRAIN",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's large-strain (finite deformation) analysis.",
         layout: &[("LARGE STRAIN, ...", "")],
         notes: "coil solves small displacements and strains (linear analyses).",
@@ -760,7 +763,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "LARGE DISP",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's large-displacement analysis.",
         layout: &[("LARGE DISP", "")],
         notes: "coil solves small displacements (linear analyses).",
@@ -770,7 +773,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "UPDATE",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's updated Lagrange formulation.",
         layout: &[("UPDATE", "")],
         notes: "coil solves small displacements (linear analyses).",
@@ -780,7 +783,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "FINITE",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's finite strain.",
         layout: &[("FINITE", "")],
         notes: "coil solves small strains (linear analyses).",
@@ -790,7 +793,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "FOLLOW FOR",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's follower forces.",
         layout: &[("FOLLOW FOR", "")],
         notes: "coil's loads keep their direction (linear analyses).",
@@ -800,7 +803,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "PLASTICITY",
         sections: &[Parameters],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's plasticity procedure.",
         layout: &[("PLASTICITY, ...", "")],
         notes: "coil's materials are linear elastic.",
@@ -810,7 +813,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "WORK HARD",
         sections: &[Model],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's work-hardening data of plastic materials.",
         layout: &[("WORK HARD, ...", "")],
         notes: "coil's materials are linear elastic.",
@@ -820,7 +823,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "FORCDT",
         sections: &[Model],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's user subroutine FORCDT (nodal loads and displacements computed by Fortran code).",
         layout: &[("FORCDT, n", ""), ("list", "nodes")],
         notes: "the user subroutine FORCDT is Fortran code coil cannot run; give the load as POINT LOAD values.",
@@ -830,7 +833,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "UMOTION",
         sections: &[Model],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's user subroutine UMOTION (rigid-surface motion).",
         layout: &[("UMOTION, n", "")],
         notes: "the user subroutine UMOTION is Fortran code coil cannot run.",
@@ -840,7 +843,7 @@ pub static KEYWORDS: &[Keyword] = &[
     Keyword {
         name: "USDATA",
         sections: &[Parameters, Model],
-        origin: Origin::Marc,
+        origin: Origin::Unsupported,
         meaning: "Marc's user data for user subroutines.",
         layout: &[("USDATA, n", "")],
         notes: "user subroutines are Fortran code coil cannot run.",
@@ -2050,6 +2053,7 @@ pub fn reference_markdown() -> String {
             match kw.origin {
                 Origin::Marc => "Layout of public Marc decks",
                 Origin::Coil => "coil's own definition",
+                Origin::Unsupported => "Marc's card, not supported: reading it is an error",
             },
             sections_text(kw),
             kw.meaning
@@ -2078,6 +2082,7 @@ fn origin_text(o: Origin) -> &'static str {
     match o {
         Origin::Marc => "Marc",
         Origin::Coil => "**coil's own**",
+        Origin::Unsupported => "Marc, **error**",
     }
 }
 
@@ -2114,6 +2119,9 @@ mod tests {
             assert!(!a.sections.is_empty(), "{}", a.name);
             for b in &KEYWORDS[i + 1..] {
                 assert_ne!(a.name, b.name, "keyword {} is defined twice", a.name);
+                // Marc reads 10 characters of a keyword: cut, no two may be equal.
+                let cut = |n: &str| n.chars().take(10).collect::<String>();
+                assert_ne!(cut(a.name), cut(b.name), "{} and {} collide when cut to 10 characters", a.name, b.name);
             }
             // Every keyword, in any case, reads as itself and nothing else.
             let line = first_line(&format!("{}, 1", a.name.to_ascii_lowercase()));
@@ -2167,7 +2175,12 @@ mod tests {
         for kw in KEYWORDS {
             let lines = lex(kw.example).unwrap();
             let r = read_cards(&lines, "example", kw.sections[0], false);
-            assert!(r.is_ok(), "{}: {}", kw.name, r.unwrap_err());
+            if kw.origin == Origin::Unsupported {
+                let e = r.unwrap_err().to_string();
+                assert!(e.contains(":1:1:") && e.contains("is not supported"), "{e}");
+            } else {
+                assert!(r.is_ok(), "{}: {}", kw.name, r.unwrap_err());
+            }
         }
     }
 
@@ -2280,7 +2293,7 @@ mod tests {
     #[test]
     fn define_sets_resolve_ranges_and_other_sets() {
         let m =
-            with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, all\nends 2\n").unwrap();
+            with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, every\nends 2\n").unwrap();
         assert_eq!(m.node_sets[0].nodes, [1, 3]);
         assert_eq!(m.node_sets[1].nodes, [1, 2, 3]);
         assert_eq!(m.element_sets[0].elements, [1, 2]);
@@ -2454,6 +2467,49 @@ mod tests {
                 .to_string();
             assert!(e.contains(what), "{bad}: {e}");
         }
+    }
+
+    /// Mentat's cards in extended fixed format, each with what it must do.
+    #[test]
+    fn mentat_cards_read_skip_or_refuse() {
+        let ext = |params: &str, model: &str, history: &str| {
+            format!("TITLE, t\nEXTENDED\n{params}ELEMENTS                    98\nEND\n{}{model}END OPTION\n{history}", MESH.replace("1, steel", "1, steel").replace("GEOMETRY\n1\n3.0\n0, 0, 1\nwire\n", "GEOMETRY\n1\n1, g\n3.0\n0, 0, 1\nwire\n"))
+        };
+        let static_case = "AUTO LOAD\n         1         0        10\nTIME STEP\n1.0\nCONTINUE\n";
+        // Read and not needed, listed once each.
+        let text = ext(
+            "PROCESSOR                    1         1\nTABLE                        0         0         2\nALL POINTS\n",
+            "SOLVER\n         8         0\nOPTIMIZE                    11\nNO PRINT\nPOST\n         0        16\nPARAMETERS\n 1.000000000000000+0 1.000000000000000+9\n",
+            &format!("CONTROL\n     99999        10\n 1.000000000000000-1\nPARAMETERS\n 1.0\n{static_case}"),
+        );
+        let (m, notes) = crate::deck::read_str_noting(&text, "t.dat").unwrap();
+        assert_eq!(m.load_cases.len(), 1);
+        let cards: Vec<&str> = notes.iter().map(|n| n.card.as_str()).collect();
+        assert_eq!(
+            cards,
+            ["EXTENDED", "PROCESSOR", "TABLE", "ALL POINTS", "SOLVER", "OPTIMIZE", "NO PRINT", "POST", "PARAMETERS", "CONTROL"]
+        );
+        // Unsupported physics: the line and what coil supports.
+        for card in ["LARGE STRA                   4", "PLASTICITY", "FOLLOW FOR"] {
+            let e = read_str(&ext(&format!("{card}\n"), "", static_case), "t.dat").unwrap_err();
+            assert!(e.to_string().contains("t.dat:3:1:") && e.to_string().contains("is not supported"), "{e}");
+        }
+        let e = read_str(&ext("", "FORCDT                       1\n1\n", static_case), "t.dat").unwrap_err();
+        assert!(e.to_string().contains("user subroutine FORCDT"), "{e}");
+        // A history LOADCASE must keep the supports active.
+        let named = "FIXED DISP\n\n         1         0         0         0         1         0clamp2\n 0.0\n         0\n         3\n         2\n3\n";
+        let e = read_str(
+            &ext("", named, &format!("LOADCASE            lc\n         0\n{static_case}")),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("the support `clamp2`"), "{e}");
+        let m = read_str(
+            &ext("", named, &format!("LOADCASE            lc\n         1\nclamp2\n{static_case}")),
+            "t.dat",
+        )
+        .unwrap();
+        assert_eq!(m.fixed_disp.len(), 2);
     }
 
     #[test]

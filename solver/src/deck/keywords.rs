@@ -935,12 +935,20 @@ fn edit_distance(a: &str, b: &str) -> usize {
 
 /// True if a set or table name would be read as something else: a keyword's first
 /// word or a list word.
+///
+/// The first words of the multi-word keywords of coil's first deck language stay
+/// reserved (`FIXED`, `POINT`, ...); those of Marc's further cards (`BEAM SECT`, `ALL
+/// POINTS`, ...) are not, so that existing decks keep their set names: a list line
+/// that spells a whole keyword is still refused where it is read.
 pub(crate) fn is_reserved(name: &str) -> bool {
+    const FIRST_WORDS: [&str; 11] = [
+        "END", "FIXED", "POINT", "INITIAL", "HISTORY", "AUTO", "TIME", "MODAL", "DYNAMIC",
+        "QUADRATIC", "CUBIC",
+    ];
     let upper = name.to_ascii_uppercase();
     LIST_WORDS.contains(&upper.as_str())
-        || KEYWORDS
-            .iter()
-            .any(|kw| kw.name.split(' ').next() == Some(upper.as_str()))
+        || FIRST_WORDS.contains(&upper.as_str())
+        || KEYWORDS.iter().any(|kw| kw.name == upper)
 }
 
 // ---------------------------------------------------------------------------------

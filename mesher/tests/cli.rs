@@ -102,7 +102,14 @@ fn bad_input_names_the_problem_and_writes_nothing() {
 fn format_mentat_writes_the_same_model_in_extended_fixed_format() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let common = ["--mass", "5.12", "--alpha", "0.8", "--analysis", "static,modal"];
+    let common = [
+        "--mass",
+        "5.12",
+        "--alpha",
+        "0.8",
+        "--analysis",
+        "static,modal",
+    ];
     let free = coil_mesh(&[&common[..], &["-o", "free.dat"]].concat(), d);
     let mentat = coil_mesh(
         &[&common[..], &["--format", "mentat", "-o", "mentat.dat"]].concat(),

@@ -34,7 +34,14 @@ fn static_disp(model: &Model, node: u32, dof: usize) -> f64 {
 fn mentat_layout_cantilever_matches_the_closed_form() {
     let (m, notes) = deck::read_file_noting(&good("mentat_cantilever.dat")).unwrap();
     let names: Vec<&str> = notes.iter().map(|n| n.card.as_str()).collect();
-    for card in ["EXTENDED", "PROCESSOR", "OPTIMIZE", "POST", "CONTROL", "PARAMETERS"] {
+    for card in [
+        "EXTENDED",
+        "PROCESSOR",
+        "OPTIMIZE",
+        "POST",
+        "CONTROL",
+        "PARAMETERS",
+    ] {
         assert!(names.contains(&card), "{card} not listed: {names:?}");
     }
     let i = PI * 2.0_f64.powi(4) / 4.0;
@@ -48,7 +55,10 @@ fn mentat_layout_cantilever_matches_the_closed_form() {
     // The tip rotation too: PL^2/2EI + qL^3/6EI (theta_y = -dw/dx > 0 for w < 0).
     let rot = p * l * l / (2.0 * e * i) + q * l.powi(3) / (6.0 * e * i);
     let got = static_disp(&m, 5, 5);
-    assert!(((got - rot) / rot).abs() < 1e-10, "tip rotation {got} vs {rot}");
+    assert!(
+        ((got - rot) / rot).abs() < 1e-10,
+        "tip rotation {got} vs {rot}"
+    );
 }
 
 fn corpus_dir() -> Option<PathBuf> {
@@ -110,7 +120,10 @@ fn find(lines: &[String], start: usize, prefix: &str) -> usize {
 }
 
 fn reals(values: &[f64]) -> String {
-    values.iter().map(|v| format!("{:>20}", format!("{v:?}"))).collect()
+    values
+        .iter()
+        .map(|v| format!("{:>20}", format!("{v:?}")))
+        .collect()
 }
 
 const FORCDT_PLAIN: &str = "afe_01_Basic_01_FORCDT_non_table_driven_moving_force_job1.dat";
@@ -165,7 +178,10 @@ fn forcdt_decks_with_a_point_load_match_pl3_over_3ei() {
     for m in [&plain, &table] {
         let got = static_disp(m, 10, 3);
         eprintln!("tip deflection {got:.9e} vs PL^3/3EI = {expected:.9e}");
-        assert!(((got - expected) / expected).abs() < 1e-9, "{got} vs {expected}");
+        assert!(
+            ((got - expected) / expected).abs() < 1e-9,
+            "{got} vs {expected}"
+        );
     }
 }
 
@@ -188,5 +204,8 @@ fn forcem_deck_with_a_uniform_dist_load_matches_ql4_over_8ei() {
     };
     let got = static_disp(&m, 6, 2);
     eprintln!("tip deflection {got:.9e} vs qL^4/8EI = {expected:.9e}");
-    assert!(((got - expected) / expected).abs() < 1e-9, "{got} vs {expected}");
+    assert!(
+        ((got - expected) / expected).abs() < 1e-9,
+        "{got} vs {expected}"
+    );
 }

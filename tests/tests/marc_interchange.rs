@@ -35,7 +35,10 @@ fn mentat_layout_paper_spring_solves_like_the_free_format_deck() {
     let mentat_text = deck::write_mentat(&model);
     assert!(mentat_text.contains("\nEXTENDED\n"));
     let mentat = deck::read_str(&mentat_text, "mentat.dat").unwrap();
-    assert_eq!(mentat, free, "the Mentat-layout deck reads to the same model");
+    assert_eq!(
+        mentat, free,
+        "the Mentat-layout deck reads to the same model"
+    );
     let (a, b) = (run(&free).unwrap(), run(&mentat).unwrap());
     assert_eq!(a.len(), 3);
     for (x, y) in a.iter().zip(&b) {

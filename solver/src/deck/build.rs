@@ -969,7 +969,13 @@ fn norm(a: [f64; 3]) -> f64 {
 /// the moments +-(L^2/12) e x q (e the unit vector from a to z), the cubic Hermite
 /// interpolation's work-equivalent loads (exact nodal displacements for
 /// Euler-Bernoulli beams).
-fn consistent_beam_loads(q: [f64; 3], a: u32, xa: [f64; 3], z: u32, xb: [f64; 3]) -> Vec<PointLoad> {
+fn consistent_beam_loads(
+    q: [f64; 3],
+    a: u32,
+    xa: [f64; 3],
+    z: u32,
+    xb: [f64; 3],
+) -> Vec<PointLoad> {
     let d = sub(xb, xa);
     let l = norm(d);
     let e = [d[0] / l, d[1] / l, d[2] / l];
@@ -977,13 +983,13 @@ fn consistent_beam_loads(q: [f64; 3], a: u32, xa: [f64; 3], z: u32, xb: [f64; 3]
     let mut out = Vec::new();
     for (node, sign) in [(a, 1.0), (z, -1.0)] {
         let mut dofs = Vec::new();
-        for k in 0..3 {
-            if q[k] != 0.0 {
-                dofs.push((k as u8 + 1, q[k] * l / 2.0));
+        for (k, qk) in q.iter().enumerate() {
+            if *qk != 0.0 {
+                dofs.push((k as u8 + 1, qk * l / 2.0));
             }
         }
-        for k in 0..3 {
-            let mk = sign * m[k] * l * l / 12.0;
+        for (k, mk) in m.iter().enumerate() {
+            let mk = sign * mk * l * l / 12.0;
             if mk != 0.0 {
                 dofs.push((k as u8 + 4, mk));
             }

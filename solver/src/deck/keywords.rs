@@ -11,11 +11,11 @@
 
 use super::error::DeckError;
 use super::lexer::{self, Line, LIST_WORDS};
+use super::mentat;
 use super::raw::{
     PointLawKind, RawDamping, RawDofValues, RawElement, RawGeometry, RawMaterial, RawNode,
     RawOutput, RawPointLaw, RawPointLoad, RawPointMass, RawSet, RawTable, RawTie, SetKind,
 };
-use super::mentat;
 use super::reader::CardCtx;
 use crate::model::{ElementType, Integrator, Quantity, Section, TransientMethod};
 
@@ -942,8 +942,17 @@ fn edit_distance(a: &str, b: &str) -> usize {
 /// that spells a whole keyword is still refused where it is read.
 pub(crate) fn is_reserved(name: &str) -> bool {
     const FIRST_WORDS: [&str; 11] = [
-        "END", "FIXED", "POINT", "INITIAL", "HISTORY", "AUTO", "TIME", "MODAL", "DYNAMIC",
-        "QUADRATIC", "CUBIC",
+        "END",
+        "FIXED",
+        "POINT",
+        "INITIAL",
+        "HISTORY",
+        "AUTO",
+        "TIME",
+        "MODAL",
+        "DYNAMIC",
+        "QUADRATIC",
+        "CUBIC",
     ];
     let upper = name.to_ascii_uppercase();
     LIST_WORDS.contains(&upper.as_str())
@@ -1006,9 +1015,8 @@ fn parse_sizing(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             let v = if t.is_empty() {
                 0
             } else {
-                lexer::parse_uint(t).map_err(|m| {
-                    c.err(super::error::Loc::new(c.line.no, p + 1), m, WHAT)
-                })?
+                lexer::parse_uint(t)
+                    .map_err(|m| c.err(super::error::Loc::new(c.line.no, p + 1), m, WHAT))?
             };
             values.push(v);
             p = end;
@@ -1269,17 +1277,8 @@ fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             l.fixed.is_some() && l.fields.len() > 2 && lexer::is_name(&l.fields[1].text)
         });
         if mentat {
-            let (id, name, loc, [youngs_modulus, poisson, density], elements) =
-                mentat::isotropic_material(c)?;
-            c.deck.materials.push(RawMaterial {
-                id,
-                name,
-                loc,
-                youngs_modulus,
-                poisson,
-                density,
-                elements,
-            });
+            let material = mentat::isotropic_material(c)?;
+            c.deck.materials.push(material);
             done += 1;
             continue;
         }
@@ -1350,20 +1349,8 @@ fn parse_geometry(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
                         && l.fields.iter().all(|f| lexer::parse_uint(&f.text).is_ok())))
         });
         if mentat_block {
-            let (id, name, section, has_shear_coefficient, section_loc, orientation, orientation_loc) =
-                mentat::geometry_values(c)?;
-            let elements = c.list("the list of elements")?;
-            c.deck.geometries.push(RawGeometry {
-                id,
-                name,
-                loc: section_loc,
-                section,
-                has_shear_coefficient,
-                section_loc,
-                orientation,
-                orientation_loc,
-                elements,
-            });
+            let geometry = mentat::geometry_block(c)?;
+            c.deck.geometries.push(geometry);
             done += 1;
             continue;
         }
@@ -2129,7 +2116,13 @@ mod tests {
                 assert_ne!(a.name, b.name, "keyword {} is defined twice", a.name);
                 // Marc reads 10 characters of a keyword: cut, no two may be equal.
                 let cut = |n: &str| n.chars().take(10).collect::<String>();
-                assert_ne!(cut(a.name), cut(b.name), "{} and {} collide when cut to 10 characters", a.name, b.name);
+                assert_ne!(
+                    cut(a.name),
+                    cut(b.name),
+                    "{} and {} collide when cut to 10 characters",
+                    a.name,
+                    b.name
+                );
             }
             // Every keyword, in any case, reads as itself and nothing else.
             let line = first_line(&format!("{}, 1", a.name.to_ascii_lowercase()));
@@ -2300,8 +2293,8 @@ mod tests {
 
     #[test]
     fn define_sets_resolve_ranges_and_other_sets() {
-        let m =
-            with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, every\nends 2\n").unwrap();
+        let m = with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, every\nends 2\n")
+            .unwrap();
         assert_eq!(m.node_sets[0].nodes, [1, 3]);
         assert_eq!(m.node_sets[1].nodes, [1, 2, 3]);
         assert_eq!(m.element_sets[0].elements, [1, 2]);
@@ -2481,7 +2474,7 @@ mod tests {
     #[test]
     fn mentat_cards_read_skip_or_refuse() {
         let ext = |params: &str, model: &str, history: &str| {
-            format!("TITLE, t\nEXTENDED\n{params}ELEMENTS                    98\nEND\n{}{model}END OPTION\n{history}", MESH.replace("1, steel", "1, steel").replace("GEOMETRY\n1\n3.0\n0, 0, 1\nwire\n", "GEOMETRY\n1\n1, g\n3.0\n0, 0, 1\nwire\n"))
+            format!("TITLE, t\nEXTENDED\n{params}ELEMENTS                    98\nEND\n{}{model}END OPTION\n{history}", MESH.replace("GEOMETRY\n1\n3.0\n0, 0, 1\nwire\n", "GEOMETRY\n1\n1, g\n3.0\n0, 0, 1\nwire\n"))
         };
         let static_case = "AUTO LOAD\n         1         0        10\nTIME STEP\n1.0\nCONTINUE\n";
         // Read and not needed, listed once each.
@@ -2495,25 +2488,51 @@ mod tests {
         let cards: Vec<&str> = notes.iter().map(|n| n.card.as_str()).collect();
         assert_eq!(
             cards,
-            ["EXTENDED", "PROCESSOR", "TABLE", "ALL POINTS", "SOLVER", "OPTIMIZE", "NO PRINT", "POST", "PARAMETERS", "CONTROL"]
+            [
+                "EXTENDED",
+                "PROCESSOR",
+                "TABLE",
+                "ALL POINTS",
+                "SOLVER",
+                "OPTIMIZE",
+                "NO PRINT",
+                "POST",
+                "PARAMETERS",
+                "CONTROL"
+            ]
         );
         // Unsupported physics: the line and what coil supports.
         for card in ["LARGE STRA                   4", "PLASTICITY", "FOLLOW FOR"] {
             let e = read_str(&ext(&format!("{card}\n"), "", static_case), "t.dat").unwrap_err();
-            assert!(e.to_string().contains("t.dat:3:1:") && e.to_string().contains("is not supported"), "{e}");
+            assert!(
+                e.to_string().contains("t.dat:3:1:") && e.to_string().contains("is not supported"),
+                "{e}"
+            );
         }
-        let e = read_str(&ext("", "FORCDT                       1\n1\n", static_case), "t.dat").unwrap_err();
+        let e = read_str(
+            &ext("", "FORCDT                       1\n1\n", static_case),
+            "t.dat",
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("user subroutine FORCDT"), "{e}");
         // A history LOADCASE must keep the supports active.
         let named = "FIXED DISP\n\n         1         0         0         0         1         0clamp2\n 0.0\n         0\n         3\n         2\n3\n";
         let e = read_str(
-            &ext("", named, &format!("LOADCASE            lc\n         0\n{static_case}")),
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         0\n{static_case}"),
+            ),
             "t.dat",
         )
         .unwrap_err();
         assert!(e.to_string().contains("the support `clamp2`"), "{e}");
         let m = read_str(
-            &ext("", named, &format!("LOADCASE            lc\n         1\nclamp2\n{static_case}")),
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         1\nclamp2\n{static_case}"),
+            ),
             "t.dat",
         )
         .unwrap();

@@ -706,7 +706,10 @@ mod tests {
     #[test]
     fn extended_fields_are_cut_by_column() {
         // A negative real touching the integer before it, a bare exponent.
-        let l = ext(&format!("{:>10}{:>20}{:>20}", 0, "-2.5+0", "4.000000000000000+1"));
+        let l = ext(&format!(
+            "{:>10}{:>20}{:>20}",
+            0, "-2.5+0", "4.000000000000000+1"
+        ));
         assert_eq!(texts(&l), ["0", "-2.5+0", "4.000000000000000+1"]);
         assert_eq!(l.fields[1].col, 25);
         assert_eq!(parse_real(&l.fields[2].text), Ok(40.0));
@@ -722,7 +725,9 @@ mod tests {
         assert_eq!(texts(&l), ["large", "stra", "4", "213"]);
         assert_eq!(l.lead_words, 2);
         // A line longer than 80 columns.
-        let long: String = (0..9).map(|i| format!("{:>20}", format!("{i}.5"))).collect();
+        let long: String = (0..9)
+            .map(|i| format!("{:>20}", format!("{i}.5")))
+            .collect();
         assert_eq!(ext(&long).fields.len(), 9);
         assert!(ext(&long).cut_error.is_none());
     }
@@ -733,7 +738,11 @@ mod tests {
         assert_eq!(texts(&l), ["elements", "27"]);
         let l = split_line(1, "    1   27    1   48", Some(NORMAL));
         assert_eq!(texts(&l), ["1", "27", "1", "48"]);
-        let l = split_line(1, &format!("{:>5}{:>10}{:>10}", 12, "1.5-3", "-2.0"), Some(NORMAL));
+        let l = split_line(
+            1,
+            &format!("{:>5}{:>10}{:>10}", 12, "1.5-3", "-2.0"),
+            Some(NORMAL),
+        );
         assert_eq!(texts(&l), ["12", "1.5-3", "-2.0"]);
     }
 
@@ -754,7 +763,9 @@ mod tests {
 
     #[test]
     fn decks_choose_their_format_line_by_line() {
-        let lines = lex("title   t\nextended\nsizing                                 0        10\n1, 2\n").unwrap();
+        let lines =
+            lex("title   t\nextended\nsizing                                 0        10\n1, 2\n")
+                .unwrap();
         assert_eq!(lines[0].fixed, None);
         assert_eq!(lines[2].fixed, Some(EXTENDED));
         assert_eq!(texts(&lines[2]), ["sizing", "", "0", "10"]);

@@ -17,7 +17,9 @@
 use super::error::{DeckError, Loc};
 use super::keywords::DeckSection;
 use super::lexer::{self, ListItem};
-use super::raw::{RawBeamSection, RawDistLoad, RawDofValues, RawList, RawPointLoad};
+use super::raw::{
+    RawBeamSection, RawDistLoad, RawDofValues, RawGeometry, RawList, RawMaterial, RawPointLoad,
+};
 use super::reader::CardCtx;
 
 /// Records a card that was read and changes nothing coil computes.
@@ -106,10 +108,7 @@ pub(crate) fn parse_loadcase(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 /// The header line of a table-driven block: integers then the block's name
 /// (`1 0 0 0 1 0Support`). Field 2 set means a user subroutine supplies the values.
-fn named_header(
-    c: &mut CardCtx<'_, '_>,
-    subroutine: &str,
-) -> Result<(String, Loc), DeckError> {
+fn named_header(c: &mut CardCtx<'_, '_>, subroutine: &str) -> Result<(String, Loc), DeckError> {
     let h = c.data_line("the block's header: integers, then its name")?;
     let last = h.fields.len().saturating_sub(1);
     let name = c.name(h, last, "the block's name")?;
@@ -160,7 +159,11 @@ fn block_list(c: &mut CardCtx<'_, '_>, kind: u64) -> Result<RawList, DeckError> 
         return Err(c.err(
             k.loc_of(0),
             format!("list kind {got}"),
-            if kind == 2 { "2 (a node list)" } else { "1 (an element list)" },
+            if kind == 2 {
+                "2 (a node list)"
+            } else {
+                "1 (an element list)"
+            },
         ));
     }
     c.list("the list")
@@ -379,9 +382,7 @@ pub(crate) fn parse_beam_sect(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> 
 
 /// A Mentat ISOTROPIC material: `id`+`elastic` ... name, the values, an optional line
 /// of table ids (all 0), and the element list (blank = every element).
-pub(crate) fn isotropic_material(
-    c: &mut CardCtx<'_, '_>,
-) -> Result<(u32, String, Loc, [f64; 3], RawList), DeckError> {
+pub(crate) fn isotropic_material(c: &mut CardCtx<'_, '_>) -> Result<RawMaterial, DeckError> {
     const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
     let l = c.data_line("the material line: id, type, ..., name")?;
     let id = c.id(l, 0, "the material id")?;
@@ -421,8 +422,7 @@ pub(crate) fn isotropic_material(
     if let Some(t) = c.cur.peek_significant() {
         let ints = t.fixed.is_some()
             && t.fields.len() > 1
-            && t
-                .fields
+            && t.fields
                 .iter()
                 .all(|f| !f.text.is_empty() && lexer::parse_uint(&f.text).is_ok());
         if ints {
@@ -434,15 +434,21 @@ pub(crate) fn isotropic_material(
     if elements.items.is_empty() {
         elements.items.push((ListItem::All, elements.loc));
     }
-    Ok((id, name, l.start_loc(), [e, nu, rho], elements))
+    Ok(RawMaterial {
+        id,
+        name,
+        loc: l.start_loc(),
+        youngs_modulus: e,
+        poisson: nu,
+        density: rho,
+        elements,
+    })
 }
 
 /// A Mentat GEOMETRY block of a beam: (version 13+: an integer line and a name
 /// line, then) the values `A, I1, I2, vx, vy, vz, ...` with A = 0 meaning the
 /// BEAM SECT numbered by the second value, and the element list.
-pub(crate) fn geometry_values(
-    c: &mut CardCtx<'_, '_>,
-) -> Result<(Option<u32>, String, crate::model::Section, bool, Loc, [f64; 3], Loc), DeckError> {
+pub(crate) fn geometry_block(c: &mut CardCtx<'_, '_>) -> Result<RawGeometry, DeckError> {
     const VALUES: &str = "A (0 = a BEAM SECT), Ixx or section number, Iyy, vx, vy, vz";
     let mut id = None;
     let mut name = String::new();
@@ -505,13 +511,16 @@ pub(crate) fn geometry_values(
             false,
         )
     };
-    Ok((
+    let elements = c.list("the list of elements")?;
+    Ok(RawGeometry {
         id,
         name,
+        loc: s.start_loc(),
         section,
-        has_kappa,
-        s.start_loc(),
+        has_shear_coefficient: has_kappa,
+        section_loc: s.start_loc(),
         orientation,
-        s.loc_of(3),
-    ))
+        orientation_loc: s.loc_of(3),
+        elements,
+    })
 }

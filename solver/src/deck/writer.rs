@@ -483,13 +483,18 @@ pub fn write_mentat(model: &Model) -> String {
     let mut out = String::new();
     let mut extended = false;
     for line in free.lines() {
-        let line = &line.replace("in MSC Marc's free format", "in MSC Marc's extended fixed format (as Mentat writes)");
+        let line = &line.replace(
+            "in MSC Marc's free format",
+            "in MSC Marc's extended fixed format (as Mentat writes)",
+        );
         let fixed = to_fixed(line);
         out.push_str(fixed.as_deref().unwrap_or(line));
         out.push('\n');
         if !extended && !line.trim_start().starts_with('$') {
             // EXTENDED right after the first card (TITLE), as Mentat writes it.
-            out.push_str("$ Marc's extended fixed format: integers in 10 columns, reals and words in 20\n");
+            out.push_str(
+                "$ Marc's extended fixed format: integers in 10 columns, reals and words in 20\n",
+            );
             out.push_str("EXTENDED\n");
             extended = true;
         }

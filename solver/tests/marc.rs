@@ -61,6 +61,17 @@ fn mentat_layout_cantilever_matches_the_closed_form() {
     );
 }
 
+/// Our own normal fixed-format deck (5/10/10 columns, no comma anywhere, bare
+/// exponents): two type-52 beams, L = 100 mm, d = 3 mm, E = 2e5 MPa, 10 N at the tip.
+#[test]
+fn normal_fixed_format_cantilever_matches_pl3_over_3ei() {
+    let m = deck::read_file(&good("marc_normal_fixed.dat")).unwrap();
+    let i = PI * 3.0_f64.powi(4) / 64.0;
+    let expected = -10.0 * 100.0_f64.powi(3) / (3.0 * 2.0e5 * i);
+    let got = static_disp(&m, 3, 3);
+    assert!(((got - expected) / expected).abs() < 1e-10, "{got} vs {expected}");
+}
+
 fn corpus_dir() -> Option<PathBuf> {
     let dir = std::env::var("COIL_MARC_DECKS").unwrap_or_else(|_| "/work/shared/marc-decks".into());
     let dir = PathBuf::from(dir);

@@ -529,6 +529,9 @@ fn a_model_using_every_field_round_trips() {
     let text = deck::write(&m);
     let back = deck::read_str(&text, "written.dat").unwrap_or_else(|e| panic!("{e}\n{text}"));
     assert_eq!(back, m);
+    let mentat = deck::write_mentat(&m);
+    let back = deck::read_str(&mentat, "written.dat").unwrap_or_else(|e| panic!("{e}\n{mentat}"));
+    assert_eq!(back, m, "Mentat format");
     // And the writer is a fixed point of read o write.
     assert_eq!(deck::write(&back), text);
 }
@@ -541,6 +544,11 @@ fn good_decks_round_trip_through_the_writer() {
         let back = deck::read_str(&text, "written.dat")
             .unwrap_or_else(|e| panic!("{}: {e}\n{text}", f.display()));
         assert_eq!(back, m, "{}", f.display());
+        // Marc's extended fixed format reads back to the same model too.
+        let text = deck::write_mentat(&m);
+        let back = deck::read_str(&text, "written_mentat.dat")
+            .unwrap_or_else(|e| panic!("{}: {e}\n{text}", f.display()));
+        assert_eq!(back, m, "{} (Mentat format)", f.display());
     }
 }
 

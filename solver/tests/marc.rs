@@ -69,7 +69,10 @@ fn normal_fixed_format_cantilever_matches_pl3_over_3ei() {
     let i = PI * 3.0_f64.powi(4) / 64.0;
     let expected = -10.0 * 100.0_f64.powi(3) / (3.0 * 2.0e5 * i);
     let got = static_disp(&m, 3, 3);
-    assert!(((got - expected) / expected).abs() < 1e-10, "{got} vs {expected}");
+    assert!(
+        ((got - expected) / expected).abs() < 1e-10,
+        "{got} vs {expected}"
+    );
 }
 
 fn corpus_dir() -> Option<PathBuf> {

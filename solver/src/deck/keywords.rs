@@ -1684,7 +1684,13 @@ fn parse_initial_vel(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const VALUES: &str = "the load in DOF order: Fx, Fy, Fz (N), Mx, My, Mz (N mm)";
-    if *c.section == History && c.line.fixed.is_some() && !c.args().is_empty() {
+    // Mentat's history layout: `point load 0` (an integer after the keyword).
+    if *c.section == History
+        && c.line.fixed.is_some()
+        && c.args()
+            .first()
+            .is_some_and(|f| lexer::parse_uint(&f.text).is_ok())
+    {
         return mentat::history_point_load(c);
     }
     if *c.section == Model && c.args().is_empty() && mentat::blank_header_follows(c) {

@@ -451,7 +451,10 @@ pub static KEYWORDS: &[Keyword] = &[
         ],
         notes: "Points repeat until the next card; at least one. In the parameter section \
                 TABLE is Marc's parameter (table-driven input; read and not needed); \
-                Mentat's model-definition table layout (integer header lines) is not read.",
+                Mentat's model-definition layout is read too: two lines of integers \
+                (the first ending with the number of points, the second starting with the \
+                independent variable's type, 1 = time, inferred from public decks), then \
+                the points.",
         example: "TABLE, ramp\n0.0, 0.0\n0.1, 1.0",
         parse: parse_table,
     },
@@ -1762,7 +1765,17 @@ fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         ));
     }
     let mut points: Vec<(f64, f64)> = Vec::new();
-    while c.more_data() {
+    let mentat = c.cur.peek_significant().is_some_and(|l| {
+        l.fixed.is_some()
+            && l.fields.len() >= 3
+            && l.fields.iter().all(|f| lexer::parse_uint(&f.text).is_ok())
+    });
+    let expected = if mentat {
+        Some(mentat::table_header(c)?)
+    } else {
+        None
+    };
+    while c.more_data() && expected.is_none_or(|n| points.len() < n) {
         let l = c.data_line(POINT)?;
         c.field_count(l, 2, 2, POINT)?;
         let t = c.real(l, 0, "the time (s)")?;
@@ -1780,6 +1793,13 @@ fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     }
     if points.is_empty() {
         return Err(no_groups(c, POINT));
+    }
+    if let Some(n) = expected.filter(|&n| n != points.len()) {
+        return Err(c.err(
+            c.loc(),
+            format!("the table has {} points, its header says {n}", points.len()),
+            "as many `time, factor` lines as the header's last field",
+        ));
     }
     c.deck.tables.push(RawTable {
         name,
@@ -2543,6 +2563,21 @@ mod tests {
         )
         .unwrap();
         assert_eq!(m.fixed_disp.len(), 2);
+        // Mentat's model-definition TABLE (the parameter TABLE is above).
+        let table = format!(
+            "TABLE               ramp\n{}\n{}\n{:>20}{:>20}\n{:>20}{:>20}\n",
+            "         1         1         0         0         2",
+            "         1         2",
+            "0.0",
+            "0.0",
+            "1.0",
+            "2.0+0"
+        );
+        let m = read_str(&ext("", &table, static_case), "t.dat").unwrap();
+        assert_eq!(m.tables[0].points, [(0.0, 0.0), (1.0, 2.0)]);
+        let bad = table.replace("         1         2\n", "         3         2\n");
+        let e = read_str(&ext("", &bad, static_case), "t.dat").unwrap_err();
+        assert!(e.to_string().contains("independent variable type 3"), "{e}");
     }
 
     #[test]

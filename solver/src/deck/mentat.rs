@@ -524,3 +524,29 @@ pub(crate) fn geometry_block(c: &mut CardCtx<'_, '_>) -> Result<RawGeometry, Dec
         elements,
     })
 }
+
+/// The two integer lines of Mentat's model-definition `TABLE`: the first ends with
+/// the number of points, the second starts with the independent variable's type.
+/// Only time (type 1, inferred from public decks) scales coil's loads. Returns the
+/// number of points.
+pub(crate) fn table_header(c: &mut CardCtx<'_, '_>) -> Result<usize, DeckError> {
+    let h = c.data_line("the table's header: integers, the last the number of points")?;
+    for i in 0..h.fields.len() {
+        c.uint_or(h, i, 0, "integers")?;
+    }
+    let last = h.fields.len() - 1;
+    let n = c.count(h, last, 1, "the number of points")?;
+    let v = c.data_line("the independent variable's line: integers")?;
+    for i in 0..v.fields.len() {
+        c.uint_or(v, i, 0, "integers")?;
+    }
+    let kind = c.uint_or(v, 0, 0, "the independent variable's type")?;
+    if kind != 1 {
+        return Err(c.err(
+            v.loc_of(0),
+            format!("independent variable type {kind}"),
+            "1 (time): coil's tables scale loads in time",
+        ));
+    }
+    Ok(n as usize)
+}

@@ -742,16 +742,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         named_loads.push((&d.name, loads));
     }
     if let Some(names) = &raw.model_loadcase {
-        for (name, loc) in names {
-            if !raw.named.iter().any(|(n, _, _)| n == name) {
-                return Err(b.err(
-                    *loc,
-                    "LOADCASE",
-                    format!("no load or support named `{name}`"),
-                    "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
-                ));
-            }
-        }
+        active_names_exist(&b, names, &raw)?;
     }
     let per_case = raw.load_cases.iter().any(|c| c.active.is_some());
     if !per_case {
@@ -785,15 +776,8 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     for c in &raw.load_cases {
         let mut case = load_case(&b, c, &raw)?;
         if let Some(active) = &c.active {
-            for (name, loc) in active {
-                if !raw.named.iter().any(|(n, _, _)| n == name) {
-                    return Err(b.err(
-                        *loc,
-                        "LOADCASE",
-                        format!("no load or support named `{name}`"),
-                        "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
-                    ));
-                }
+            active_names_exist(&b, active, &raw)?;
+            for (name, _) in active {
                 for (n, loads) in &named_loads {
                     if n == name {
                         case.point_loads.extend(loads.iter().cloned());
@@ -962,6 +946,25 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Fails unless every name a `LOADCASE` lists names a Mentat block.
+fn active_names_exist(
+    b: &Builder<'_>,
+    names: &[(String, Loc)],
+    raw: &RawDeck,
+) -> Result<(), DeckError> {
+    for (name, loc) in names {
+        if !raw.named.iter().any(|(n, _, _)| n == name) {
+            return Err(b.err(
+                *loc,
+                "LOADCASE",
+                format!("no load or support named `{name}`"),
+                "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The consistent nodal loads of a uniform load per unit length `q` (global, N/mm)

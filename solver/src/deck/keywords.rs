@@ -1262,7 +1262,6 @@ fn parse_define(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const NAME_LINE: &str = "id, name";
-    const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
     qualifier(c, "STRUCTURAL")?;
     let header = c.data_line("the number of materials (0 = until the next card)")?;
     if header.fixed.is_none() {
@@ -1292,25 +1291,7 @@ fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             Some(f) if !f.text.is_empty() => c.name(l, 1, "the material name")?,
             _ => id.to_string(),
         };
-        let p = c.data_line(PROPS)?;
-        c.field_count(p, 3, usize::MAX, PROPS)?;
-        let e = c.real(p, 0, "Young's modulus E (MPa)")?;
-        let youngs_modulus = c.positive(e, p.loc_of(0), "Young's modulus E")?;
-        let poisson = c.real(p, 1, "Poisson's ratio")?;
-        if !(poisson > -1.0 && poisson < 0.5) {
-            return Err(c.err(
-                p.loc_of(1),
-                format!("Poisson's ratio is {poisson:?}"),
-                "-1 < Poisson's ratio < 0.5",
-            ));
-        }
-        let rho = c.real(p, 2, "density (t/mm^3)")?;
-        let density = c.non_negative(rho, p.loc_of(2), "density")?;
-        c.zeros_from(
-            p,
-            3,
-            "Marc's further material data (thermal expansion, yield stress, ...)",
-        )?;
+        let [youngs_modulus, poisson, density] = material_values(c)?;
         let elements = c.list("the list of elements")?;
         c.deck.materials.push(RawMaterial {
             id,
@@ -1330,6 +1311,32 @@ fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         ));
     }
     Ok(())
+}
+
+/// The values line of a material, in coil's layout and Mentat's: `E, nu, density`
+/// checked, Marc's further fields (thermal expansion, yield stress, ...) blank or 0.
+pub(crate) fn material_values(c: &mut CardCtx<'_, '_>) -> Result<[f64; 3], DeckError> {
+    const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
+    let p = c.data_line(PROPS)?;
+    c.field_count(p, 3, usize::MAX, PROPS)?;
+    let e = c.real(p, 0, "Young's modulus E (MPa)")?;
+    let youngs_modulus = c.positive(e, p.loc_of(0), "Young's modulus E")?;
+    let poisson = c.real(p, 1, "Poisson's ratio")?;
+    if !(poisson > -1.0 && poisson < 0.5) {
+        return Err(c.err(
+            p.loc_of(1),
+            format!("Poisson's ratio is {poisson:?}"),
+            "-1 < Poisson's ratio < 0.5",
+        ));
+    }
+    let rho = c.real(p, 2, "density (t/mm^3)")?;
+    let density = c.non_negative(rho, p.loc_of(2), "density")?;
+    c.zeros_from(
+        p,
+        3,
+        "Marc's further material data (thermal expansion, yield stress, ...)",
+    )?;
+    Ok([youngs_modulus, poisson, density])
 }
 
 const SECTION_LINE: &str = "the section: wire diameter d, or A, I1, I2, J[, shear coefficient]";

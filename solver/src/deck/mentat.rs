@@ -383,7 +383,6 @@ pub(crate) fn parse_beam_sect(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> 
 /// A Mentat ISOTROPIC material: `id`+`elastic` ... name, the values, an optional line
 /// of table ids (all 0), and the element list (blank = every element).
 pub(crate) fn isotropic_material(c: &mut CardCtx<'_, '_>) -> Result<RawMaterial, DeckError> {
-    const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
     let l = c.data_line("the material line: id, type, ..., name")?;
     let id = c.id(l, 0, "the material id")?;
     let kind = &l.fields[1].text;
@@ -400,24 +399,7 @@ pub(crate) fn isotropic_material(c: &mut CardCtx<'_, '_>) -> Result<RawMaterial,
     } else {
         id.to_string()
     };
-    let p = c.data_line(PROPS)?;
-    let e = c.real(p, 0, "Young's modulus E (MPa)")?;
-    let e = c.positive(e, p.loc_of(0), "Young's modulus E")?;
-    let nu = c.real(p, 1, "Poisson's ratio")?;
-    if !(nu > -1.0 && nu < 0.5) {
-        return Err(c.err(
-            p.loc_of(1),
-            format!("Poisson's ratio is {nu:?}"),
-            "-1 < Poisson's ratio < 0.5",
-        ));
-    }
-    let rho = c.real(p, 2, "density (t/mm^3)")?;
-    let rho = c.non_negative(rho, p.loc_of(2), "density")?;
-    c.zeros_from(
-        p,
-        3,
-        "Marc's further material data (thermal expansion, yield stress, ...)",
-    )?;
+    let [e, nu, rho] = super::keywords::material_values(c)?;
     // Table ids: a line of integers only (a list line has `to` or a name).
     if let Some(t) = c.cur.peek_significant() {
         let ints = t.fixed.is_some()

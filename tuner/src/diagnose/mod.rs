@@ -121,7 +121,7 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
     let case = read_case(path)?;
-    let mut decays = case.decay_records()?;
+    let mut decays = case.measured_decays()?;
     if decays.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: `records.decay` is missing or empty; expected at least one decay record \
@@ -134,10 +134,11 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         warnings.push(format!(
             "{} decay records; only the first, {}, is diagnosed",
             decays.len(),
-            decays[0].source.display()
+            decays[0].file.display()
         ));
     }
-    let decay = data::check_decay(decays.swap_remove(0))?;
+    let decay = data::condition_decay(decays.swap_remove(0))?;
+    warnings.extend(decay.warnings.iter().cloned());
     let mut static_records = case.static_records()?;
     if static_records.len() > 1 {
         warnings.push(format!(

@@ -901,6 +901,52 @@ mod tests {
         assert!(d.noise.white_rms < 0.2 * truth);
     }
 
+    /// The shared real recordings (position at 100 Hz, 0.1 mm), when the folder exists:
+    /// what the conditioning does to them (no impulse to cut: they start after the
+    /// release; uniform stamps; the derived acceleration's and the position's noise).
+    /// `cargo test -p coil-tuner --lib real_recordings -- --ignored --nocapture` (the
+    /// folder is `../shared/real` beside the repository, or `$COIL_SHARED_REAL`).
+    #[test]
+    #[ignore = "reads the shared real recordings when they exist"]
+    fn real_recordings_are_conditioned() {
+        let root = std::env::var_os("COIL_SHARED_REAL")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| {
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/real")
+            });
+        let Ok(entries) = std::fs::read_dir(&root) else {
+            println!("no {}: skipped", root.display());
+            return;
+        };
+        let mut files: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path().join("position.csv")))
+            .filter(|p| p.is_file())
+            .collect();
+        files.sort();
+        for file in files {
+            let r = crate::case::read_decay_record(&file).unwrap();
+            let d = condition_decay(r).unwrap();
+            println!(
+                "{}: {} samples, {} cycles at {:.4} Hz, cut {:?}, resampled {:?}, \
+                 cut-off {:?} Hz, position noise {:.3e} m (fourth differences {:.3e}), \
+                 acceleration noise {:.3e} m/s^2 of rms {:.3e}",
+                file.display(),
+                d.signal.values.len(),
+                d.cycles,
+                d.frequency_hz,
+                d.cut,
+                d.resampled,
+                d.differentiation_cutoff_hz,
+                d.measured_noise.rms,
+                d.measured_noise.white_rms,
+                d.noise.rms,
+                (d.signal.values.iter().map(|a| a * a).sum::<f64>() / d.signal.values.len() as f64)
+                    .sqrt()
+            );
+            assert!(d.cut.is_none());
+        }
+    }
+
     #[test]
     fn static_record_needs_a_loading_branch() {
         let record = |x: Vec<f64>| StaticRecord {

@@ -327,8 +327,10 @@ fn compute(
         .collect();
 
     let choice = select::choose(&reference, &candidates, &measured);
+    // The spectral floor (data.rs): it holds on band-limited and differentiated records,
+    // where the signatures' fourth differences read almost nothing.
     let noise_floor =
-        sigs.noise_rms_m_s2 / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
+        decay.noise.rms / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     // Plausibility: what the calibration had to do to the nominal values, and a misfit
     // no catalogue effect explains.
     for (what, value, nominal) in [

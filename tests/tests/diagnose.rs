@@ -6,8 +6,8 @@
 //!
 //! - **CI** ([`fast_subset`]): a few representative cases, one per kind of record the
 //!   reader conditions (quantised position at 0.1 mm, a band-limited record, a hammer
-//!   blow left at the start, jittered stamps) and an effect combination
-//!   (`truth::FAST`), plus the shipped friction case.
+//!   blow left at the start, jittered stamps), a friction behind a position sensor
+//!   (`truth::FAST`), and the shipped friction case.
 //! - **Full table** ([`full_confusion_table`], `#[ignore]`d: several minutes): the 17
 //!   standard cases of issue 5 and the 33 extended ones of issue 14 (softening and
 //!   hardening alone and with each damping effect, two damping effects together,

@@ -14,7 +14,9 @@
 //!    of `2 h`, which interpolation would fill with an invented sample; the limit sits
 //!    halfway between the worst jitter accepted (each stamp within +-h/4) and a lost
 //!    sample.
-//! 3. **Flat and clipped** (below): on the measured column.
+//! 3. **Glitches** (position and velocity only, [`despike`]): isolated samples far off
+//!    the cubic through their neighbours (an ultrasonic sensor's echoes) are replaced,
+//!    with a warning. **Flat and clipped** (below): on the measured column.
 //! 4. **Impulse left at the start** ([`find_free_decay`]): the record's half-cycles
 //!    between zero crossings (with hysteresis) are regular in a free decay (duration
 //!    within [`HALF_CYCLE_TOLERANCE`] of the median, a peak no more than
@@ -68,6 +70,11 @@ pub const HALF_CYCLE_TOLERANCE: f64 = 0.3;
 /// A half-cycle whose peak exceeds the largest of the next three by this factor is the
 /// blow, not the decay.
 pub const PEAK_JUMP: f64 = 1.5;
+/// A position or velocity sample this many robust standard deviations off the cubic
+/// through its neighbours is a glitch.
+pub const GLITCH_SIGMAS: f64 = 12.0;
+/// Largest share of glitches replaced.
+pub const MAX_GLITCH_SHARE: f64 = 0.02;
 /// Share of the record searched for an impulse.
 pub const START_SHARE: f64 = 0.25;
 
@@ -174,6 +181,28 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
         time_s,
         step_s,
         values,
+    };
+    let signal = if record.quantity == Quantity::Acceleration {
+        signal
+    } else {
+        let mut values = signal.values;
+        let glitches = despike(&mut values);
+        if !glitches.is_empty() {
+            let at: Vec<String> = glitches
+                .iter()
+                .take(5)
+                .map(|&i| format!("{:.3}", signal.time_s[i]))
+                .collect();
+            warnings.push(format!(
+                "{}: {} isolated outliers (sensor glitches) replaced by the cubic through \
+                 their neighbours, at t = {} s{}",
+                record.file.display(),
+                glitches.len(),
+                at.join(", "),
+                if glitches.len() > 5 { ", ..." } else { "" }
+            ));
+        }
+        Signal { values, ..signal }
     };
     let resolution = check_levels(&signal, record.quantity)?;
 
@@ -366,6 +395,51 @@ pub fn resample(t: &[f64], x: &[f64], grid: &[f64]) -> Vec<f64> {
                 .sum()
         })
         .collect()
+}
+
+/// Replaces isolated outliers of a position or velocity record (an ultrasonic sensor's
+/// glitches: one to three samples tens of mm off) and returns their indices. Each sample
+/// is predicted from its four neighbours by the cubic through them,
+/// `p_i = (-x_{i-2} + 4 x_{i-1} + 4 x_{i+1} - x_{i+2}) / 6` (error `(w dt)^4 A / 6` on a
+/// sinusoid: 1e-5 of the amplitude at 70 samples per cycle, 1e-2 at 10); the largest
+/// residual beyond [`GLITCH_SIGMAS`] robust standard deviations of all residuals
+/// (1.4826 times their median absolute value) is replaced by its prediction, and the
+/// search repeats. A record with more than [`MAX_GLITCH_SHARE`] of such samples is not a
+/// record with glitches but a noisy one: it is left as it is. Accelerometer records are
+/// not touched (a hammer blow or a friction jump is physics, not a glitch).
+fn despike(x: &mut [f64]) -> Vec<usize> {
+    let n = x.len();
+    if n < 16 {
+        return Vec::new();
+    }
+    let predict =
+        |x: &[f64], i: usize| (-x[i - 2] + 4.0 * x[i - 1] + 4.0 * x[i + 1] - x[i + 2]) / 6.0;
+    let mut abs: Vec<f64> = (2..n - 2).map(|i| (x[i] - predict(x, i)).abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let sigma = 1.4826 * abs[abs.len() / 2];
+    if sigma <= 0.0 {
+        return Vec::new();
+    }
+    let limit = GLITCH_SIGMAS * sigma;
+    let original = x.to_vec();
+    let mut replaced = Vec::new();
+    loop {
+        let worst = (2..n - 2)
+            .map(|i| (i, (x[i] - predict(x, i)).abs()))
+            .fold((0, 0.0_f64), |a, b| if b.1 > a.1 { b } else { a });
+        if worst.1 <= limit {
+            break;
+        }
+        if replaced.len() as f64 >= MAX_GLITCH_SHARE * n as f64 {
+            x.copy_from_slice(&original);
+            return Vec::new();
+        }
+        x[worst.0] = predict(x, worst.0);
+        replaced.push(worst.0);
+    }
+    replaced.sort_unstable();
+    replaced.dedup();
+    replaced
 }
 
 /// Flat and clipped checks (module docs); returns the resolution.

@@ -15,6 +15,7 @@
 //! - **static record**: a loading branch, i.e. at least [`MIN_BRANCH`] successive
 //!   increases of the compression.
 
+use super::model::Quantity;
 use crate::case::StaticRecord;
 use crate::error::{Result, TuneError};
 use coil_postproc::signal::Signal;
@@ -38,6 +39,18 @@ pub struct DecayData {
     pub frequency_hz: f64,
     /// Smallest step between distinct values (the ADC's resolution, if quantised).
     pub resolution: f64,
+    /// The quantity the record measures (the fit compares it as measured).
+    pub quantity: Quantity,
+    /// The record's own quantity in SI (m/s^2, m/s or m) on `signal`'s time grid,
+    /// offset and drift kept (the fit takes them out).
+    pub measured: Vec<f64>,
+    /// Noise RMS of `measured` (SI); NaN when not estimated (the signatures' estimate
+    /// on the acceleration is used then).
+    pub measured_noise_rms: f64,
+    /// The record's own attached mass (kg), when the case gives one.
+    pub mass_kg: Option<f64>,
+    /// What conditioning the record needed (resampling, a cut impulse).
+    pub warnings: Vec<String>,
 }
 
 fn bad(signal: &Signal, problem: String, expected: &str) -> TuneError {
@@ -101,6 +114,11 @@ pub fn check_decay(signal: Signal) -> Result<DecayData> {
         ));
     }
     Ok(DecayData {
+        quantity: Quantity::Acceleration,
+        measured: signal.values.clone(),
+        measured_noise_rms: f64::NAN,
+        mass_kg: None,
+        warnings: Vec::new(),
         frequency_hz: if span_s > 0.0 {
             (crossings.saturating_sub(1)) as f64 / (2.0 * span_s)
         } else {

@@ -28,7 +28,8 @@
 
 use super::effects::CATALOGUE;
 use super::lm::{self, LmOptions, Residuals};
-use super::model::{Physical, Quantity, ReducedSpring};
+use super::model::{Physical, ReducedSpring};
+use crate::case::Quantity;
 use std::ops::Range;
 
 /// A quantity the fit may move.

@@ -47,7 +47,8 @@ use data::DecayData;
 use effects::{BaselineFigures, Mount, CATALOGUE};
 use evidence::Signatures;
 use fit::{Fitted, Knob, Problem, StaticBlock};
-use model::{Physical, Quantity, ReducedSpring};
+use crate::case::Quantity;
+use model::{Physical, ReducedSpring};
 use rayon::prelude::*;
 use report::Diagnosis;
 use std::collections::BTreeMap;
@@ -148,7 +149,7 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
     let case = read_case(path)?;
-    let mut decays = case.decay_records()?;
+    let mut decays = case.measured_decays()?;
     if decays.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: `records.decay` is missing or empty; expected at least one decay record \
@@ -161,10 +162,10 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         warnings.push(format!(
             "{} decay records; only the first, {}, is diagnosed",
             decays.len(),
-            decays[0].source.display()
+            decays[0].file.display()
         ));
     }
-    let decay = data::check_decay(decays.swap_remove(0))?;
+    let decay = data::condition_decay(decays.swap_remove(0))?;
     warnings.extend(decay.warnings.iter().cloned());
     let mut static_records = case.static_records()?;
     if static_records.len() > 1 {
@@ -411,11 +412,9 @@ fn compute(
     }
 
     let choice = select::choose(&ctx, &candidates);
-    let noise_abs = if decay.measured_noise_rms.is_finite() {
-        decay.measured_noise_rms
-    } else {
-        sigs.noise_rms_m_s2
-    };
+    // The spectral noise floor of the recorded quantity (valid on band-limited
+    // records, data.rs).
+    let noise_abs = decay.measured_noise.rms;
     let noise_floor = noise_abs
         / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     // Plausibility: what the calibration had to do to the nominal values, and a misfit

@@ -33,6 +33,7 @@
 //! the noise of any record.
 
 use super::effects::{self, Extension, Mount, COUNT};
+use crate::case::Quantity;
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{Top, WEIGHT_NODE};
@@ -43,36 +44,13 @@ use coil_solver::reduce::{craig_bampton, Reduction};
 /// Largest `w dt` of the axial mode.
 pub const OMEGA_DT: f64 = 0.01;
 
-/// The quantity a decay record measures (and the model simulates for it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// The weight's axial acceleration (m/s^2), AC-coupled.
-    #[default]
-    Acceleration,
-    /// Its velocity (m/s).
-    Velocity,
-    /// Its position (m), with the sensor's own offset and drift.
-    Displacement,
-}
-
-impl Quantity {
-    /// The SI unit, for reports.
-    pub fn unit(&self) -> &'static str {
-        match self {
-            Quantity::Acceleration => "m/s^2",
-            Quantity::Velocity => "m/s",
-            Quantity::Displacement => "m",
-        }
-    }
-
-    fn of(&self, s: &Sample) -> f64 {
-        units::length_to_si(match self {
-            Quantity::Acceleration => s.a,
-            Quantity::Velocity => s.v,
-            Quantity::Displacement => s.u,
-        })
-    }
+/// A sample's value of the recorded `quantity` (SI).
+fn quantity_of(quantity: Quantity, s: &Sample) -> f64 {
+    units::length_to_si(match quantity {
+        Quantity::Acceleration => s.a,
+        Quantity::Velocity => s.v,
+        Quantity::Displacement => s.u,
+    })
 }
 
 /// The fitted physical parameters (SI).
@@ -249,7 +227,7 @@ impl ReducedSpring {
         }
         // A weight held by friction reads a = 0 (the stepper zeroes a held DOF's
         // acceleration from its second held step).
-        Ok(samples.iter().map(|s| quantity.of(s)).collect())
+        Ok(samples.iter().map(|s| quantity_of(quantity, s)).collect())
     }
 
     /// The weight's axial `quantity` (SI) at `n` samples `step_s` apart for unit

@@ -4,7 +4,8 @@
 
 use super::effects::CATALOGUE;
 use super::evidence::Signatures;
-use super::model::{Physical, Quantity};
+use super::model::Physical;
+use crate::case::Quantity;
 use super::plots::{self, Panel, Series};
 use super::select::{Choice, Tests};
 use super::{CandidateRun, ModelRun, Outcome};
@@ -650,7 +651,7 @@ fn sampled(time: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>> {
     let t = &o.decay.signal.time_s;
     let meas = &o.decay.measured;
-    let unit = o.diagnosis.quantity.unit();
+    let unit = o.diagnosis.quantity.si_unit();
     let mut list = Vec::new();
     let chosen = o
         .diagnosis
@@ -894,7 +895,7 @@ pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
         .and_then(|e| o.candidates.iter().find(|c| c.label() == e.effect))
         .and_then(|c| c.run.as_ref().ok());
     // Column unit suffix: m/s^2 -> m_s2, m/s -> m_s, m -> m.
-    let suffix = o.diagnosis.quantity.unit().replace("/s^2", "_s2").replace("/s", "_s");
+    let suffix = o.diagnosis.quantity.si_unit().replace("/s^2", "_s2").replace("/s", "_s");
     let rows = (0..t.len()).map(|i| {
         vec![
             format!("{}", t[i]),

@@ -133,6 +133,14 @@ fn main() {
                         .collect::<Vec<_>>(),
                     d.cause
                 );
+                for c in &half.diagnosis.candidates {
+                    println!(
+                        "  first half {}: dBIC {:.1}, failed {:?}",
+                        c.effect,
+                        c.delta_bic.unwrap_or(f64::NAN),
+                        c.tests.as_ref().map(|t| t.failed()).unwrap_or_default()
+                    );
+                }
                 verdicts.push((name.to_string(), d.cause.clone(), half.diagnosis.cause.clone()));
             }
             Err(e) => println!("first half: diagnose failed: {e}"),

@@ -378,13 +378,18 @@ fn compute(
             job.candidate(vec![i], proposal.evidence, &seeds, init)
         })
         .collect();
-    // Combinations of the effects that gain on their own (strong evidence), up to three:
-    // each starts from its parts' fitted values.
+    // Combinations of the effects with evidence of their own, up to three: strong
+    // evidence alone (dBIC above the limit), or a gain beside a signature that agrees
+    // (an effect masked alone by another one, drag beside a softening drift). Each
+    // combination starts from its parts' fitted values.
     let mut gaining: Vec<(usize, f64)> = candidates
         .iter()
         .filter_map(|c| {
             select::score(&ctx, c)
-                .filter(|s| s.delta_bic > select::DELTA_BIC)
+                .filter(|s| {
+                    s.delta_bic > select::DELTA_BIC
+                        || (s.delta_bic > 0.0 && s.tests.signature.passed)
+                })
                 .map(|s| (c.effects[0], s.delta_bic))
         })
         .collect();

@@ -14,7 +14,8 @@
 //!    N_eff = N / (1 + 2 sum_{k=1}^{L} (rho_k^2 - 1/N))
 //!    dBIC  = N_eff ln(RSS_reference / RSS_candidate) - (p_candidate - p_reference) ln N_eff
 //!    ```
-//!    `L` spans [`ACF_PERIODS`] periods of the axial mode (at most `N/4`); `1/N`
+//!    `L` spans [`ACF_PERIODS`] periods of the axial mode (at most `N/4` and
+//!    [`MAX_LAGS`]); `1/N`
 //!    removes the estimator's own bias. For band-limited white noise of bandwidth `B`
 //!    sampled at `fs` this gives `N_eff = 2 B N / fs`, the number of independent
 //!    samples the band holds; no noise-floor estimate enters. Passed when
@@ -59,8 +60,12 @@ pub const FORECASTS_NEEDED: usize = 2;
 pub const ORIGINS: [f64; 3] = [0.25, 0.5, 0.75];
 /// Largest relative standard error of an identified parameter.
 pub const REL_SE_LIMIT: f64 = 1.0 / 3.0;
-/// Axial periods spanned by the autocorrelation sum of `N_eff`.
+/// Axial periods spanned by the autocorrelation sum of `N_eff` ...
 pub const ACF_PERIODS: f64 = 20.0;
+/// ... and at most this many lags (a bound on the cost, `N` times the lags; 20 periods
+/// of a 5 Hz mode at 1 kHz is 4000 lags, whose autocorrelation of a smooth misfit has
+/// long settled on the scale that sets `N_eff`).
+pub const MAX_LAGS: usize = 1500;
 
 /// One test's outcome, with its number and its limit.
 #[derive(Debug, Clone, Serialize)]
@@ -176,7 +181,7 @@ pub fn score(ctx: &Context<'_>, candidate: &CandidateRun) -> Option<Score> {
     let run = candidate.run.as_ref().ok()?;
     let reference = ctx.reference;
     let n = ctx.measured.len() as f64;
-    let lag = (ACF_PERIODS * ctx.samples_per_period).ceil() as usize;
+    let lag = ((ACF_PERIODS * ctx.samples_per_period).ceil() as usize).min(MAX_LAGS);
     let n_eff = effective_samples(&residual(run, ctx.measured), lag);
     let extra = run.full.n_params as f64 - reference.full.n_params as f64;
     let delta_bic = n_eff * (reference.full.rss / run.full.rss).ln() - extra * n_eff.ln();

@@ -100,7 +100,10 @@ fn main() {
                         }
                     }
                 }
-                None => println!("     fit failed: {}", c.fit_error.clone().unwrap_or_default()),
+                None => println!(
+                    "     fit failed: {}",
+                    c.fit_error.clone().unwrap_or_default()
+                ),
             }
         }
         for c in &d.causes {
@@ -141,7 +144,11 @@ fn main() {
                         c.tests.as_ref().map(|t| t.failed()).unwrap_or_default()
                     );
                 }
-                verdicts.push((name.to_string(), d.cause.clone(), half.diagnosis.cause.clone()));
+                verdicts.push((
+                    name.to_string(),
+                    d.cause.clone(),
+                    half.diagnosis.cause.clone(),
+                ));
             }
             Err(e) => println!("first half: diagnose failed: {e}"),
         }

@@ -55,18 +55,18 @@ impl Score {
             return out;
         }
         for (name, error) in &self.parameter_errors {
-            if !(error.abs() < PARAMETER_TOLERANCE) {
+            if error.is_nan() || error.abs() >= PARAMETER_TOLERANCE {
                 out.push(format!("{}: {name} error {error:+.3}", self.name));
             }
         }
         if self.truth != "none" {
             if let Some(m) = self.model_error_ratio {
-                if !(m < 0.5) {
+                if m.is_nan() || m >= 0.5 {
                     out.push(format!("{}: model error ratio {m:.3}", self.name));
                 }
             }
             if let Some(r) = self.residual_rms_ratio {
-                if !self.noise_limited && !(r < 0.5) {
+                if !self.noise_limited && (r.is_nan() || r >= 0.5) {
                     out.push(format!("{}: residual ratio {r:.3}", self.name));
                 }
             }

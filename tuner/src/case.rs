@@ -536,7 +536,7 @@ pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
                     "the header gives {} at once: which one to fit is ambiguous",
                     names.join(" and ")
                 ),
-                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside                  `time_s` (write the other records to their own files)",
+                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside `time_s` (write the other records to their own files)",
             ));
         }
     };

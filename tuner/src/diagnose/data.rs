@@ -49,7 +49,7 @@
 use crate::case::{MeasuredDecay, Quantity, StaticRecord};
 use crate::error::{Result, TuneError};
 use coil_postproc::differentiate::Differentiator;
-use coil_postproc::noise::{noise_floor, NoiseFloor};
+use coil_postproc::noise::{detrend, noise_floor, NoiseFloor};
 use coil_postproc::signal::Signal;
 use serde::Serialize;
 
@@ -326,7 +326,9 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
 
 /// The uniform time axis of a record (module docs, step 2): its times, step, values and
 /// the resampling if one was needed.
-fn uniform_grid(r: &MeasuredDecay) -> Result<(Vec<f64>, f64, Vec<f64>, Option<Resampling>)> {
+type Grid = (Vec<f64>, f64, Vec<f64>, Option<Resampling>);
+
+fn uniform_grid(r: &MeasuredDecay) -> Result<Grid> {
     let n = r.time_s.len();
     let steps: Vec<f64> = r.time_s.windows(2).map(|w| w[1] - w[0]).collect();
     let mut sorted = steps.clone();
@@ -487,24 +489,6 @@ fn check_levels(signal: &Signal, quantity: Quantity) -> Result<f64> {
         ));
     }
     Ok(resolution)
-}
-
-/// `x` minus its least-squares line.
-fn detrend(x: &[f64]) -> Vec<f64> {
-    let n = x.len() as f64;
-    let mt = (n - 1.0) / 2.0;
-    let mx = x.iter().sum::<f64>() / n;
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (i, v) in x.iter().enumerate() {
-        let d = i as f64 - mt;
-        sxy += d * (v - mx);
-        sxx += d * d;
-    }
-    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-    x.iter()
-        .enumerate()
-        .map(|(i, v)| v - mx - slope * (i as f64 - mt))
-        .collect()
 }
 
 /// The hysteresis of the crossings: the larger of 5 % of the record's 99th-percentile

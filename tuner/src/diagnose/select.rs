@@ -152,7 +152,12 @@ pub fn effective_samples(residual: &[f64], lag: usize) -> f64 {
     let inv_n = 1.0 / n as f64;
     let mut sum = 0.0;
     for k in 1..=lag {
-        let r: f64 = x[..n - k].iter().zip(&x[k..]).map(|(a, b)| a * b).sum::<f64>() / s0;
+        let r: f64 = x[..n - k]
+            .iter()
+            .zip(&x[k..])
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            / s0;
         sum += r * r - inv_n;
     }
     (n as f64 / (1.0 + 2.0 * sum.max(0.0))).max(2.0)
@@ -236,9 +241,10 @@ pub fn score(ctx: &Context<'_>, candidate: &CandidateRun) -> Option<Score> {
                 .map_or(f64::NAN, |j| inflate * run.full.knob_rel_errors[j])
         })
         .collect();
-    let worst = rel_se
-        .iter()
-        .fold(0.0_f64, |m, x| if x.is_nan() { f64::INFINITY } else { m.max(*x) });
+    let worst = rel_se.iter().fold(
+        0.0_f64,
+        |m, x| if x.is_nan() { f64::INFINITY } else { m.max(*x) },
+    );
     let identified = Test {
         passed: worst <= REL_SE_LIMIT,
         value: worst,
@@ -345,7 +351,16 @@ pub fn choose(ctx: &Context<'_>, candidates: &[CandidateRun]) -> Choice {
         let total: f64 = gains.iter().map(|g| g.1).sum();
         let mut shares: Vec<(usize, f64)> = gains
             .into_iter()
-            .map(|(e, g)| (e, if total > 0.0 { g / total } else { 1.0 / set.len() as f64 }))
+            .map(|(e, g)| {
+                (
+                    e,
+                    if total > 0.0 {
+                        g / total
+                    } else {
+                        1.0 / set.len() as f64
+                    },
+                )
+            })
             .collect();
         shares.sort_by(|a, b| b.1.total_cmp(&a.1));
         shares
@@ -391,6 +406,9 @@ mod tests {
         let n = band.len() as f64;
         let ratio = n / effective_samples(&band, 400);
         let expected = (2.0 * 64.0 + 1.0) / 24.0;
-        assert!((ratio / expected - 1.0).abs() < 0.1, "{ratio} vs {expected}");
+        assert!(
+            (ratio / expected - 1.0).abs() < 0.1,
+            "{ratio} vs {expected}"
+        );
     }
 }

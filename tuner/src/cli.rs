@@ -66,6 +66,18 @@ impl ModelArgs {
     }
 }
 
+/// Where the validated material comes from (sweeps and tolerance studies).
+#[derive(Debug, Args, Clone)]
+pub struct MaterialArgs {
+    /// Take E, mass, alpha and beta from a calibration.json (`calibrate`'s output)
+    /// instead of calibrating first.
+    #[arg(long, conflicts_with = "paper_material")]
+    pub calibration: Option<PathBuf>,
+    /// Use the paper's Table 2 (E, alpha, beta; the mass tuned to the period) instead.
+    #[arg(long)]
+    pub paper_material: bool,
+}
+
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Loops 1-3 of the paper's Figure 6 on a case (folder or case.json).
@@ -86,15 +98,74 @@ pub enum Command {
         /// Output folder.
         #[arg(long, default_value = "out/sweep")]
         out: PathBuf,
-        /// Take E, mass, alpha and beta from a calibration.json (`calibrate`'s output)
-        /// instead of calibrating first.
-        #[arg(long, conflicts_with = "paper_material")]
-        calibration: Option<PathBuf>,
-        /// Use the paper's Table 2 (E, alpha, beta; the mass tuned to the period) instead.
-        #[arg(long)]
-        paper_material: bool,
+        #[command(flatten)]
+        material: MaterialArgs,
+        /// Run only shard I of N (round robin over the variants) and write
+        /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<crate::study::Shard>,
         #[command(flatten)]
         model: ModelArgs,
+    },
+    /// K and zeta distributions of the variants as manufactured: each spring sampled
+    /// within tolerances (wire and coil diameter, coils, E, mass), seeded
+    /// (docs/scale-out.md).
+    Tolerance {
+        case: PathBuf,
+        /// The variants file (e.g. cases/160ect/table4.json).
+        #[arg(long)]
+        variants: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/tolerance")]
+        out: PathBuf,
+        /// Samples per spring (the nominal spring is run on top, as sample 0).
+        #[arg(long, default_value_t = 100)]
+        samples: usize,
+        /// Seed of the sampling.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// +- wire diameter (mm).
+        #[arg(long, default_value_t = 0.03)]
+        wire_tol: f64,
+        /// EN 15800 grade of the coil diameter tolerance (1, 2 or 3).
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
+        grade: u8,
+        /// +- mean coil diameter (mm) instead of the EN 15800 table.
+        #[arg(long)]
+        coil_diameter_tol: Option<f64>,
+        /// +- active coils.
+        #[arg(long, default_value_t = 0.25)]
+        coils_tol: f64,
+        /// +- relative Young's modulus.
+        #[arg(long, default_value_t = 0.02)]
+        youngs_modulus_tol: f64,
+        /// +- relative mass of the weight.
+        #[arg(long, default_value_t = 0.001)]
+        mass_tol: f64,
+        /// Run only shard I of N (round robin over the tasks) and write
+        /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<crate::study::Shard>,
+        /// No figure.
+        #[arg(long)]
+        no_plots: bool,
+        #[command(flatten)]
+        material: MaterialArgs,
+        #[command(flatten)]
+        model: ModelArgs,
+    },
+    /// Join the parts of a sharded `sweep` or `tolerance` into the table a single run
+    /// writes; refuses missing or repeated shards and parts of another study.
+    Merge {
+        /// Part files, or folders holding part-*.csv.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "out/merge")]
+        out: PathBuf,
+        /// No figure (tolerance studies).
+        #[arg(long)]
+        no_plots: bool,
     },
     /// The paper's study: calibrate + sweep on cases/160ect, Tables 3 and 4 beside the
     /// paper's, report.md, report.json and the figures.
@@ -170,41 +241,134 @@ pub fn run(cli: Cli) -> Result<()> {
             case,
             variants,
             out,
-            calibration,
-            paper_material,
+            material,
+            shard,
             model,
         } => {
             let case = read_case(&case)?;
             let variants = crate::case::read_variants(&variants)?;
             let out = OutDir::create(out)?;
             let settings = model.settings();
-            let material = if let Some(file) = calibration {
-                read_calibrated_state(&file)?
-            } else if paper_material {
-                crate::sweep::paper_material(&case, &settings)?
-            } else {
-                let targets = Targets::of(&case)?;
-                let sub = out.sub("calibration")?;
-                let result = calibrate(&case, &targets, &settings, Some(&sub), &model.control())?;
-                print!("{}", result.summary());
-                result.state
-            };
+            let state = material.state(&case, &settings, &model, &out, shard)?;
             // The table by direct integration unless checks are off (--no-check).
             let mut decay = settings.damping.decay.clone();
             if settings.damping.check_direct {
                 decay.method = crate::decay::Method::Direct;
             }
-            let result = crate::sweep::sweep(&material, &variants, &settings.fe, &decay)?;
+            if let Some(shard) = shard {
+                let study = crate::study::Study::Sweep(crate::study::VariantSweep {
+                    material: state,
+                    variants: variants.variants,
+                    fe: settings.fe,
+                    decay,
+                });
+                let path = crate::study::run_shard(&study, shard, &out)?;
+                println!("shard {shard}: {}", path.display());
+                return Ok(());
+            }
+            let result = crate::sweep::sweep(&state, &variants, &settings.fe, &decay)?;
             out.write("sweep.csv", result.csv().as_bytes())?;
             let json = serde_json::to_string_pretty(&result)
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
             out.write("sweep.json", json.as_bytes())?;
             println!(
                 "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
-                material.youngs_modulus_mpa, material.mass_kg, material.alpha, material.beta
+                state.youngs_modulus_mpa, state.mass_kg, state.alpha, state.beta
             );
             print!("{}", result.table());
             println!("files in {}", out.root().display());
+            Ok(())
+        }
+        Command::Tolerance {
+            case,
+            variants,
+            out,
+            samples,
+            seed,
+            wire_tol,
+            grade,
+            coil_diameter_tol,
+            coils_tol,
+            youngs_modulus_tol,
+            mass_tol,
+            shard,
+            no_plots,
+            material,
+            model,
+        } => {
+            let case = read_case(&case)?;
+            let variants = crate::case::read_variants(&variants)?;
+            let out = OutDir::create(out)?;
+            let settings = model.settings();
+            let state = material.state(&case, &settings, &model, &out, shard)?;
+            let study = crate::tolerance::ToleranceStudy {
+                sweep: crate::study::VariantSweep {
+                    material: state,
+                    variants: variants.variants,
+                    fe: settings.fe,
+                    decay: settings.damping.decay,
+                },
+                tolerances: crate::tolerance::Tolerances {
+                    wire_diameter_mm: wire_tol,
+                    coil_diameter_grade: grade,
+                    coil_diameter_mm: coil_diameter_tol,
+                    active_coils: coils_tol,
+                    youngs_modulus_relative: youngs_modulus_tol,
+                    mass_relative: mass_tol,
+                },
+                samples,
+                seed,
+            };
+            study.check()?;
+            let study = crate::study::Study::Tolerance(study);
+            let clock = std::time::Instant::now();
+            if let Some(shard) = shard {
+                let path = crate::study::run_shard(&study, shard, &out)?;
+                println!(
+                    "shard {shard}: {} of {} tasks in {:.2} s: {}",
+                    shard.tasks(study.tasks()).len(),
+                    study.tasks(),
+                    clock.elapsed().as_secs_f64(),
+                    path.display()
+                );
+                return Ok(());
+            }
+            let rows = study.run_all()?;
+            let elapsed = clock.elapsed().as_secs_f64();
+            let merged = crate::study::Merged {
+                columns: study.columns(),
+                rows: rows
+                    .iter()
+                    .map(|r| r.iter().map(crate::study::Cell::csv).collect())
+                    .collect(),
+                study,
+            };
+            let summary = write_table(&merged, &out, !no_plots)?;
+            print!("{summary}");
+            println!(
+                "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
+                merged.rows.len(),
+                merged.rows.len() as f64 / elapsed,
+                out.root().display()
+            );
+            Ok(())
+        }
+        Command::Merge {
+            parts,
+            out,
+            no_plots,
+        } => {
+            let files = crate::study::part_files(&parts)?;
+            let merged = crate::study::merge(&files)?;
+            let out = OutDir::create(out)?;
+            let summary = write_table(&merged, &out, !no_plots)?;
+            print!("{summary}");
+            println!(
+                "{} parts, {} tasks: {}",
+                files.len(),
+                merged.rows.len(),
+                out.path(merged.study.table_file()).display()
+            );
             Ok(())
         }
         Command::Diagnose {
@@ -287,6 +451,52 @@ pub fn run(cli: Cli) -> Result<()> {
                 );
             }
             Ok(())
+        }
+    }
+}
+
+impl MaterialArgs {
+    /// The validated material: from a calibration.json, the paper's Table 2, or a
+    /// calibration run first (not with `--shard`: every shard would calibrate into the
+    /// same folder).
+    fn state(
+        &self,
+        case: &crate::case::MeasuredCase,
+        settings: &CalibrateSettings,
+        model: &ModelArgs,
+        out: &OutDir,
+        shard: Option<crate::study::Shard>,
+    ) -> Result<crate::fe::SpringState> {
+        if let Some(file) = &self.calibration {
+            read_calibrated_state(file)
+        } else if self.paper_material {
+            crate::sweep::paper_material(case, settings)
+        } else if shard.is_some() {
+            Err(crate::TuneError::Invalid(
+                "--shard needs the material fixed before the split: give --calibration calibration.json (from `coil-tune calibrate`) or --paper-material".into(),
+            ))
+        } else {
+            let targets = Targets::of(case)?;
+            let sub = out.sub("calibration")?;
+            let result = calibrate(case, &targets, settings, Some(&sub), &model.control())?;
+            print!("{}", result.summary());
+            Ok(result.state)
+        }
+    }
+}
+
+/// Writes a study's table as a single run does (and, for a tolerance study, its summary,
+/// report and figure); returns the text for the terminal.
+fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
+    let csv = merged.csv();
+    match &merged.study {
+        crate::study::Study::Tolerance(t) => {
+            let summary = crate::tolerance::write(t, &csv, &merged.rows, out, plots)?;
+            Ok(summary.table())
+        }
+        crate::study::Study::Sweep(_) => {
+            out.write(merged.study.table_file(), csv.as_bytes())?;
+            Ok(String::new())
         }
     }
 }

@@ -66,6 +66,49 @@ impl ModelArgs {
     }
 }
 
+/// The sampling of a tolerance study (docs/scale-out.md).
+#[derive(Debug, Args, Clone)]
+pub struct ToleranceArgs {
+    /// Samples per spring (the nominal spring is run on top, as sample 0).
+    #[arg(long, default_value_t = 100)]
+    pub samples: usize,
+    /// Seed of the sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// +- wire diameter (mm).
+    #[arg(long, default_value_t = 0.03)]
+    pub wire_tol: f64,
+    /// EN 15800 grade of the coil diameter tolerance (1, 2 or 3).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
+    pub grade: u8,
+    /// +- mean coil diameter (mm) instead of the EN 15800 table.
+    #[arg(long)]
+    pub coil_diameter_tol: Option<f64>,
+    /// +- active coils.
+    #[arg(long, default_value_t = 0.25)]
+    pub coils_tol: f64,
+    /// +- relative Young's modulus.
+    #[arg(long, default_value_t = 0.02)]
+    pub youngs_modulus_tol: f64,
+    /// +- relative mass of the weight.
+    #[arg(long, default_value_t = 0.001)]
+    pub mass_tol: f64,
+}
+
+impl ToleranceArgs {
+    /// The tolerances these flags give.
+    pub fn tolerances(&self) -> crate::tolerance::Tolerances {
+        crate::tolerance::Tolerances {
+            wire_diameter_mm: self.wire_tol,
+            coil_diameter_grade: self.grade,
+            coil_diameter_mm: self.coil_diameter_tol,
+            active_coils: self.coils_tol,
+            youngs_modulus_relative: self.youngs_modulus_tol,
+            mass_relative: self.mass_tol,
+        }
+    }
+}
+
 /// Where the validated material comes from (sweeps and tolerance studies).
 #[derive(Debug, Args, Clone)]
 pub struct MaterialArgs {
@@ -118,30 +161,8 @@ pub enum Command {
         /// Output folder.
         #[arg(long, default_value = "out/tolerance")]
         out: PathBuf,
-        /// Samples per spring (the nominal spring is run on top, as sample 0).
-        #[arg(long, default_value_t = 100)]
-        samples: usize,
-        /// Seed of the sampling.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// +- wire diameter (mm).
-        #[arg(long, default_value_t = 0.03)]
-        wire_tol: f64,
-        /// EN 15800 grade of the coil diameter tolerance (1, 2 or 3).
-        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
-        grade: u8,
-        /// +- mean coil diameter (mm) instead of the EN 15800 table.
-        #[arg(long)]
-        coil_diameter_tol: Option<f64>,
-        /// +- active coils.
-        #[arg(long, default_value_t = 0.25)]
-        coils_tol: f64,
-        /// +- relative Young's modulus.
-        #[arg(long, default_value_t = 0.02)]
-        youngs_modulus_tol: f64,
-        /// +- relative mass of the weight.
-        #[arg(long, default_value_t = 0.001)]
-        mass_tol: f64,
+        #[command(flatten)]
+        tolerance: ToleranceArgs,
         /// Run only shard I of N (round robin over the tasks) and write
         /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
         #[arg(long, value_name = "I/N")]
@@ -245,28 +266,22 @@ pub fn run(cli: Cli) -> Result<()> {
             shard,
             model,
         } => {
-            let case = read_case(&case)?;
-            let variants = crate::case::read_variants(&variants)?;
             let out = OutDir::create(out)?;
-            let settings = model.settings();
-            let state = material.state(&case, &settings, &model, &out, shard)?;
-            // The table by direct integration unless checks are off (--no-check).
-            let mut decay = settings.damping.decay.clone();
-            if settings.damping.check_direct {
-                decay.method = crate::decay::Method::Direct;
-            }
+            let sweep = sweep_study(&case, &variants, &material, &model, &out, shard)?;
             if let Some(shard) = shard {
-                let study = crate::study::Study::Sweep(crate::study::VariantSweep {
-                    material: state,
-                    variants: variants.variants,
-                    fe: settings.fe,
-                    decay,
-                });
+                let study = crate::study::Study::Sweep(sweep);
                 let path = crate::study::run_shard(&study, shard, &out)?;
                 println!("shard {shard}: {}", path.display());
                 return Ok(());
             }
-            let result = crate::sweep::sweep(&state, &variants, &settings.fe, &decay)?;
+            let state = sweep.material;
+            let variants = crate::case::VariantsFile {
+                file: variants,
+                source: None,
+                variants: sweep.variants.clone(),
+            };
+            let (settings, decay) = (&sweep.fe, &sweep.decay);
+            let result = crate::sweep::sweep(&state, &variants, settings, decay)?;
             out.write("sweep.csv", result.csv().as_bytes())?;
             let json = serde_json::to_string_pretty(&result)
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
@@ -283,44 +298,16 @@ pub fn run(cli: Cli) -> Result<()> {
             case,
             variants,
             out,
-            samples,
-            seed,
-            wire_tol,
-            grade,
-            coil_diameter_tol,
-            coils_tol,
-            youngs_modulus_tol,
-            mass_tol,
+            tolerance,
             shard,
             no_plots,
             material,
             model,
         } => {
-            let case = read_case(&case)?;
-            let variants = crate::case::read_variants(&variants)?;
             let out = OutDir::create(out)?;
-            let settings = model.settings();
-            let state = material.state(&case, &settings, &model, &out, shard)?;
-            let study = crate::tolerance::ToleranceStudy {
-                sweep: crate::study::VariantSweep {
-                    material: state,
-                    variants: variants.variants,
-                    fe: settings.fe,
-                    decay: settings.damping.decay,
-                },
-                tolerances: crate::tolerance::Tolerances {
-                    wire_diameter_mm: wire_tol,
-                    coil_diameter_grade: grade,
-                    coil_diameter_mm: coil_diameter_tol,
-                    active_coils: coils_tol,
-                    youngs_modulus_relative: youngs_modulus_tol,
-                    mass_relative: mass_tol,
-                },
-                samples,
-                seed,
-            };
-            study.check()?;
-            let study = crate::study::Study::Tolerance(study);
+            let study = crate::study::Study::Tolerance(tolerance_study(
+                &case, &variants, &tolerance, &material, &model, &out, shard,
+            )?);
             let clock = std::time::Instant::now();
             if let Some(shard) = shard {
                 let path = crate::study::run_shard(&study, shard, &out)?;
@@ -459,7 +446,7 @@ impl MaterialArgs {
     /// The validated material: from a calibration.json, the paper's Table 2, or a
     /// calibration run first (not with `--shard`: every shard would calibrate into the
     /// same folder).
-    fn state(
+    pub fn state(
         &self,
         case: &crate::case::MeasuredCase,
         settings: &CalibrateSettings,
@@ -485,9 +472,64 @@ impl MaterialArgs {
     }
 }
 
+/// The sweep study of `variants` on `case`: the material as the flags say (a calibration
+/// run writes into `out/calibration`), the table by direct integration unless `--no-check`.
+pub fn sweep_study(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: &OutDir,
+    shard: Option<crate::study::Shard>,
+) -> Result<crate::study::VariantSweep> {
+    let case = read_case(case)?;
+    let variants = crate::case::read_variants(variants)?;
+    let settings = model.settings();
+    let state = material.state(&case, &settings, model, out, shard)?;
+    let mut decay = settings.damping.decay.clone();
+    if settings.damping.check_direct {
+        decay.method = crate::decay::Method::Direct;
+    }
+    Ok(crate::study::VariantSweep {
+        material: state,
+        variants: variants.variants,
+        fe: settings.fe,
+        decay,
+    })
+}
+
+/// The tolerance study of `variants` on `case` (zeta by `--method`, modal by default).
+pub fn tolerance_study(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    tolerance: &ToleranceArgs,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: &OutDir,
+    shard: Option<crate::study::Shard>,
+) -> Result<crate::tolerance::ToleranceStudy> {
+    let case = read_case(case)?;
+    let variants = crate::case::read_variants(variants)?;
+    let settings = model.settings();
+    let state = material.state(&case, &settings, model, out, shard)?;
+    let study = crate::tolerance::ToleranceStudy {
+        sweep: crate::study::VariantSweep {
+            material: state,
+            variants: variants.variants,
+            fe: settings.fe,
+            decay: settings.damping.decay,
+        },
+        tolerances: tolerance.tolerances(),
+        samples: tolerance.samples,
+        seed: tolerance.seed,
+    };
+    study.check()?;
+    Ok(study)
+}
+
 /// Writes a study's table as a single run does (and, for a tolerance study, its summary,
 /// report and figure); returns the text for the terminal.
-fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
+pub fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
     let csv = merged.csv();
     match &merged.study {
         crate::study::Study::Tolerance(t) => {

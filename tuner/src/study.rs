@@ -134,13 +134,12 @@ impl Study {
             )));
         }
         match self {
-            Study::Sweep(s) => Ok(crate::sweep::run_variant(
-                &s.material,
-                &s.variants[k],
-                &s.fe,
-                &s.decay,
-            )?
-            .cells()),
+            Study::Sweep(s) => {
+                Ok(
+                    crate::sweep::run_variant(&s.material, &s.variants[k], &s.fe, &s.decay)?
+                        .cells(),
+                )
+            }
             Study::Tolerance(t) => Ok(t.run(k)?.cells()),
         }
     }
@@ -151,9 +150,8 @@ impl Study {
         tasks
             .par_iter()
             .map(|&k| {
-                self.run_task(k).map_err(|e| {
-                    TuneError::Invalid(format!("{} task {k}: {e}", self.kind()))
-                })
+                self.run_task(k)
+                    .map_err(|e| TuneError::Invalid(format!("{} task {k}: {e}", self.kind())))
             })
             .collect()
     }
@@ -225,10 +223,7 @@ impl Shard {
     /// `part-IIII-of-NNNN.csv` (at least 4 digits, sorting in shard order).
     pub fn file_name(&self) -> String {
         let width = self.count.to_string().len().max(4);
-        format!(
-            "part-{:0width$}-of-{:0width$}.csv",
-            self.index, self.count
-        )
+        format!("part-{:0width$}-of-{:0width$}.csv", self.index, self.count)
     }
 }
 
@@ -260,7 +255,10 @@ pub fn part_text(study: &Study, shard: Shard, tasks: &[usize], rows: &[Vec<Cell>
 pub fn run_shard(study: &Study, shard: Shard, out: &OutDir) -> Result<PathBuf> {
     let tasks = shard.tasks(study.tasks());
     let rows = study.run_tasks(&tasks)?;
-    out.write(shard.file_name(), part_text(study, shard, &tasks, &rows).as_bytes())
+    out.write(
+        shard.file_name(),
+        part_text(study, shard, &tasks, &rows).as_bytes(),
+    )
 }
 
 /// One part file as read.
@@ -312,7 +310,13 @@ pub fn read_part(path: &Path) -> Result<Part> {
                 format!("header `{line}`; expected `{header}`"),
             ))
         }
-        None => return Err(part_error(path, 3, format!("no header; expected `{header}`"))),
+        None => {
+            return Err(part_error(
+                path,
+                3,
+                format!("no header; expected `{header}`"),
+            ))
+        }
     }
     let mut rows = Vec::new();
     for (n, line) in lines {
@@ -375,9 +379,9 @@ pub fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
                 .filter_map(|entry| entry.ok().map(|e| e.path()))
                 .filter(|p| {
                     p.is_file()
-                        && p.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
-                            n.starts_with("part-") && n.ends_with(".csv")
-                        })
+                        && p.file_name()
+                            .and_then(|n| n.to_str())
+                            .is_some_and(|n| n.starts_with("part-") && n.ends_with(".csv"))
                 })
                 .collect();
             found.sort();
@@ -508,16 +512,17 @@ mod tests {
 
     #[test]
     fn shard_parsing_names_what_is_expected() {
-        assert_eq!(
-            "3/8".parse::<Shard>(),
-            Ok(Shard { index: 3, count: 8 })
-        );
+        assert_eq!("3/8".parse::<Shard>(), Ok(Shard { index: 3, count: 8 }));
         for bad in ["0/4", "5/4", "4", "a/b", "1/0", "-1/4", "1/2000000"] {
             let e = bad.parse::<Shard>().unwrap_err();
             assert!(e.contains("expected I/N"), "{bad}: {e}");
         }
         assert_eq!(
-            Shard { index: 3, count: 12 }.file_name(),
+            Shard {
+                index: 3,
+                count: 12
+            }
+            .file_name(),
             "part-0003-of-0012.csv"
         );
     }

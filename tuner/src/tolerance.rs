@@ -89,15 +89,55 @@ impl Default for Tolerances {
 /// EN 15800 permissible deviation of the coil diameter (+- mm): rows (D from, D to],
 /// then grades 1, 2, 3, each for w in (4, 8], (8, 14], (14, 20]. NaN: not read.
 const EN15800_COIL_DIAMETER: [(f64, f64, [[f64; 3]; 3]); 9] = [
-    (0.63, 1.0, [[0.05, 0.07, 0.10], [0.07, 0.10, 0.15], [0.10, 0.15, 0.20]]),
-    (1.0, 1.6, [[0.05, 0.07, 0.10], [0.08, 0.10, 0.15], [0.15, 0.20, 0.30]]),
-    (1.6, 2.5, [[0.07, 0.10, 0.15], [0.10, 0.15, 0.20], [0.20, 0.30, 0.40]]),
-    (2.5, 4.0, [[0.10, 0.10, 0.15], [0.15, 0.20, 0.25], [0.30, 0.40, 0.50]]),
-    (4.0, 6.3, [[0.10, 0.15, 0.20], [0.20, 0.25, 0.30], [0.40, 0.50, 0.60]]),
-    (6.3, 10.0, [[0.15, 0.15, 0.20], [0.25, 0.30, 0.35], [0.50, 0.60, 0.70]]),
-    (10.0, 16.0, [[0.15, 0.20, 0.25], [0.30, 0.35, 0.40], [0.60, 0.70, 0.80]]),
-    (16.0, 25.0, [[0.20, 0.25, 0.30], [0.35, 0.45, 0.50], [0.70, 0.90, 1.00]]),
-    (25.0, 31.5, [[0.25, 0.30, 0.35], [0.40, 0.50, 0.60], [0.80, 1.00, f64::NAN]]),
+    (
+        0.63,
+        1.0,
+        [[0.05, 0.07, 0.10], [0.07, 0.10, 0.15], [0.10, 0.15, 0.20]],
+    ),
+    (
+        1.0,
+        1.6,
+        [[0.05, 0.07, 0.10], [0.08, 0.10, 0.15], [0.15, 0.20, 0.30]],
+    ),
+    (
+        1.6,
+        2.5,
+        [[0.07, 0.10, 0.15], [0.10, 0.15, 0.20], [0.20, 0.30, 0.40]],
+    ),
+    (
+        2.5,
+        4.0,
+        [[0.10, 0.10, 0.15], [0.15, 0.20, 0.25], [0.30, 0.40, 0.50]],
+    ),
+    (
+        4.0,
+        6.3,
+        [[0.10, 0.15, 0.20], [0.20, 0.25, 0.30], [0.40, 0.50, 0.60]],
+    ),
+    (
+        6.3,
+        10.0,
+        [[0.15, 0.15, 0.20], [0.25, 0.30, 0.35], [0.50, 0.60, 0.70]],
+    ),
+    (
+        10.0,
+        16.0,
+        [[0.15, 0.20, 0.25], [0.30, 0.35, 0.40], [0.60, 0.70, 0.80]],
+    ),
+    (
+        16.0,
+        25.0,
+        [[0.20, 0.25, 0.30], [0.35, 0.45, 0.50], [0.70, 0.90, 1.00]],
+    ),
+    (
+        25.0,
+        31.5,
+        [
+            [0.25, 0.30, 0.35],
+            [0.40, 0.50, 0.60],
+            [0.80, 1.00, f64::NAN],
+        ],
+    ),
 ];
 
 /// EN 15800's permissible deviation of the mean coil diameter (+- mm) of grade `grade`
@@ -156,7 +196,10 @@ impl Tolerances {
         };
         let ok = |x: f64, limit: f64| x.is_finite() && (0.0..limit).contains(&x);
         if !(ok(bands.wire_diameter_mm, spring.wire_diameter_mm)
-            && ok(bands.mean_diameter_mm, spring.mean_diameter_mm - spring.wire_diameter_mm)
+            && ok(
+                bands.mean_diameter_mm,
+                spring.mean_diameter_mm - spring.wire_diameter_mm,
+            )
             && ok(bands.active_coils, spring.active_coils)
             && ok(bands.youngs_modulus_relative, 1.0)
             && ok(bands.mass_relative, 1.0))
@@ -566,7 +609,10 @@ impl Figure for SpreadFigure<'_> {
                 let x = (i + 1) as f64;
                 chart
                     .draw_series([
-                        PathElement::new([(x, rel(s, 5.0)), (x, rel(s, 95.0))], BLACK.stroke_width(2)),
+                        PathElement::new(
+                            [(x, rel(s, 5.0)), (x, rel(s, 95.0))],
+                            BLACK.stroke_width(2),
+                        ),
                         PathElement::new(
                             [(x - 0.2, rel(s, 50.0)), (x + 0.2, rel(s, 50.0))],
                             BLACK.stroke_width(3),
@@ -581,8 +627,7 @@ impl Figure for SpreadFigure<'_> {
                     .map_err(|x| x.to_string())?;
                 chart
                     .draw_series(
-                        [rel(s, 1.0), rel(s, 99.0)]
-                            .map(|y| Circle::new((x, y), 4, BLACK.filled())),
+                        [rel(s, 1.0), rel(s, 99.0)].map(|y| Circle::new((x, y), 4, BLACK.filled())),
                     )
                     .map_err(|x| x.to_string())?;
             }

@@ -367,7 +367,10 @@ fn tolerance_shards_merge_to_the_single_run() {
         let o = tolerance("parts", "7", &["--shard", &shard]);
         assert!(o.status.success(), "{shard}: {}", text(&o.stderr));
     }
-    let o = run(&["merge", "parts", "--out", "merged", "--no-plots"], dir.path());
+    let o = run(
+        &["merge", "parts", "--out", "merged", "--no-plots"],
+        dir.path(),
+    );
     assert!(o.status.success(), "{}", text(&o.stderr));
     for file in ["tolerance.csv", "tolerance_summary.json", "tolerance.md"] {
         let single = std::fs::read(dir.path().join("single").join(file)).unwrap();
@@ -388,24 +391,55 @@ fn tolerance_shards_merge_to_the_single_run() {
     assert!(err.contains("shard 3/4 missing"), "{err}");
     // A shard given twice.
     std::fs::create_dir(dir.path().join("copy")).unwrap();
-    std::fs::copy(dir.path().join(part(2)), dir.path().join("copy/part-0002-of-0004.csv")).unwrap();
+    std::fs::copy(
+        dir.path().join(part(2)),
+        dir.path().join("copy/part-0002-of-0004.csv"),
+    )
+    .unwrap();
     let o = run(&["merge", "parts", "copy", "--out", "bad"], dir.path());
     let err = text(&o.stderr);
-    assert!(err.contains("shard 2/4 is given twice") && err.contains("copy"), "{err}");
+    assert!(
+        err.contains("shard 2/4 is given twice") && err.contains("copy"),
+        "{err}"
+    );
     // A part of another study (another seed).
     let o = tolerance("other", "8", &["--shard", "3/4"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let o = run(
-        &["merge", &part(1), &part(2), "other/part-0003-of-0004.csv", &part(4), "--out", "bad"],
+        &[
+            "merge",
+            &part(1),
+            &part(2),
+            "other/part-0003-of-0004.csv",
+            &part(4),
+            "--out",
+            "bad",
+        ],
         dir.path(),
     );
     let err = text(&o.stderr);
-    assert!(err.contains("another study") && err.contains("other/part-0003"), "{err}");
+    assert!(
+        err.contains("another study") && err.contains("other/part-0003"),
+        "{err}"
+    );
     assert!(!dir.path().join("bad").join("tolerance.csv").exists());
     // A shard without a fixed material.
     let o = run(
-        &["sweep", case.to_str().unwrap(), "--variants", "variants.json", "--shard", "1/2", "--out", "s"],
+        &[
+            "sweep",
+            case.to_str().unwrap(),
+            "--variants",
+            "variants.json",
+            "--shard",
+            "1/2",
+            "--out",
+            "s",
+        ],
         dir.path(),
     );
-    assert!(text(&o.stderr).contains("--shard needs the material"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("--shard needs the material"),
+        "{}",
+        text(&o.stderr)
+    );
 }

@@ -270,7 +270,7 @@ pub fn run(cli: Cli) -> Result<()> {
             let sweep = sweep_study(&case, &variants, &material, &model, &out, shard)?;
             if let Some(shard) = shard {
                 let study = crate::study::Study::Sweep(sweep);
-                let path = crate::study::run_shard(&study, shard, &out)?;
+                let path = crate::study::run_shard(&study, shard, out.root())?;
                 println!("shard {shard}: {}", path.display());
                 return Ok(());
             }
@@ -310,7 +310,7 @@ pub fn run(cli: Cli) -> Result<()> {
             )?);
             let clock = std::time::Instant::now();
             if let Some(shard) = shard {
-                let path = crate::study::run_shard(&study, shard, &out)?;
+                let path = crate::study::run_shard(&study, shard, out.root())?;
                 println!(
                     "shard {shard}: {} of {} tasks in {:.2} s: {}",
                     shard.tasks(study.tasks()).len(),

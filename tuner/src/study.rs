@@ -34,7 +34,7 @@ use crate::case::Variant;
 use crate::decay::DecaySettings;
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
-use crate::output::{exact, OutDir};
+use crate::output::exact;
 use crate::tolerance::ToleranceStudy;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -251,14 +251,18 @@ pub fn part_text(study: &Study, shard: Shard, tasks: &[usize], rows: &[Vec<Cell>
     )
 }
 
-/// Runs shard `shard` of `study` and writes its part into `out`; returns the path.
-pub fn run_shard(study: &Study, shard: Shard, out: &OutDir) -> Result<PathBuf> {
+/// Runs shard `shard` of `study` and writes its part into `folder` (created); returns
+/// the path. The part is one file written atomically on its own, not an output set: the
+/// shards of a study write into one shared folder, concurrently, from many machines.
+pub fn run_shard(study: &Study, shard: Shard, folder: &Path) -> Result<PathBuf> {
     let tasks = shard.tasks(study.tasks());
     let rows = study.run_tasks(&tasks)?;
-    out.write(
-        shard.file_name(),
-        part_text(study, shard, &tasks, &rows).as_bytes(),
-    )
+    std::fs::create_dir_all(folder).map_err(|e| TuneError::io(folder, e))?;
+    let path = folder.join(shard.file_name());
+    let text = part_text(study, shard, &tasks, &rows);
+    coil_solver::atomic::write_atomic(&path, text.as_bytes())
+        .map_err(|e| TuneError::io(&path, e))?;
+    Ok(path)
 }
 
 /// One part file as read.

@@ -10,7 +10,10 @@ import inspect
 import pathlib
 import sys
 
-import coil
+# The installed package (with its native module), not the sources beside this script.
+HERE = pathlib.Path(__file__).resolve().parent
+sys.path = [p for p in sys.path if pathlib.Path(p or ".").resolve() != HERE]
+import coil  # noqa: E402
 
 PAGE = pathlib.Path(__file__).resolve().parents[1] / "docs" / "python.md"
 

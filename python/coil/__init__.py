@@ -68,8 +68,8 @@ def spring(**fields):
     ``elements_per_coil=24``, ``youngs_modulus_mpa=206000``, ``analyses=["static"]``, ...
 
     >>> deck = coil.spring(youngs_modulus_mpa=193837.8, analyses=["static", "modal"], modes=3)
-    >>> deck.splitlines()[0].split()[0]
-    'TITLE'
+    >>> "TITLE, helical spring" in deck.splitlines()
+    True
     >>> coil.spring(wire_diameter_mm=-3)
     Traceback (most recent call last):
     coil.CoilError: wire_diameter_mm = -3: expected a positive wire diameter smaller than the mean diameter
@@ -160,7 +160,7 @@ def calibrate(case, out, elements_per_coil=24, method="modal", check=True):
     validated values are in ``["state"]``.
 
     >>> cal = coil.calibrate(case, out=tmp / "cal", elements_per_coil=8, check=False)
-    >>> round(cal["stiffness"]["iterations"][-1]["stiffness_n_mm"], 4)
+    >>> round(cal["stiffness"]["iterations"][-1]["result"], 4)
     3.9275
     """
     return json.loads(_coil.calibrate(os.fspath(case), os.fspath(out), elements_per_coil, method, check))
@@ -252,12 +252,14 @@ def sweep(case, variants, out, calibration=None, paper_material=False, elements_
           method="modal", check=True, client=None):
     """K and zeta of spring variants with the validated material (``coil-tune sweep``):
     a DataFrame with sweep.csv's columns; writes ``out/sweep.csv`` as the binary does.
-    ``client``: a ``dask.distributed.Client`` to run the variants on.
+    ``client``: a ``dask.distributed.Client`` to run the variants on. (At 8 elements per
+    coil, as here, the helix is too stiff by 11 %: the paper's material was calibrated
+    at about 17.)
 
     >>> t = coil.sweep(case, table4, out=tmp, paper_material=True, elements_per_coil=8,
     ...                check=False)
     >>> t[["name", "stiffness_n_mm"]].round(2).values.tolist()[:2]
-    [['#1', 2.5], ['#2', 7.34]]
+    [['#1', 2.76], ['#2', 8.08]]
     """
     study = sweep_study(case, variants, out, calibration, paper_material,
                         elements_per_coil, method, check)
@@ -316,7 +318,9 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     """Diagnoses a measured case (``coil-tune diagnose``, docs/diagnose.md): writes its
     files into ``out`` and returns diagnosis.json's content.
 
-    >>> d = coil.diagnose(repo / "cases/measured/friction_g1", tmp / "diag", plots=False)  # doctest: +SKIP
-    >>> sorted(d)[:3]  # doctest: +SKIP
+    >>> d = coil.diagnose(repo / "cases/measured/friction_g1", tmp / "diag",
+    ...                   elements_per_coil=8, modes=2, plots=False)
+    >>> d["cause"], round(d["extended"]["parameters"]["friction_force_n"], 3)
+    ('coulomb_friction', 0.011)
     """
     return json.loads(_coil.diagnose(os.fspath(case), os.fspath(out), elements_per_coil, modes, plots))

@@ -31,7 +31,7 @@ targets = cal["targets"]
 chosen = cal["damping"]["chosen"]
 checked = chosen["direct"] or {"zeta_mean": chosen["zeta"], "period_s": chosen["period_s"]}
 rows = [
-    ("K (N/mm)", targets["stiffness_n_mm"], 3.927506, cal["stiffness"]["iterations"][-1]["stiffness_n_mm"]),
+    ("K (N/mm)", targets["stiffness_n_mm"], 3.927506, cal["stiffness"]["iterations"][-1]["result"]),
     ("zeta", targets["damping_ratio"], 0.001747, checked["zeta_mean"]),
     ("T (s)", targets["period_s"], 0.23, checked["period_s"]),
     ("E (MPa)", None, 190708.0, s["youngs_modulus_mpa"]),

@@ -12,6 +12,7 @@ are the same bytes.
 
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -39,10 +40,11 @@ def report(name, seconds, extra=""):
     print(f"{name:34} {seconds:8.1f} s {tasks / seconds:7.2f} tasks/s {extra}")
 
 
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 serial = coil.run_study(study)
-report("serial (1 process, 1 thread)", time.perf_counter() - t0,
-       f"per task {1e3 * (time.perf_counter() - t0) / tasks:.1f} ms")
+wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+report("serial (1 process, 1 thread)", wall,
+       f"per task {1e3 * wall / tasks:.1f} ms wall, {1e3 * cpu / tasks:.1f} ms CPU")
 coil._coil.write_table(study, serial.to_json(orient="values"), str(out / "serial"), False)
 
 t0 = time.perf_counter()
@@ -55,17 +57,20 @@ with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
 report(f"Dask, {workers} workers (run)", run, f"cluster start-up {startup:.1f} s")
 coil._coil.write_table(study, on_dask.to_json(orient="values"), str(out / "dask"), False)
 
-t0 = time.perf_counter()
+t0, r0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
 procs = [subprocess.Popen([exe, "tolerance", case, "--variants", variants, *flags,
                            "--shard", f"{i}/{workers}", "--out", str(out / "parts"), "-q"],
                           stdout=subprocess.DEVNULL) for i in range(1, workers + 1)]
 assert all(p.wait() == 0 for p in procs)
 shards = time.perf_counter() - t0
+r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+shard_cpu = (r1.ru_utime + r1.ru_stime) - (r0.ru_utime + r0.ru_stime)
 t1 = time.perf_counter()
 subprocess.run([exe, "merge", str(out / "parts"), "--out", str(out / "merged"), "--no-plots"],
                check=True, stdout=subprocess.DEVNULL)
 merge = time.perf_counter() - t1
-report(f"{workers} shards of coil-tune + merge", shards + merge, f"merge {merge:.2f} s")
+report(f"{workers} shards of coil-tune + merge", shards + merge,
+       f"merge {merge:.2f} s, shards' CPU {1e3 * shard_cpu / tasks:.1f} ms per task")
 
 same = [(out / d / "tolerance.csv").read_bytes() for d in ["serial", "dask", "merged"]]
 print("tables identical:", same[0] == same[1] == same[2])

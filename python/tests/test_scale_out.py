@@ -59,7 +59,7 @@ def test_serial_shards_and_dask_give_the_same_bits(tmp_path, coil_tune):
             ours = spring[column]["percentiles"]
             ps = [1.0, 5.0, 25.0, 50.0, 75.0, 95.0, 99.0]
             expected = np.percentile(drawn[column].to_numpy(), ps)
-            got = [ours[f"p{p}"] for p in ps]
+            got = [ours[f"p{p:g}"] for p in ps]
             np.testing.assert_allclose(got, expected, rtol=1e-13)
             assert spring[column]["std"] == np.std(drawn[column].to_numpy(), ddof=1) or \
                 abs(spring[column]["std"] / np.std(drawn[column].to_numpy(), ddof=1) - 1) < 1e-12

@@ -260,8 +260,7 @@ pub fn run_shard(study: &Study, shard: Shard, folder: &Path) -> Result<PathBuf> 
     std::fs::create_dir_all(folder).map_err(|e| TuneError::io(folder, e))?;
     let path = folder.join(shard.file_name());
     let text = part_text(study, shard, &tasks, &rows);
-    coil_solver::atomic::write_atomic(&path, text.as_bytes())
-        .map_err(|e| TuneError::io(&path, e))?;
+    coil_io::write_file(&path, text.as_bytes()).map_err(|e| TuneError::Invalid(e.to_string()))?;
     Ok(path)
 }
 
@@ -276,13 +275,17 @@ pub struct Part {
     pub rows: Vec<(usize, Vec<String>)>,
 }
 
+/// A part larger than this is not one (10^6 rows of a tolerance study are 0.3 GB).
+const MAX_PART_BYTES: u64 = 1 << 30;
+
 fn part_error(path: &Path, line: usize, message: impl std::fmt::Display) -> TuneError {
     TuneError::Invalid(format!("{}:{line}: {message}", path.display()))
 }
 
 /// Reads and checks one part file.
 pub fn read_part(path: &Path) -> Result<Part> {
-    let text = std::fs::read_to_string(path).map_err(|e| TuneError::io(path, e))?;
+    let text = coil_io::read_bounded(path, MAX_PART_BYTES, "a part file")
+        .map_err(|e| TuneError::Invalid(e.to_string()))?;
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let (_, first) = lines.next().unwrap_or((1, ""));
     let shard = first

@@ -144,12 +144,11 @@ const EN15800_COIL_DIAMETER: [(f64, f64, [[f64; 3]; 3]); 9] = [
 /// for mean diameter `d_mean` and wire `d_wire`; `None` outside the table.
 pub fn en15800_coil_diameter(grade: u8, d_mean: f64, d_wire: f64) -> Option<f64> {
     let w = d_mean / d_wire;
-    let column = match w {
-        w if w >= 4.0 && w <= 8.0 => 0,
-        w if w > 8.0 && w <= 14.0 => 1,
-        w if w > 14.0 && w <= 20.0 => 2,
-        _ => return None,
-    };
+    // Columns (4, 8], (8, 14], (14, 20]; w = 4 belongs to the first.
+    let column = [8.0, 14.0, 20.0].iter().position(|&upper| w <= upper)?;
+    if w < 4.0 {
+        return None;
+    }
     let grade = usize::from(grade).checked_sub(1).filter(|g| *g < 3)?;
     EN15800_COIL_DIAMETER
         .iter()

@@ -472,8 +472,32 @@ impl MaterialArgs {
     }
 }
 
-/// The sweep study of `variants` on `case`: the material as the flags say (a calibration
-/// run writes into `out/calibration`), the table by direct integration unless `--no-check`.
+/// The variants of `variants` with the validated material of `case` (as the flags say; a
+/// calibration run writes into `out/calibration`) and the settings' decay, and whether
+/// the flags ask for direct integration of the tables (`--no-check` not given).
+fn validated_variants(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: &OutDir,
+    shard: Option<crate::study::Shard>,
+) -> Result<(crate::study::VariantSweep, bool)> {
+    let case = read_case(case)?;
+    let variants = crate::case::read_variants(variants)?;
+    let settings = model.settings();
+    let state = material.state(&case, &settings, model, out, shard)?;
+    let sweep = crate::study::VariantSweep {
+        material: state,
+        variants: variants.variants,
+        fe: settings.fe,
+        decay: settings.damping.decay,
+    };
+    Ok((sweep, settings.damping.check_direct))
+}
+
+/// The sweep study of `variants` on `case`: the table by direct integration unless
+/// `--no-check`.
 pub fn sweep_study(
     case: &std::path::Path,
     variants: &std::path::Path,
@@ -482,20 +506,11 @@ pub fn sweep_study(
     out: &OutDir,
     shard: Option<crate::study::Shard>,
 ) -> Result<crate::study::VariantSweep> {
-    let case = read_case(case)?;
-    let variants = crate::case::read_variants(variants)?;
-    let settings = model.settings();
-    let state = material.state(&case, &settings, model, out, shard)?;
-    let mut decay = settings.damping.decay.clone();
-    if settings.damping.check_direct {
-        decay.method = crate::decay::Method::Direct;
+    let (mut sweep, direct) = validated_variants(case, variants, material, model, out, shard)?;
+    if direct {
+        sweep.decay.method = crate::decay::Method::Direct;
     }
-    Ok(crate::study::VariantSweep {
-        material: state,
-        variants: variants.variants,
-        fe: settings.fe,
-        decay,
-    })
+    Ok(sweep)
 }
 
 /// The tolerance study of `variants` on `case` (zeta by `--method`, modal by default).
@@ -508,17 +523,9 @@ pub fn tolerance_study(
     out: &OutDir,
     shard: Option<crate::study::Shard>,
 ) -> Result<crate::tolerance::ToleranceStudy> {
-    let case = read_case(case)?;
-    let variants = crate::case::read_variants(variants)?;
-    let settings = model.settings();
-    let state = material.state(&case, &settings, model, out, shard)?;
+    let (sweep, _) = validated_variants(case, variants, material, model, out, shard)?;
     let study = crate::tolerance::ToleranceStudy {
-        sweep: crate::study::VariantSweep {
-            material: state,
-            variants: variants.variants,
-            fe: settings.fe,
-            decay: settings.damping.decay,
-        },
+        sweep,
         tolerances: tolerance.tolerances(),
         samples: tolerance.samples,
         seed: tolerance.seed,

@@ -47,7 +47,7 @@ def main():
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     report("serial (1 process, 1 thread)", wall,
            f"per task {1e3 * wall / tasks:.1f} ms wall, {1e3 * cpu / tasks:.1f} ms CPU")
-    coil._coil.write_table(study, serial.to_json(orient="values"), str(out / "serial"), False)
+    coil._write(study, serial, out / "serial", False)
 
     t0 = time.perf_counter()
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
@@ -57,7 +57,7 @@ def main():
         on_dask = coil.run_study(study, client)
         run = time.perf_counter() - t1
     report(f"Dask, {workers} workers (run)", run, f"cluster start-up {startup:.1f} s")
-    coil._coil.write_table(study, on_dask.to_json(orient="values"), str(out / "dask"), False)
+    coil._write(study, on_dask, out / "dask", False)
 
     t0, r0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     procs = [subprocess.Popen([exe, "tolerance", case, "--variants", variants, *flags,

@@ -695,7 +695,7 @@ pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
 }
 
 /// One alternative spring of a variants file (Table 4), with the paper's figures if given.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Variant {
     pub name: String,
     pub spring: SpringGeometry,

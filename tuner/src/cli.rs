@@ -97,6 +97,61 @@ impl ModelArgs {
     }
 }
 
+/// The sampling of a tolerance study (docs/scale-out.md).
+#[derive(Debug, Args, Clone)]
+pub struct ToleranceArgs {
+    /// Samples per spring (the nominal spring is run on top, as sample 0).
+    #[arg(long, default_value_t = 100)]
+    pub samples: usize,
+    /// Seed of the sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// +- wire diameter (mm).
+    #[arg(long, default_value_t = 0.03)]
+    pub wire_tol: f64,
+    /// EN 15800 grade of the coil diameter tolerance (1, 2 or 3).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
+    pub grade: u8,
+    /// +- mean coil diameter (mm) instead of the EN 15800 table.
+    #[arg(long)]
+    pub coil_diameter_tol: Option<f64>,
+    /// +- active coils.
+    #[arg(long, default_value_t = 0.25)]
+    pub coils_tol: f64,
+    /// +- relative Young's modulus.
+    #[arg(long, default_value_t = 0.02)]
+    pub youngs_modulus_tol: f64,
+    /// +- relative mass of the weight.
+    #[arg(long, default_value_t = 0.001)]
+    pub mass_tol: f64,
+}
+
+impl ToleranceArgs {
+    /// The tolerances these flags give.
+    pub fn tolerances(&self) -> crate::tolerance::Tolerances {
+        crate::tolerance::Tolerances {
+            wire_diameter_mm: self.wire_tol,
+            coil_diameter_grade: self.grade,
+            coil_diameter_mm: self.coil_diameter_tol,
+            active_coils: self.coils_tol,
+            youngs_modulus_relative: self.youngs_modulus_tol,
+            mass_relative: self.mass_tol,
+        }
+    }
+}
+
+/// Where the validated material comes from (sweeps and tolerance studies).
+#[derive(Debug, Args, Clone)]
+pub struct MaterialArgs {
+    /// Take E, mass, alpha and beta from a calibration.json (`calibrate`'s output)
+    /// instead of calibrating first.
+    #[arg(long, conflicts_with = "paper_material")]
+    pub calibration: Option<PathBuf>,
+    /// Use the paper's Table 2 (E, alpha, beta; the mass tuned to the period) instead.
+    #[arg(long)]
+    pub paper_material: bool,
+}
+
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Loops 1-3 of the paper's Figure 6 on a case (folder or case.json).
@@ -117,15 +172,52 @@ pub enum Command {
         /// Output folder.
         #[arg(long, default_value = "out/sweep")]
         out: PathBuf,
-        /// Take E, mass, alpha and beta from a calibration.json (`calibrate`'s output)
-        /// instead of calibrating first.
-        #[arg(long, conflicts_with = "paper_material")]
-        calibration: Option<PathBuf>,
-        /// Use the paper's Table 2 (E, alpha, beta; the mass tuned to the period) instead.
-        #[arg(long)]
-        paper_material: bool,
+        #[command(flatten)]
+        material: MaterialArgs,
+        /// Run only shard I of N (round robin over the variants) and write
+        /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<crate::study::Shard>,
         #[command(flatten)]
         model: ModelArgs,
+    },
+    /// K and zeta distributions of the variants as manufactured: each spring sampled
+    /// within tolerances (wire and coil diameter, coils, E, mass), seeded
+    /// (docs/scale-out.md).
+    Tolerance {
+        case: PathBuf,
+        /// The variants file (e.g. cases/160ect/table4.json).
+        #[arg(long)]
+        variants: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/tolerance")]
+        out: PathBuf,
+        #[command(flatten)]
+        tolerance: ToleranceArgs,
+        /// Run only shard I of N (round robin over the tasks) and write
+        /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<crate::study::Shard>,
+        /// No figure.
+        #[arg(long)]
+        no_plots: bool,
+        #[command(flatten)]
+        material: MaterialArgs,
+        #[command(flatten)]
+        model: ModelArgs,
+    },
+    /// Join the parts of a sharded `sweep` or `tolerance` into the table a single run
+    /// writes; refuses missing or repeated shards and parts of another study.
+    Merge {
+        /// Part files, or folders holding part-*.csv.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "out/merge")]
+        out: PathBuf,
+        /// No figure (tolerance studies).
+        #[arg(long)]
+        no_plots: bool,
     },
     /// The paper's study: calibrate + sweep on cases/160ect, Tables 3 and 4 beside the
     /// paper's, report.md, report.json and the figures.
@@ -202,31 +294,29 @@ pub fn run(cli: Cli) -> Result<()> {
             case,
             variants,
             out,
-            calibration,
-            paper_material,
+            material,
+            shard,
             model,
         } => {
-            let case = read_case(&case)?;
-            let variants = crate::case::read_variants(&variants)?;
-            let out = OutDir::create(out)?;
-            let settings = model.settings();
-            let material = if let Some(file) = calibration {
-                read_calibrated_state(&file)?
-            } else if paper_material {
-                crate::sweep::paper_material(&case, &settings)?
-            } else {
-                let targets = Targets::of(&case)?;
-                let sub = out.sub("calibration")?;
-                let result = calibrate(&case, &targets, &settings, Some(&sub), &model.control())?;
-                text(&result.summary())?;
-                result.state
-            };
-            // The table by direct integration unless checks are off (--no-check).
-            let mut decay = settings.damping.decay.clone();
-            if settings.damping.check_direct {
-                decay.method = crate::decay::Method::Direct;
+            if let Some(shard) = shard {
+                // A shard writes one part file into a folder shared by concurrent shards:
+                // no output set (its lock would refuse the other shards), one atomic file.
+                let sweep = sweep_study(&case, &variants, &material, &model, None, Some(shard))?;
+                let study = crate::study::Study::Sweep(sweep);
+                let path = crate::study::run_shard(&study, shard, &out)?;
+                say!("shard {shard}: {}", path.display())?;
+                return Ok(());
             }
-            let result = crate::sweep::sweep(&material, &variants, &settings.fe, &decay)?;
+            let out = OutDir::create(out)?;
+            let sweep = sweep_study(&case, &variants, &material, &model, Some(&out), None)?;
+            let state = sweep.material;
+            let variants = crate::case::VariantsFile {
+                file: variants,
+                source: None,
+                variants: sweep.variants.clone(),
+            };
+            let (settings, decay) = (&sweep.fe, &sweep.decay);
+            let result = crate::sweep::sweep(&state, &variants, settings, decay)?;
             out.write("sweep.csv", result.csv().as_bytes())?;
             let json = serde_json::to_string_pretty(&result)
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
@@ -234,13 +324,83 @@ pub fn run(cli: Cli) -> Result<()> {
             out.commit()?;
             say!(
                 "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
-                material.youngs_modulus_mpa,
-                material.mass_kg,
-                material.alpha,
-                material.beta
+                state.youngs_modulus_mpa,
+                state.mass_kg,
+                state.alpha,
+                state.beta
             )?;
             text(&result.table())?;
             say!("files in {}", out.root().display())?;
+            Ok(())
+        }
+        Command::Tolerance {
+            case,
+            variants,
+            out,
+            tolerance,
+            shard,
+            no_plots,
+            material,
+            model,
+        } => {
+            if let Some(shard) = shard {
+                let study = crate::study::Study::Tolerance(tolerance_study(
+                    &case, &variants, &tolerance, &material, &model, None, Some(shard),
+                )?);
+                let clock = std::time::Instant::now();
+                let path = crate::study::run_shard(&study, shard, &out)?;
+                say!(
+                    "shard {shard}: {} of {} tasks in {:.2} s: {}",
+                    shard.tasks(study.tasks()).len(),
+                    study.tasks(),
+                    clock.elapsed().as_secs_f64(),
+                    path.display()
+                )?;
+                return Ok(());
+            }
+            let out = OutDir::create(out)?;
+            let study = crate::study::Study::Tolerance(tolerance_study(
+                &case, &variants, &tolerance, &material, &model, Some(&out), None,
+            )?);
+            let clock = std::time::Instant::now();
+            let rows = study.run_all()?;
+            let elapsed = clock.elapsed().as_secs_f64();
+            let merged = crate::study::Merged {
+                columns: study.columns(),
+                rows: rows
+                    .iter()
+                    .map(|r| r.iter().map(crate::study::Cell::csv).collect())
+                    .collect(),
+                study,
+            };
+            let summary = write_table(&merged, &out, !no_plots)?;
+            out.commit()?;
+            text(&summary)?;
+            say!(
+                "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
+                merged.rows.len(),
+                merged.rows.len() as f64 / elapsed,
+                out.root().display()
+            )?;
+            Ok(())
+        }
+        Command::Merge {
+            parts,
+            out,
+            no_plots,
+        } => {
+            let files = crate::study::part_files(&parts)?;
+            let merged = crate::study::merge(&files)?;
+            let out = OutDir::create(out)?;
+            let summary = write_table(&merged, &out, !no_plots)?;
+            out.commit()?;
+            text(&summary)?;
+            say!(
+                "{} parts, {} tasks: {}",
+                files.len(),
+                merged.rows.len(),
+                out.path(merged.study.table_file()).display()
+            )?;
             Ok(())
         }
         Command::Diagnose {
@@ -334,6 +494,114 @@ pub fn run(cli: Cli) -> Result<()> {
                 )?;
             }
             Ok(())
+        }
+    }
+}
+
+impl MaterialArgs {
+    /// The validated material: from a calibration.json, the paper's Table 2, or a
+    /// calibration run first (not with `--shard`: every shard would calibrate into the
+    /// same folder).
+    pub fn state(
+        &self,
+        case: &crate::case::MeasuredCase,
+        settings: &CalibrateSettings,
+        model: &ModelArgs,
+        out: Option<&OutDir>,
+        shard: Option<crate::study::Shard>,
+    ) -> Result<crate::fe::SpringState> {
+        if let Some(file) = &self.calibration {
+            read_calibrated_state(file)
+        } else if self.paper_material {
+            crate::sweep::paper_material(case, settings)
+        } else if let (Some(out), None) = (out, shard) {
+            let targets = Targets::of(case)?;
+            let sub = out.sub("calibration")?;
+            let result = calibrate(case, &targets, settings, Some(&sub), &model.control())?;
+            text(&result.summary())?;
+            Ok(result.state)
+        } else {
+            Err(crate::TuneError::Invalid(
+                "--shard needs the material fixed before the split: give --calibration calibration.json (from `coil-tune calibrate`) or --paper-material".into(),
+            ))
+        }
+    }
+}
+
+/// The variants of `variants` with the validated material of `case` (as the flags say; a
+/// calibration run writes into `out/calibration`) and the settings' decay, and whether
+/// the flags ask for direct integration of the tables (`--no-check` not given).
+fn validated_variants(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: Option<&OutDir>,
+    shard: Option<crate::study::Shard>,
+) -> Result<(crate::study::VariantSweep, bool)> {
+    let case = read_case(case)?;
+    let variants = crate::case::read_variants(variants)?;
+    let settings = model.settings();
+    let state = material.state(&case, &settings, model, out, shard)?;
+    let sweep = crate::study::VariantSweep {
+        material: state,
+        variants: variants.variants,
+        fe: settings.fe,
+        decay: settings.damping.decay,
+    };
+    Ok((sweep, settings.damping.check_direct))
+}
+
+/// The sweep study of `variants` on `case`: the table by direct integration unless
+/// `--no-check`.
+pub fn sweep_study(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: Option<&OutDir>,
+    shard: Option<crate::study::Shard>,
+) -> Result<crate::study::VariantSweep> {
+    let (mut sweep, direct) = validated_variants(case, variants, material, model, out, shard)?;
+    if direct {
+        sweep.decay.method = crate::decay::Method::Direct;
+    }
+    Ok(sweep)
+}
+
+/// The tolerance study of `variants` on `case` (zeta by `--method`, modal by default).
+pub fn tolerance_study(
+    case: &std::path::Path,
+    variants: &std::path::Path,
+    tolerance: &ToleranceArgs,
+    material: &MaterialArgs,
+    model: &ModelArgs,
+    out: Option<&OutDir>,
+    shard: Option<crate::study::Shard>,
+) -> Result<crate::tolerance::ToleranceStudy> {
+    let (sweep, _) = validated_variants(case, variants, material, model, out, shard)?;
+    let study = crate::tolerance::ToleranceStudy {
+        sweep,
+        tolerances: tolerance.tolerances(),
+        samples: tolerance.samples,
+        seed: tolerance.seed,
+    };
+    study.check()?;
+    Ok(study)
+}
+
+/// Writes a study's table as a single run does (and, for a tolerance study, its summary,
+/// report and figure); returns the text for the terminal.
+pub fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
+    let csv = merged.csv();
+    match &merged.study {
+        crate::study::Study::Tolerance(t) => {
+            let summary = crate::tolerance::write(t, &csv, &merged.rows, out, plots)?;
+            Ok(summary.table())
+        }
+        crate::study::Study::Sweep(_) => {
+            out.write(merged.study.table_file(), csv.as_bytes())?;
+            Ok(String::new())
         }
     }
 }

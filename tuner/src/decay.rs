@@ -74,7 +74,7 @@ pub enum VelocityField {
 }
 
 /// Settings of a decay run and of its decrement.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DecaySettings {
     pub method: Method,
     /// Time step (s); also the record's sampling step.

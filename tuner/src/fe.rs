@@ -21,7 +21,7 @@ use coil_solver::model::{units, Model};
 use serde::Serialize;
 
 /// Discretisation and run settings (not calibrated).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct FeSettings {
     /// Beams per coil (the helix is a polygon of chords: see the mesh study).
     pub elements_per_coil: u32,

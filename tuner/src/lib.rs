@@ -1,6 +1,8 @@
 //! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
 //!
 //! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
+//!   the tolerance study of the Table 4 springs.
 
 pub mod case;
 pub mod error;
@@ -21,4 +23,6 @@ pub mod paper;
 pub mod plots;
 pub mod procedure;
 pub mod report;
+pub mod study;
 pub mod sweep;
+pub mod tolerance;

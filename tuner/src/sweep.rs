@@ -9,7 +9,7 @@ use crate::damping::Simulator;
 use crate::decay::{measure, DecaySettings};
 use crate::error::Result;
 use crate::fe::{self, FeSettings, SpringState};
-use crate::output::{csv, exact};
+use crate::study::Cell;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -136,42 +136,46 @@ pub fn sweep(
     })
 }
 
+/// The columns of `sweep.csv`, in order.
+pub const COLUMNS: [&str; 12] = [
+    "name",
+    "active_coils",
+    "mean_diameter_mm",
+    "wire_diameter_mm",
+    "pitch_mm",
+    "stiffness_n_mm",
+    "damping_ratio",
+    "period_s",
+    "paper_stiffness_n_mm",
+    "paper_damping_ratio",
+    "stiffness_relative_error",
+    "damping_relative_error",
+];
+
+impl VariantResult {
+    /// The row of `sweep.csv` ([`COLUMNS`]).
+    pub fn cells(&self) -> Vec<Cell> {
+        vec![
+            Cell::Text(self.name.clone()),
+            Cell::Number(self.active_coils),
+            Cell::Number(self.mean_diameter_mm),
+            Cell::Number(self.wire_diameter_mm),
+            Cell::Number(self.pitch_mm),
+            Cell::Number(self.stiffness_n_mm),
+            Cell::Number(self.damping_ratio),
+            Cell::Number(self.period_s),
+            Cell::from(self.paper_stiffness_n_mm),
+            Cell::from(self.paper_damping_ratio),
+            Cell::from(self.stiffness_relative_error),
+            Cell::from(self.damping_relative_error),
+        ]
+    }
+}
+
 impl Sweep {
     /// The table as CSV.
     pub fn csv(&self) -> String {
-        let opt = |x: Option<f64>| x.map_or(String::new(), exact);
-        csv(
-            &[
-                "name",
-                "active_coils",
-                "mean_diameter_mm",
-                "wire_diameter_mm",
-                "pitch_mm",
-                "stiffness_n_mm",
-                "damping_ratio",
-                "period_s",
-                "paper_stiffness_n_mm",
-                "paper_damping_ratio",
-                "stiffness_relative_error",
-                "damping_relative_error",
-            ],
-            self.variants.iter().map(|v| {
-                vec![
-                    v.name.clone(),
-                    exact(v.active_coils),
-                    exact(v.mean_diameter_mm),
-                    exact(v.wire_diameter_mm),
-                    exact(v.pitch_mm),
-                    exact(v.stiffness_n_mm),
-                    exact(v.damping_ratio),
-                    exact(v.period_s),
-                    opt(v.paper_stiffness_n_mm),
-                    opt(v.paper_damping_ratio),
-                    opt(v.stiffness_relative_error),
-                    opt(v.damping_relative_error),
-                ]
-            }),
-        )
+        crate::study::csv_table(&COLUMNS, self.variants.iter().map(|v| v.cells()))
     }
 
     /// The table for a terminal, paper beside coil.

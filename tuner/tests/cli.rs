@@ -325,3 +325,121 @@ fn sweep_gives_table4_stiffness() {
     }
     assert!(files(&dir.path().join("sweep")).contains(&"sweep.csv".to_string()));
 }
+
+const TWO_VARIANTS: &str = r##"{"variants": [
+  { "name": "#1", "active_coils": 14.0, "mean_diameter_mm": 28.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 },
+  { "name": "#4", "active_coils": 14.0, "mean_diameter_mm": 20.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 }
+]}"##;
+
+/// A tolerance study run whole and as 4 shards merged: the same table and summary, byte
+/// for byte; merge refuses a missing shard, a repeated one and a part of another study,
+/// naming the shard and the file.
+#[test]
+fn tolerance_shards_merge_to_the_single_run() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("variants.json"), TWO_VARIANTS).unwrap();
+    let case = case_dir();
+    let tolerance = |out: &str, seed: &str, extra: &[&str]| {
+        let mut args = vec![
+            "tolerance",
+            case.to_str().unwrap(),
+            "--variants",
+            "variants.json",
+            "--paper-material",
+            "--elements-per-coil",
+            "8",
+            "--samples",
+            "2",
+            "--seed",
+            seed,
+            "--no-plots",
+            "-q",
+            "--out",
+            out,
+        ];
+        args.extend_from_slice(extra);
+        run(&args, dir.path())
+    };
+    let o = tolerance("single", "7", &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for i in 1..=4 {
+        let shard = format!("{i}/4");
+        let o = tolerance("parts", "7", &["--shard", &shard]);
+        assert!(o.status.success(), "{shard}: {}", text(&o.stderr));
+    }
+    let o = run(
+        &["merge", "parts", "--out", "merged", "--no-plots"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for file in ["tolerance.csv", "tolerance_summary.json", "tolerance.md"] {
+        let single = std::fs::read(dir.path().join("single").join(file)).unwrap();
+        let merged = std::fs::read(dir.path().join("merged").join(file)).unwrap();
+        assert!(single == merged, "{file} differs");
+    }
+    let table = std::fs::read_to_string(dir.path().join("single/tolerance.csv")).unwrap();
+    assert_eq!(table.lines().count(), 1 + 2 * 3, "{table}");
+
+    // A missing shard.
+    let part = |i: usize| format!("parts/part-{i:04}-of-0004.csv");
+    let o = run(
+        &["merge", &part(1), &part(2), &part(4), "--out", "bad"],
+        dir.path(),
+    );
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("shard 3/4 missing"), "{err}");
+    // A shard given twice.
+    std::fs::create_dir(dir.path().join("copy")).unwrap();
+    std::fs::copy(
+        dir.path().join(part(2)),
+        dir.path().join("copy/part-0002-of-0004.csv"),
+    )
+    .unwrap();
+    let o = run(&["merge", "parts", "copy", "--out", "bad"], dir.path());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("shard 2/4 is given twice") && err.contains("copy"),
+        "{err}"
+    );
+    // A part of another study (another seed).
+    let o = tolerance("other", "8", &["--shard", "3/4"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = run(
+        &[
+            "merge",
+            &part(1),
+            &part(2),
+            "other/part-0003-of-0004.csv",
+            &part(4),
+            "--out",
+            "bad",
+        ],
+        dir.path(),
+    );
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("another study") && err.contains("other/part-0003"),
+        "{err}"
+    );
+    assert!(!dir.path().join("bad").join("tolerance.csv").exists());
+    // A shard without a fixed material.
+    let o = run(
+        &[
+            "sweep",
+            case.to_str().unwrap(),
+            "--variants",
+            "variants.json",
+            "--shard",
+            "1/2",
+            "--out",
+            "s",
+        ],
+        dir.path(),
+    );
+    assert!(
+        text(&o.stderr).contains("--shard needs the material"),
+        "{}",
+        text(&o.stderr)
+    );
+}

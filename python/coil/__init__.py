@@ -1,0 +1,326 @@
+"""coil from Python: helical-spring beam models, the paper's calibration, sweeps on Dask.
+
+A thin layer over coil's Rust library crates (the native module ``coil._coil``): every
+function calls one library function and returns its result as plain dicts, numpy arrays
+and pandas tables, with the same names and units as the JSON and CSV files the ``coil-*``
+binaries write. Errors raise :class:`CoilError` with the library's message (file, line,
+field and what was expected).
+
+The pipeline::
+
+    deck = coil.spring(youngs_modulus_mpa=193837.8, analyses=["static", "modal"])
+    result = coil.solve(deck)                       # results.json as a dict
+    cal = coil.calibrate("cases/160ect", out="out/cal")
+    table = coil.sweep("cases/160ect", "cases/160ect/table4.json", out="out/sweep",
+                       calibration="out/cal/calibration.json", client=client)
+
+Every random draw of a study is a function of its seed and the task's number, and each
+task runs sequentially inside the solver, so a study's table is the same bit for bit
+whether it runs here, split into shards (:func:`run_shard`, :func:`merge`, or
+``coil-tune ... --shard I/N``) or on a Dask cluster (``client=``). See docs/python.md and
+docs/scale-out.md.
+"""
+
+import json
+import os
+
+import numpy as np
+
+from . import _coil
+
+__all__ = [
+    "CoilError",
+    "spring",
+    "read_deck",
+    "solve",
+    "decrement",
+    "plot_history",
+    "calibrate",
+    "sweep_study",
+    "tolerance_study",
+    "run_study",
+    "sweep",
+    "tolerance",
+    "run_shard",
+    "merge",
+    "diagnose",
+]
+
+CoilError = _coil.CoilError
+
+
+def _arrays(value):
+    """Lists of numbers -> numpy arrays, recursively (dicts keep their names)."""
+    if isinstance(value, dict):
+        return {k: _arrays(v) for k, v in value.items()}
+    if isinstance(value, list):
+        if value and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value):
+            return np.asarray(value, dtype=float)
+        return [_arrays(x) for x in value]
+    return value
+
+
+def spring(**fields):
+    """The deck text of a helical spring (``coil-mesh``'s spec fields, docs/mesher.md).
+
+    Fields not given take the paper's spring with handbook steel: ``coils=14``,
+    ``mean_diameter_mm=24``, ``wire_diameter_mm=3``, ``pitch_mm=6.2``,
+    ``elements_per_coil=24``, ``youngs_modulus_mpa=206000``, ``analyses=["static"]``, ...
+
+    >>> deck = coil.spring(youngs_modulus_mpa=193837.8, analyses=["static", "modal"], modes=3)
+    >>> "TITLE, helical spring" in deck.splitlines()
+    True
+    >>> coil.spring(wire_diameter_mm=-3)
+    Traceback (most recent call last):
+    coil.CoilError: wire_diameter_mm = -3: expected a positive wire diameter smaller than the mean diameter
+    """
+    return _coil.mesh(json.dumps(fields))
+
+
+def _deck(deck):
+    """(text or path, is_path)."""
+    if isinstance(deck, os.PathLike) or ("\n" not in str(deck) and os.path.exists(str(deck))):
+        return os.fspath(deck), True
+    return str(deck), False
+
+
+def read_deck(deck):
+    """Reads and checks a deck (a path or the deck's text): title and counts.
+
+    >>> info = coil.read_deck(coil.spring(elements_per_coil=8))
+    >>> info["elements"], info["load_cases"]
+    (112, 1)
+    >>> coil.read_deck("TITLE x\\nNOSUCHCARD 1\\n")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    coil.CoilError: <deck text>:2:...
+    """
+    return json.loads(_coil.read_deck(*_deck(deck)))
+
+
+def solve(deck, out=None):
+    """Runs a deck's load cases as ``coil-solve`` does; results.json as a dict.
+
+    ``deck`` is a path or the deck's text; ``out`` a folder for the files (results.json,
+    .vtu, histories), a temporary one when None. Each transient case carries a
+    ``history`` dict of numpy arrays (``time_s`` and every column by its name); numbers
+    in lists become numpy arrays.
+
+    >>> deck = coil.spring(youngs_modulus_mpa=193837.8, mass_kg=5.243161,
+    ...                    analyses=["static", "modal"], modes=3)
+    >>> r = coil.solve(deck)
+    >>> round(r["load_cases"][0]["stiffness_n_mm"], 4)
+    3.9275
+    >>> [case["kind"] for case in r["load_cases"]]
+    ['static', 'modal']
+    """
+    return _arrays(json.loads(_coil.solve(*_deck(deck), None if out is None else os.fspath(out))))
+
+
+def decrement(time_s, values, every=10, lowpass_hz=None):
+    """The paper's logarithmic decrement of a decay record (``coil-post decrement``).
+
+    Returns zeta_mean (the paper's estimator), zeta_fit, period_s, the spans and crests.
+
+    >>> t = np.arange(0, 6, 0.002)
+    >>> x = np.exp(-0.002 * 2 * np.pi * t / 0.23) * np.cos(2 * np.pi * t / 0.23)
+    >>> d = coil.decrement(t, x)
+    >>> round(d["zeta_mean"], 5), round(d["period_s"], 4)
+    (0.002, 0.23)
+    """
+    return _arrays(json.loads(_coil.decrement(
+        np.asarray(time_s, dtype=float).tolist(),
+        np.asarray(values, dtype=float).tolist(),
+        every,
+        lowpass_hz,
+    )))
+
+
+def plot_history(time_s, values, path, column="node1_uz_accel_m_s2", label=None):
+    """Draws a time history into ``path`` (.png or .svg) with coil's own renderer (the
+    figures of ``coil-post plot``); the unit comes from the column's name.
+
+    >>> t = np.linspace(0, 1, 101)
+    >>> coil.plot_history(t, np.sin(2 * np.pi * t), tmp / "sine.png")
+    >>> (tmp / "sine.png").stat().st_size > 1000
+    True
+    """
+    _coil.plot_history(
+        np.asarray(time_s, dtype=float).tolist(),
+        np.asarray(values, dtype=float).tolist(),
+        label or column,
+        column,
+        os.fspath(path),
+    )
+
+
+def calibrate(case, out, elements_per_coil=24, method="modal", check=True):
+    """Loops 1-3 of the paper's Figure 6 on a case (``coil-tune calibrate``).
+
+    Writes the loops' files into ``out`` and returns calibration.json's content; the
+    validated values are in ``["state"]``.
+
+    >>> cal = coil.calibrate(case, out=tmp / "cal", elements_per_coil=8, check=False)
+    >>> round(cal["stiffness"]["iterations"][-1]["result"], 4)
+    3.9275
+    """
+    return json.loads(_coil.calibrate(os.fspath(case), os.fspath(out), elements_per_coil, method, check))
+
+
+def sweep_study(case, variants, out, calibration=None, paper_material=False,
+                elements_per_coil=24, method="modal", check=True):
+    """The study of ``coil-tune sweep`` (Table 4) as JSON text, for :func:`run_study`,
+    :func:`run_shard` or a cluster. The material: ``calibration`` (a calibration.json),
+    ``paper_material=True`` (the paper's Table 2), or a calibration run into ``out``.
+
+    >>> s = coil.sweep_study(case, table4, out=tmp, paper_material=True, elements_per_coil=8)
+    >>> json.loads(s)["study"], len(json.loads(s)["variants"])
+    ('sweep', 6)
+    """
+    return _coil.sweep_study(
+        os.fspath(case), os.fspath(variants), os.fspath(out),
+        None if calibration is None else os.fspath(calibration),
+        paper_material, elements_per_coil, method, check,
+    )
+
+
+def tolerance_study(case, variants, out, samples=100, seed=1, wire_tol=0.03, grade=2,
+                    coil_diameter_tol=None, coils_tol=0.25, youngs_modulus_tol=0.02,
+                    mass_tol=0.001, calibration=None, paper_material=False,
+                    elements_per_coil=24, method="modal"):
+    """The study of ``coil-tune tolerance`` as JSON text: each spring of ``variants``
+    sampled ``samples`` times (plus the nominal spring, sample 0) within the tolerances
+    (wire diameter +-mm, EN 15800 coil-diameter ``grade`` or ``coil_diameter_tol`` +-mm,
+    coils, relative E and mass; docs/scale-out.md cites the sources).
+
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=3, paper_material=True,
+    ...                          elements_per_coil=8)
+    >>> json.loads(_coil.study_info(s))["tasks"]
+    24
+    """
+    return _coil.tolerance_study(
+        os.fspath(case), os.fspath(variants), os.fspath(out), samples, seed, wire_tol,
+        grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
+        None if calibration is None else os.fspath(calibration),
+        paper_material, elements_per_coil, method,
+    )
+
+
+def _run_chunk(study, tasks):
+    """Runs some tasks of a study (on a Dask worker): [(task, row), ...]."""
+    return list(zip(tasks, json.loads(_coil.run_tasks(study, list(tasks)))))
+
+
+def run_study(study, client=None, chunks=None):
+    """Runs every task of a study: the table as a pandas DataFrame, in task order.
+
+    Without ``client`` the tasks run in this process's thread pool. With a
+    ``dask.distributed.Client`` they are split round robin into ``chunks`` groups
+    (default 4 per worker), mapped over the cluster and gathered; the table is the same
+    bit for bit.
+
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    ...                          elements_per_coil=8)
+    >>> t = coil.run_study(s)
+    >>> list(t.columns[:3]), len(t)
+    (['task', 'spring', 'sample'], 12)
+    """
+    import pandas as pd
+
+    info = json.loads(_coil.study_info(study))
+    n = info["tasks"]
+    if client is None:
+        rows = json.loads(_coil.run_tasks(study, list(range(n))))
+    else:
+        workers = max(1, len(client.scheduler_info()["workers"]))
+        k = max(1, min(n, chunks or 4 * workers))
+        groups = [list(range(c, n, k)) for c in range(k)]
+        futures = client.map(_run_chunk, [study] * k, groups, pure=False)
+        rows = [None] * n
+        for part in client.gather(futures):
+            for task, row in part:
+                rows[task] = row
+    return pd.DataFrame(rows, columns=info["columns"])
+
+
+def _write(study, table, out, plots):
+    rows = json.dumps([[None if isinstance(v, float) and v != v else v for v in row]
+                       for row in table.itertuples(index=False, name=None)])
+    return json.loads(_coil.write_table(study, rows, os.fspath(out), plots))
+
+
+def sweep(case, variants, out, calibration=None, paper_material=False, elements_per_coil=24,
+          method="modal", check=True, client=None):
+    """K and zeta of spring variants with the validated material (``coil-tune sweep``):
+    a DataFrame with sweep.csv's columns; writes ``out/sweep.csv`` as the binary does.
+    ``client``: a ``dask.distributed.Client`` to run the variants on. (At 8 elements per
+    coil, as here, the helix is too stiff by 11 %: the paper's material was calibrated
+    at about 17.)
+
+    >>> t = coil.sweep(case, table4, out=tmp, paper_material=True, elements_per_coil=8,
+    ...                check=False)
+    >>> t[["name", "stiffness_n_mm"]].round(2).values.tolist()[:2]
+    [['#1', 2.76], ['#2', 8.08]]
+    """
+    study = sweep_study(case, variants, out, calibration, paper_material,
+                        elements_per_coil, method, check)
+    table = run_study(study, client)
+    _write(study, table, out, plots=False)
+    return table
+
+
+def tolerance(case, variants, out, samples=100, seed=1, client=None, plots=True, **options):
+    """K and zeta distributions of the variants as manufactured (``coil-tune
+    tolerance``): returns (the table as a DataFrame, the summary dict), and writes
+    tolerance.csv, tolerance_summary.json, tolerance.md and tolerance.png into ``out``.
+    ``options`` are :func:`tolerance_study`'s; ``client`` a Dask client.
+
+    >>> t, s = coil.tolerance(case, table4, out=tmp, samples=4, seed=3, paper_material=True,
+    ...                       elements_per_coil=8, plots=False)
+    >>> len(t), [x["samples"] for x in s["springs"]]
+    (30, [4, 4, 4, 4, 4, 4])
+    """
+    study = tolerance_study(case, variants, out, samples, seed, **options)
+    table = run_study(study, client)
+    return table, _write(study, table, out, plots)
+
+
+def run_shard(study, shard, out):
+    """Runs shard ``"I/N"`` of a study and writes ``out/part-IIII-of-NNNN.csv`` (as
+    ``coil-tune ... --shard I/N``); returns its path.
+
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    ...                          elements_per_coil=8)
+    >>> os.path.basename(coil.run_shard(s, "2/3", tmp / "parts"))
+    'part-0002-of-0003.csv'
+    """
+    return _coil.run_shard(study, shard, os.fspath(out))
+
+
+def merge(parts, out, plots=True):
+    """Joins part files (or folders of them) into the table a single run writes (as
+    ``coil-tune merge``); refuses missing, repeated or foreign shards. Returns the
+    table's path.
+
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    ...                          elements_per_coil=8)
+    >>> _ = coil.run_shard(s, "1/2", tmp / "p")
+    >>> coil.merge([tmp / "p"], tmp / "m")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    coil.CoilError: shard 2/2 missing ...
+    >>> _ = coil.run_shard(s, "2/2", tmp / "p")
+    >>> os.path.basename(coil.merge([tmp / "p"], tmp / "m", plots=False))
+    'tolerance.csv'
+    """
+    return _coil.merge([os.fspath(p) for p in parts], os.fspath(out), plots)
+
+
+def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
+    """Diagnoses a measured case (``coil-tune diagnose``, docs/diagnose.md): writes its
+    files into ``out`` and returns diagnosis.json's content.
+
+    >>> d = coil.diagnose(repo / "cases/measured/friction_g1", tmp / "diag",
+    ...                   elements_per_coil=8, modes=2, plots=False)
+    >>> d["cause"], round(d["extended"]["parameters"]["friction_force_n"], 3)
+    ('coulomb_friction', 0.011)
+    """
+    return json.loads(_coil.diagnose(os.fspath(case), os.fspath(out), elements_per_coil, modes, plots))

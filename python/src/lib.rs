@@ -1,0 +1,411 @@
+//! `coil._coil`: the native half of the Python package (python/coil/__init__.py is the
+//! other). A thin layer: every function parses its arguments, calls one library function
+//! of coil-mesher, coil-solver, coil-postproc or coil-tuner, and returns its result as
+//! JSON text with the names and units of the JSON files the binaries write (the Python
+//! side turns it into dicts and numpy arrays). No numerics here.
+//!
+//! Errors are `coil.CoilError` carrying the library's message unchanged (file, line,
+//! field and what was expected). Long runs release the GIL, so Dask's threads and the
+//! library's own thread pool run beside the interpreter.
+
+use coil_tuner::cli::{self, MaterialArgs, ModelArgs, ToleranceArgs};
+use coil_tuner::output::OutDir;
+use coil_tuner::study::{self, Cell, Shard, Study};
+use pyo3::create_exception;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+
+create_exception!(
+    coil,
+    CoilError,
+    pyo3::exceptions::PyException,
+    "An error in coil's input data or in a run; the message names the file, line and what was expected."
+);
+
+fn fail(error: impl std::fmt::Display) -> PyErr {
+    CoilError::new_err(error.to_string())
+}
+
+fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    serde_json::to_string(value).map_err(fail)
+}
+
+/// The deck text of a spring spec given as JSON (the fields of `coil-mesh --spec`).
+#[pyfunction]
+fn mesh(spec_json: &str) -> PyResult<String> {
+    let spec: coil_mesher::SpringSpec = serde_json::from_str(spec_json).map_err(|e| {
+        fail(format!(
+            "spring spec: {e}; expected the fields of a spring spec (docs/mesher.md)"
+        ))
+    })?;
+    let model = spec.build().map_err(fail)?;
+    Ok(coil_solver::deck::write(&model))
+}
+
+/// Checks a deck (file path, or text when `is_path` is false): its title and counts.
+#[pyfunction]
+fn read_deck(deck: &str, is_path: bool) -> PyResult<String> {
+    let model = read_model(deck, is_path)?;
+    json(&serde_json::json!({
+        "title": model.title,
+        "nodes": model.nodes.len(),
+        "elements": model.elements.len(),
+        "load_cases": model.load_cases.len(),
+    }))
+}
+
+fn read_model(deck: &str, is_path: bool) -> PyResult<coil_solver::model::Model> {
+    if is_path {
+        coil_solver::deck::read_file(std::path::Path::new(deck)).map_err(fail)
+    } else {
+        coil_solver::deck::read_str(deck, "<deck text>").map_err(fail)
+    }
+}
+
+/// Runs a deck's load cases as `coil-solve` does and writes its files into `out` (a
+/// temporary folder when None). Returns results.json's content, each transient case
+/// with a `history` object: `time_s` and every column by its name.
+#[pyfunction]
+#[pyo3(signature = (deck, is_path, out=None))]
+fn solve(py: Python<'_>, deck: &str, is_path: bool, out: Option<PathBuf>) -> PyResult<String> {
+    let model = read_model(deck, is_path)?;
+    py.detach(|| {
+        let cases = coil_solver::analysis::run(&model).map_err(fail)?;
+        let temp = tempfile::tempdir().map_err(fail)?;
+        let dir = out.unwrap_or_else(|| temp.path().to_path_buf());
+        let file = coil_solver::results::write_all(&dir, &model, &cases).map_err(fail)?;
+        let mut value = serde_json::to_value(&file).map_err(fail)?;
+        if let Some(entries) = value["load_cases"].as_array_mut() {
+            for (entry, case) in entries.iter_mut().zip(&cases) {
+                if let coil_solver::analysis::CaseSolution::Transient(t) = &case.solution {
+                    let mut history = serde_json::Map::new();
+                    history.insert("time_s".into(), serde_json::json!(t.history.time_s));
+                    for c in &t.history.columns {
+                        history.insert(c.name.clone(), serde_json::json!(c.values));
+                    }
+                    entry["history"] = serde_json::Value::Object(history);
+                }
+            }
+        }
+        json(&value)
+    })
+}
+
+/// The paper's logarithmic decrement of a record (coil-post decrement).
+#[pyfunction]
+#[pyo3(signature = (time_s, values, every=10, lowpass_hz=None))]
+fn decrement(
+    time_s: Vec<f64>,
+    values: Vec<f64>,
+    every: usize,
+    lowpass_hz: Option<f64>,
+) -> PyResult<String> {
+    let options = coil_postproc::decrement::DecrementOptions {
+        every,
+        lowpass: lowpass_hz.map(|cutoff_hz| coil_postproc::decrement::Lowpass {
+            cutoff_hz,
+            order: 4,
+        }),
+        ..Default::default()
+    };
+    let report = coil_postproc::decrement::analyze(&time_s, &values, &options).map_err(fail)?;
+    json(&report)
+}
+
+/// Draws a time history into a PNG or SVG with coil-post's renderer (`coil-post plot`).
+#[pyfunction]
+fn plot_history(
+    time_s: Vec<f64>,
+    values: Vec<f64>,
+    label: &str,
+    column: &str,
+    path: PathBuf,
+) -> PyResult<()> {
+    let trace = coil_postproc::plot::Trace {
+        label,
+        unit: coil_postproc::plot::unit_of(column),
+        time_s: &time_s,
+        values: &values,
+    };
+    coil_postproc::plot::time_histories(&[trace], false, &path).map_err(fail)
+}
+
+fn model_args(elements_per_coil: u32, method: &str, check: bool) -> PyResult<ModelArgs> {
+    Ok(ModelArgs {
+        elements_per_coil,
+        method: method
+            .parse()
+            .map_err(|e: String| fail(format!("method {e}")))?,
+        no_check: !check,
+        max_points: None,
+        grids: Vec::new(),
+        quiet: true,
+    })
+}
+
+/// Loops 1-3 of the paper's Figure 6 on a case (`coil-tune calibrate`): calibration.json's
+/// content; the files go to `out`.
+#[pyfunction]
+#[pyo3(signature = (case, out, elements_per_coil=24, method="modal", check=true))]
+fn calibrate(
+    py: Python<'_>,
+    case: PathBuf,
+    out: PathBuf,
+    elements_per_coil: u32,
+    method: &str,
+    check: bool,
+) -> PyResult<String> {
+    let model = model_args(elements_per_coil, method, check)?;
+    py.detach(|| {
+        let case = coil_tuner::case::read_case(&case).map_err(fail)?;
+        let targets = coil_tuner::calibrate::Targets::of(&case).map_err(fail)?;
+        let out = OutDir::create(out).map_err(fail)?;
+        let result = coil_tuner::calibrate::calibrate(
+            &case,
+            &targets,
+            &model.settings(),
+            Some(&out),
+            &model.control(),
+        )
+        .map_err(fail)?;
+        out.commit().map_err(fail)?;
+        json(&result)
+    })
+}
+
+fn material(calibration: Option<PathBuf>, paper_material: bool) -> MaterialArgs {
+    MaterialArgs {
+        calibration,
+        paper_material,
+    }
+}
+
+/// The study (as JSON) of `coil-tune sweep` with these flags.
+#[pyfunction]
+#[pyo3(signature = (case, variants, out, calibration=None, paper_material=false, elements_per_coil=24, method="modal", check=true))]
+#[allow(clippy::too_many_arguments)]
+fn sweep_study(
+    py: Python<'_>,
+    case: PathBuf,
+    variants: PathBuf,
+    out: PathBuf,
+    calibration: Option<PathBuf>,
+    paper_material: bool,
+    elements_per_coil: u32,
+    method: &str,
+    check: bool,
+) -> PyResult<String> {
+    let model = model_args(elements_per_coil, method, check)?;
+    py.detach(|| {
+        let out = OutDir::create(out).map_err(fail)?;
+        let sweep = cli::sweep_study(
+            &case,
+            &variants,
+            &material(calibration, paper_material),
+            &model,
+            Some(&out),
+            None,
+        )
+        .map_err(fail)?;
+        out.commit().map_err(fail)?;
+        Ok(Study::Sweep(sweep).to_json())
+    })
+}
+
+/// The study (as JSON) of `coil-tune tolerance` with these flags.
+#[pyfunction]
+#[pyo3(signature = (case, variants, out, samples=100, seed=1, wire_tol=0.03, grade=2, coil_diameter_tol=None, coils_tol=0.25, youngs_modulus_tol=0.02, mass_tol=0.001, calibration=None, paper_material=false, elements_per_coil=24, method="modal"))]
+#[allow(clippy::too_many_arguments)]
+fn tolerance_study(
+    py: Python<'_>,
+    case: PathBuf,
+    variants: PathBuf,
+    out: PathBuf,
+    samples: usize,
+    seed: u64,
+    wire_tol: f64,
+    grade: u8,
+    coil_diameter_tol: Option<f64>,
+    coils_tol: f64,
+    youngs_modulus_tol: f64,
+    mass_tol: f64,
+    calibration: Option<PathBuf>,
+    paper_material: bool,
+    elements_per_coil: u32,
+    method: &str,
+) -> PyResult<String> {
+    let model = model_args(elements_per_coil, method, false)?;
+    let tolerance = ToleranceArgs {
+        samples,
+        seed,
+        wire_tol,
+        grade,
+        coil_diameter_tol,
+        coils_tol,
+        youngs_modulus_tol,
+        mass_tol,
+    };
+    py.detach(|| {
+        let out = OutDir::create(out).map_err(fail)?;
+        let study = cli::tolerance_study(
+            &case,
+            &variants,
+            &tolerance,
+            &material(calibration, paper_material),
+            &model,
+            Some(&out),
+            None,
+        )
+        .map_err(fail)?;
+        out.commit().map_err(fail)?;
+        Ok(Study::Tolerance(study).to_json())
+    })
+}
+
+fn parse_study(study_json: &str) -> PyResult<Study> {
+    Study::from_json(study_json, "study").map_err(fail)
+}
+
+/// The study's kind, task count and columns, as JSON.
+#[pyfunction]
+fn study_info(study_json: &str) -> PyResult<String> {
+    let study = parse_study(study_json)?;
+    json(&serde_json::json!({
+        "kind": study.kind(),
+        "tasks": study.tasks(),
+        "columns": study.columns(),
+        "table_file": study.table_file(),
+    }))
+}
+
+fn cell_json(cell: &Cell) -> serde_json::Value {
+    match cell {
+        Cell::Text(s) => serde_json::json!(s),
+        Cell::Number(x) => serde_json::json!(x),
+        Cell::Missing => serde_json::Value::Null,
+    }
+}
+
+/// Runs the given tasks of a study (in this process's thread pool): their rows, as JSON.
+#[pyfunction]
+fn run_tasks(py: Python<'_>, study_json: &str, tasks: Vec<usize>) -> PyResult<String> {
+    let study = parse_study(study_json)?;
+    py.detach(|| {
+        let rows = study.run_tasks(&tasks).map_err(fail)?;
+        let rows: Vec<Vec<serde_json::Value>> = rows
+            .iter()
+            .map(|row| row.iter().map(cell_json).collect())
+            .collect();
+        json(&rows)
+    })
+}
+
+fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
+    let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(fail)?;
+    Ok(rows
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|v| match v {
+                    serde_json::Value::String(s) => Cell::Text(s.clone()),
+                    serde_json::Value::Number(n) => n.as_f64().map_or(Cell::Missing, Cell::Number),
+                    _ => Cell::Missing,
+                })
+                .map(|c| c.csv())
+                .collect()
+        })
+        .collect())
+}
+
+/// Writes a study's table (rows in task order, as JSON) into `out` as a single run of
+/// `coil-tune` does: the CSV and, for a tolerance study, the summary, report and figure.
+/// Returns the tolerance summary as JSON (null for a sweep).
+#[pyfunction]
+#[pyo3(signature = (study_json, rows_json, out, plots=true))]
+fn write_table(study_json: &str, rows_json: &str, out: PathBuf, plots: bool) -> PyResult<String> {
+    let study = parse_study(study_json)?;
+    let merged = study::Merged {
+        columns: study.columns(),
+        rows: csv_rows(rows_json)?,
+        study,
+    };
+    let out = OutDir::create(out).map_err(fail)?;
+    cli::write_table(&merged, &out, plots).map_err(fail)?;
+    out.commit().map_err(fail)?;
+    match &merged.study {
+        Study::Tolerance(t) => {
+            json(&coil_tuner::tolerance::summarize(t, &merged.rows).map_err(fail)?)
+        }
+        Study::Sweep(_) => Ok("null".into()),
+    }
+}
+
+/// Runs shard `shard` ("I/N") of a study and writes its part into `out`; the part's path.
+#[pyfunction]
+fn run_shard(py: Python<'_>, study_json: &str, shard: &str, out: PathBuf) -> PyResult<String> {
+    let study = parse_study(study_json)?;
+    let shard: Shard = shard
+        .parse()
+        .map_err(|e: String| fail(format!("shard {e}")))?;
+    py.detach(|| {
+        let path = study::run_shard(&study, shard, &out).map_err(fail)?;
+        Ok(path.display().to_string())
+    })
+}
+
+/// Merges part files (or folders of them) into `out` as `coil-tune merge` does; the
+/// merged table's path.
+#[pyfunction]
+#[pyo3(signature = (parts, out, plots=true))]
+fn merge(parts: Vec<PathBuf>, out: PathBuf, plots: bool) -> PyResult<String> {
+    let files = study::part_files(&parts).map_err(fail)?;
+    let merged = study::merge(&files).map_err(fail)?;
+    let out = OutDir::create(out).map_err(fail)?;
+    cli::write_table(&merged, &out, plots).map_err(fail)?;
+    out.commit().map_err(fail)?;
+    Ok(out.path(merged.study.table_file()).display().to_string())
+}
+
+/// Diagnoses a measured case (`coil-tune diagnose`), writes its files into `out` and
+/// returns diagnosis.json's content.
+#[pyfunction]
+#[pyo3(signature = (case, out, elements_per_coil=24, modes=4, plots=true))]
+fn diagnose(
+    py: Python<'_>,
+    case: PathBuf,
+    out: PathBuf,
+    elements_per_coil: u32,
+    modes: usize,
+    plots: bool,
+) -> PyResult<String> {
+    py.detach(|| {
+        let mut settings = coil_tuner::diagnose::DiagnoseSettings::default();
+        settings.fe.elements_per_coil = elements_per_coil;
+        settings.modes = modes;
+        settings.plots = plots;
+        let outcome = coil_tuner::diagnose::diagnose(&case, &settings).map_err(fail)?;
+        coil_tuner::diagnose::write(&outcome, &out, &settings).map_err(fail)?;
+        let path = out.join("diagnosis.json");
+        std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
+    })
+}
+
+#[pymodule]
+fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("CoilError", m.py().get_type::<CoilError>())?;
+    m.add_function(wrap_pyfunction!(mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(read_deck, m)?)?;
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(decrement, m)?)?;
+    m.add_function(wrap_pyfunction!(plot_history, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_study, m)?)?;
+    m.add_function(wrap_pyfunction!(tolerance_study, m)?)?;
+    m.add_function(wrap_pyfunction!(study_info, m)?)?;
+    m.add_function(wrap_pyfunction!(run_tasks, m)?)?;
+    m.add_function(wrap_pyfunction!(write_table, m)?)?;
+    m.add_function(wrap_pyfunction!(run_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    Ok(())
+}

@@ -34,6 +34,8 @@ pub fn empty_model(title: &str) -> Model {
         outputs: Vec::new(),
         load_cases: Vec::new(),
         point_laws: Vec::new(),
+        dashpots: Vec::new(),
+        modal_damping: Default::default(),
     }
 }
 

@@ -310,6 +310,7 @@ pub fn method_label(method: &TransientMethod) -> String {
 pub fn needs_stiffness_factor(model: &Model, method: &TransientMethod) -> bool {
     matches!(method, TransientMethod::Modal { .. })
         || model.initial_velocities.iter().any(|v| v.quasi_static)
+        || model.modal_damping.is_active()
 }
 
 /// How `coil-solve --method` replaces the transient method of every transient case.
@@ -405,6 +406,7 @@ pub fn solve(
             run_direct(
                 system,
                 context,
+                factor,
                 title,
                 integrator,
                 dt,
@@ -923,6 +925,7 @@ fn integrate_error(system: &System, case: &str, modal: bool, source: IntegrateEr
 fn run_direct(
     system: &System,
     context: &mut Context,
+    factor: Option<&Cholesky>,
     title: &str,
     integrator: Integrator,
     dt: f64,
@@ -967,6 +970,41 @@ fn run_direct(
     };
     let mut f0 = vec![0.0; n];
     force(0.0, &mut f0);
+    if system.model.modal_damping.is_active() {
+        if scheme != Scheme::AverageAcceleration || !system.point_laws()?.is_empty() {
+            return Err(SolveError::BadInput {
+                what: format!(
+                    "load case '{title}': LOSS FACTOR and MODAL DAMPING run by direct \
+                     integration with average acceleration (NEWMARK) and without nonlinear \
+                     point elements only; use NEWMARK or MODAL"
+                ),
+            });
+        }
+        let factor = factor.ok_or_else(|| SolveError::BadInput {
+            what: format!("load case '{title}': modal damping needs the stiffness factor"),
+        })?;
+        let mut term = ModalDampingTerm::new(system, factor, title, stepper, dt)?;
+        term.add_force(v0, &mut f0);
+        let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
+        let zero = vec![0.0; n];
+        let mut f_next = vec![0.0; n];
+        if recorder.wants(0) {
+            recorder.record_free(state.t, &state.u, &state.v, &state.a);
+        }
+        for k in 1..=steps {
+            let t = k as f64 * dt;
+            f_next.fill(0.0);
+            force(t, &mut f_next);
+            // Average acceleration balances at the end of the step only: f_n is unused.
+            stepper.step(&mut state, &zero, &f_next, k).map_err(fail)?;
+            term.correct(&mut state, dt);
+            state.t = t;
+            if recorder.wants(k) {
+                recorder.record_free(state.t, &state.u, &state.v, &state.a);
+            }
+        }
+        return Ok(());
+    }
     let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
     stepper
         .run(&mut state, steps, &mut force, &mut |k, s| {
@@ -975,6 +1013,104 @@ fn run_direct(
             }
         })
         .map_err(fail)
+}
+
+/// Modal damping in direct integration: `C_m = U D U^T`, `U = M Phi` over the lowest
+/// [`crate::model::ModalDamping::basis_modes`] modes, `D = diag(2 zeta_i w_i)`, added to
+/// the average-acceleration step as an exact low-rank correction (Sherman-Morrison-
+/// Woodbury) instead of a dense matrix in the banded operator. With `S` the step's
+/// effective matrix `M + dt/2 C + dt^2/4 K`, the step without `C_m` gives `v_base`; the
+/// damped step's `z = U^T v_{n+1}` solves `(I + dt/2 W D) z = U^T v_base`,
+/// `W = U^T S^-1 U`, and the acceleration changes by `-S^-1 U D z` (velocity `dt/2`,
+/// displacement `dt^2/4` times that). `S^-1 U` is taken from the stepper itself (one
+/// step from rest under each column of `U`), so the correction is exact for whatever
+/// engine the stepper runs on.
+struct ModalDampingTerm {
+    /// Columns of `U = M Phi`.
+    u: Vec<Vec<f64>>,
+    /// `2 zeta_i w_i`.
+    d: Vec<f64>,
+    /// Columns of `S^-1 U`.
+    s_inv_u: Vec<Vec<f64>>,
+    /// LU of `I + dt/2 W D`.
+    lu: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    z: Vec<f64>,
+}
+
+impl ModalDampingTerm {
+    fn new(
+        system: &System,
+        factor: &Cholesky,
+        title: &str,
+        stepper: &mut Stepper,
+        dt: f64,
+    ) -> Result<Self, SolveError> {
+        let fail = |e| integrate_error(system, title, false, e);
+        let n = system.dim();
+        let wanted = system.model.modal_damping.basis_modes();
+        let solution = modal::solve(system, factor, title, wanted)?;
+        let mut u = Vec::new();
+        let mut d = Vec::new();
+        for (i, mode) in solution.modes.iter().enumerate() {
+            let zeta = system.model.modal_damping.zeta(i);
+            if zeta == 0.0 {
+                continue;
+            }
+            let mut mphi = vec![0.0; n];
+            sym_upper_matvec(system.mass.as_ref(), &mode.shape_free, 1.0, &mut mphi);
+            u.push(mphi);
+            d.push(2.0 * zeta * mode.omega_squared.max(0.0).sqrt());
+        }
+        let zero = vec![0.0; n];
+        let mut s_inv_u = Vec::with_capacity(u.len());
+        for col in &u {
+            let mut state = State::zeros(n, 0.0);
+            stepper.step(&mut state, &zero, col, 0).map_err(fail)?;
+            s_inv_u.push(state.a);
+        }
+        let r = u.len();
+        let g = nalgebra::DMatrix::from_fn(r, r, |i, j| {
+            let w: f64 = u[i].iter().zip(&s_inv_u[j]).map(|(a, b)| a * b).sum();
+            f64::from(u8::from(i == j)) + 0.5 * dt * w * d[j]
+        });
+        Ok(ModalDampingTerm {
+            u,
+            d,
+            s_inv_u,
+            lu: g.lu(),
+            z: vec![0.0; r],
+        })
+    }
+
+    /// Adds the modal damping force `-U D U^T v` to `f`.
+    fn add_force(&self, v: &[f64], f: &mut [f64]) {
+        for (col, &d) in self.u.iter().zip(&self.d) {
+            let z: f64 = col.iter().zip(v).map(|(a, b)| a * b).sum();
+            for (fi, ci) in f.iter_mut().zip(col) {
+                *fi -= d * z * ci;
+            }
+        }
+    }
+
+    /// Turns the undamped-by-`C_m` step just taken into the damped one.
+    fn correct(&mut self, state: &mut State, dt: f64) {
+        for (zi, col) in self.z.iter_mut().zip(&self.u) {
+            *zi = col.iter().zip(&state.v).map(|(a, b)| a * b).sum();
+        }
+        let rhs = nalgebra::DVector::from_column_slice(&self.z);
+        let Some(z) = self.lu.solve(&rhs) else {
+            return;
+        };
+        for ((col, &d), &zj) in self.s_inv_u.iter().zip(&self.d).zip(z.iter()) {
+            let s = -d * zj;
+            for (i, ci) in col.iter().enumerate() {
+                let da = s * ci;
+                state.a[i] += da;
+                state.v[i] += 0.5 * dt * da;
+                state.u[i] += 0.25 * dt * dt * da;
+            }
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1147,6 +1283,11 @@ fn damping_coupling(system: &System, modes: &[super::Mode], omega: &[f64]) -> Co
             .sum();
         0.5 * (a + b)
     });
+    // Modal damping (`LOSS FACTOR`, `MODAL DAMPING`) is diagonal in the modes.
+    let mut c = c;
+    for i in 0..m {
+        c[(i, i)] += 2.0 * system.model.modal_damping.zeta(i) * omega[i];
+    }
     let zeta: Vec<f64> = (0..m).map(|i| c[(i, i)] / (2.0 * omega[i])).collect();
     let mut max = 0.0;
     let mut pair = None;

@@ -133,6 +133,26 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
+    /// records of a case at once (records at several masses, a surge record), chooses by
+    /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
+    /// (shared/spec/measured-case.md) and DIR/report.md (docs/damping.md).
+    Damping {
+        /// The case folder (or its case.json).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/damping")]
+        out: PathBuf,
+        /// Table 4 variants to predict (default: table4.json beside case.json, if any).
+        #[arg(long)]
+        variants: Option<PathBuf>,
+        /// Beams per coil of the helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+        /// Repeat scatter of one zeta measurement for the proposed test (relative).
+        #[arg(long, default_value_t = 0.03)]
+        scatter: f64,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         procedure: PathBuf,
@@ -205,6 +225,38 @@ pub fn run(cli: Cli) -> Result<()> {
             );
             print!("{}", result.table());
             println!("files in {}", out.root().display());
+            Ok(())
+        }
+        Command::Damping {
+            case,
+            out,
+            variants,
+            elements_per_coil,
+            scatter,
+        } => {
+            if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
+                return Err(crate::TuneError::Invalid(format!(
+                    "--scatter {scatter}; expected a relative scatter in (0, 1), e.g. 0.03"
+                )));
+            }
+            let mut settings = crate::law::DampingSettings {
+                scatter,
+                ..Default::default()
+            };
+            settings.fe.elements_per_coil = elements_per_coil;
+            settings.variants = variants.or_else(|| {
+                let beside = crate::case::case_file(&case).with_file_name("table4.json");
+                beside.is_file().then_some(beside)
+            });
+            let report = crate::law::identify(&case, &settings)?;
+            let out = OutDir::create(out)?;
+            let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
+                .map_err(|e| crate::TuneError::Invalid(format!("damping.json: {e}")))?;
+            let summary = crate::law::summary(&report);
+            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
+            out.write("damping.json", json.as_bytes())?;
+            print!("{summary}");
+            println!("damping.json in {}", out.root().display());
             Ok(())
         }
         Command::Diagnose {

@@ -294,3 +294,4 @@ impl Spring {
     }
 }
 pub mod truth;
+pub mod truth_damping;

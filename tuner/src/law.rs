@@ -265,7 +265,8 @@ pub struct Candidate {
     pub law: Law,
     pub parameters: BTreeMap<String, f64>,
     pub parameters_se: BTreeMap<String, f64>,
-    /// Per parameter: relative standard error below 1/3 (distinct from zero at 3 sigma).
+    /// Per parameter: relative standard error at most [`IDENTIFIED_SE`] (then 5 % is
+    /// 2.5 standard errors).
     pub parameters_identified: BTreeMap<String, bool>,
     /// RMS of (predicted - measured zeta) / measured zeta over the records.
     pub residual_rms: f64,
@@ -331,6 +332,32 @@ fn nnls(x: &[Vec<f64>], y: &[f64], w: &[f64]) -> Option<(Vec<f64>, Vec<Vec<f64>>
     best
 }
 
+/// Whether records with rows `x` (weights `w`) determine every parameter: the smallest
+/// eigenvalue of the weighted normal matrix scaled to unit diagonal is at least 1e-3
+/// (two columns: correlation below 0.999).
+fn determines(x: &[Vec<f64>], w: &[f64]) -> bool {
+    let Some(k) = x.first().map(Vec::len) else {
+        return false;
+    };
+    if x.len() < k {
+        return false;
+    }
+    let mut n = nalgebra::DMatrix::<f64>::zeros(k, k);
+    for (row, &wi) in x.iter().zip(w) {
+        for i in 0..k {
+            for j in 0..k {
+                n[(i, j)] += wi * row[i] * row[j];
+            }
+        }
+    }
+    let d: Vec<f64> = (0..k).map(|i| n[(i, i)].sqrt()).collect();
+    if d.iter().any(|&v| v <= 0.0 || !v.is_finite()) {
+        return false;
+    }
+    let scaled = nalgebra::DMatrix::from_fn(k, k, |i, j| n[(i, j)] / (d[i] * d[j]));
+    scaled.symmetric_eigenvalues().iter().all(|&l| l >= 1e-3)
+}
+
 /// The 99.9 % point of chi-square with `dof` degrees of freedom (Wilson-Hilferty).
 fn chi2_999(dof: usize) -> f64 {
     if dof == 0 {
@@ -341,6 +368,9 @@ fn chi2_999(dof: usize) -> f64 {
     let h = 2.0 / (9.0 * k);
     k * (1.0 - h + z * h.sqrt()).powi(3)
 }
+
+/// Largest relative standard error of a parameter reported as identified.
+pub const IDENTIFIED_SE: f64 = 0.02;
 
 /// Relative model floor of a record's zeta (module docs).
 pub const MODEL_FLOOR: f64 = 0.002;
@@ -374,11 +404,16 @@ pub fn fit_law(law: Law, records: &[RecordFit]) -> Option<Candidate> {
     let held_out = (n > k && n >= 2)
         .then(|| {
             let mut total = 0.0;
+            let mut folds = 0;
             for r in 0..n {
                 let keep: Vec<usize> = (0..n).filter(|&i| i != r).collect();
                 let xs: Vec<Vec<f64>> = keep.iter().map(|&i| x[i].clone()).collect();
                 let ys: Vec<f64> = keep.iter().map(|&i| y[i]).collect();
                 let ws: Vec<f64> = keep.iter().map(|&i| w[i]).collect();
+                if !determines(&xs, &ws) {
+                    continue;
+                }
+                folds += 1;
                 let (pk, ck, _) = nnls(&xs, &ys, &ws)?;
                 let pred: f64 = x[r].iter().zip(&pk).map(|(a, b)| a * b).sum();
                 let var: f64 = (0..k)
@@ -387,7 +422,7 @@ pub fn fit_law(law: Law, records: &[RecordFit]) -> Option<Candidate> {
                     .sum();
                 total += (y[r] - pred).powi(2) / (1.0 / w[r] + var.max(0.0));
             }
-            Some(total / n as f64)
+            (folds > 0).then(|| total / folds as f64)
         })
         .flatten();
     let consistent = chi2 <= chi2_999(dof).max(1e-9) + if dof == 0 { 1e-6 } else { 0.0 }
@@ -400,7 +435,7 @@ pub fn fit_law(law: Law, records: &[RecordFit]) -> Option<Candidate> {
         let se = (cov[i][i] * inflate).max(0.0).sqrt();
         parameters.insert(name.to_string(), p[i]);
         parameters_se.insert(name.to_string(), se);
-        identified.insert(name.to_string(), p[i] > 0.0 && se < p[i] / 3.0);
+        identified.insert(name.to_string(), p[i] > 0.0 && se <= IDENTIFIED_SE * p[i]);
     }
     let covariance = (0..k)
         .map(|i| (0..k).map(|j| cov[i][j] * inflate).collect())

@@ -149,7 +149,7 @@ pub enum Command {
         /// Beams per coil of the helix.
         #[arg(long, default_value_t = 24)]
         elements_per_coil: u32,
-        /// Repeat scatter of one zeta measurement for the proposed test (relative).
+        /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
         #[arg(long, default_value_t = 0.03)]
         scatter: f64,
     },

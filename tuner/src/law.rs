@@ -300,7 +300,7 @@ pub struct Candidate {
     pub parameters: BTreeMap<String, f64>,
     pub parameters_se: BTreeMap<String, f64>,
     /// Per parameter: relative standard error at most [`IDENTIFIED_SE`] (then 5 % is
-    /// 2.5 standard errors).
+    /// two standard errors).
     pub parameters_identified: BTreeMap<String, bool>,
     /// RMS of (predicted - measured zeta) / measured zeta over the records.
     pub residual_rms: f64,
@@ -404,7 +404,7 @@ fn chi2_999(dof: usize) -> f64 {
 }
 
 /// Largest relative standard error of a parameter reported as identified.
-pub const IDENTIFIED_SE: f64 = 0.02;
+pub const IDENTIFIED_SE: f64 = 0.025;
 
 /// A record's zeta variance: its fit error and the repeat scatter `scatter` (relative).
 fn sigma2(r: &RecordFit, scatter: f64) -> f64 {

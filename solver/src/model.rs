@@ -420,7 +420,11 @@ impl ModalDamping {
         } else {
             0
         };
-        let last = self.ratios.iter().rposition(|&z| z > 0.0).map_or(0, |i| i + 1);
+        let last = self
+            .ratios
+            .iter()
+            .rposition(|&z| z > 0.0)
+            .map_or(0, |i| i + 1);
         eta.max(last)
     }
 }

@@ -529,7 +529,10 @@ mod tests {
         for (i, l) in lambda.iter().enumerate() {
             let zeta = -l.re / l.norm();
             assert!((l.norm() / w2[i].sqrt() - 1.0).abs() < 1e-8);
-            assert!((zeta / (0.001 * (i + 1) as f64) - 1.0).abs() < 1e-6, "mode {i}: {zeta}");
+            assert!(
+                (zeta / (0.001 * (i + 1) as f64) - 1.0).abs() < 1e-6,
+                "mode {i}: {zeta}"
+            );
         }
     }
 

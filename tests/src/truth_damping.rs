@@ -27,10 +27,17 @@ use std::path::Path;
 /// The damping law hidden in a case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TruthLaw {
-    Rayleigh { alpha: f64, beta: f64 },
-    Hysteretic { eta: f64 },
+    Rayleigh {
+        alpha: f64,
+        beta: f64,
+    },
+    Hysteretic {
+        eta: f64,
+    },
     /// N s/m.
-    Dashpot { c: f64 },
+    Dashpot {
+        c: f64,
+    },
 }
 
 /// A generated case.
@@ -214,11 +221,20 @@ fn accel(ch: &Chain, u: &[f64], v: &[f64], out: &mut [f64]) {
 }
 
 /// Acceleration at node `probe` every `sample_s` for `duration_s`.
-fn simulate(ch: &Chain, u0: Vec<f64>, v0: Vec<f64>, probe: usize, sample_s: f64, duration_s: f64) -> Vec<f64> {
+fn simulate(
+    ch: &Chain,
+    u0: Vec<f64>,
+    v0: Vec<f64>,
+    probe: usize,
+    sample_s: f64,
+    duration_s: f64,
+) -> Vec<f64> {
     let n = u0.len();
     // Step: below 1 / |lambda| for the stiffest undamped and the fastest overdamped modes.
     let k_max = (0..n).map(|i| ch.k[i][i] / ch.m[i]).fold(0.0, f64::max);
-    let c_max = (0..n).map(|i| ch.c[i][i].abs() / ch.m[i]).fold(0.0, f64::max);
+    let c_max = (0..n)
+        .map(|i| ch.c[i][i].abs() / ch.m[i])
+        .fold(0.0, f64::max);
     let limit = 0.5 / (2.0 * k_max.sqrt()).max(2.0 * c_max);
     let sub = (sample_s / limit).ceil().max(1.0) as usize;
     let dt = sample_s / sub as f64;
@@ -226,8 +242,10 @@ fn simulate(ch: &Chain, u0: Vec<f64>, v0: Vec<f64>, probe: usize, sample_s: f64,
     let (mut u, mut v) = (u0, v0);
     let mut a = vec![0.0; n];
     let mut out = Vec::with_capacity(samples);
-    let (mut k1u, mut k1v, mut k2u, mut k2v) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut k3u, mut k3v, mut k4u, mut k4v) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut k1u, mut k1v, mut k2u, mut k2v) =
+        (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut k3u, mut k3v, mut k4u, mut k4v) =
+        (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let (mut tu, mut tv) = (vec![0.0; n], vec![0.0; n]);
     for _ in 0..samples {
         accel(ch, &u, &v, &mut a);
@@ -290,15 +308,17 @@ impl DampingTruth {
         }
         if self.surge {
             let ch = chain(self.law, self.masses_kg[0], true);
-            let u0: Vec<f64> = ch
-                .z
-                .iter()
-                .map(|z| 1e-4 * (std::f64::consts::PI * z).sin())
-                .collect();
+            let u0: Vec<f64> =
+                ch.z.iter()
+                    .map(|z| 1e-4 * (std::f64::consts::PI * z).sin())
+                    .collect();
             let v0 = vec![0.0; u0.len()];
             let probe = u0.len() / 2;
             let record = simulate(&ch, u0, v0, probe, 1e-4, 1.2);
-            std::fs::write(dir.join("surge.csv"), csv(&record, 1e-4, self.noise, &mut rng))?;
+            std::fs::write(
+                dir.join("surge.csv"),
+                csv(&record, 1e-4, self.noise, &mut rng),
+            )?;
             entries.push(
                 "{\"file\": \"surge.csv\", \"mode\": \"surge\", \"location\": \"mid-coil\"}".into(),
             );
@@ -328,7 +348,11 @@ mod tests {
         let ch = chain(TruthLaw::Hysteretic { eta: 0.004 }, 5.0, false);
         let n = ch.m.len();
         let a: Vec<Vec<f64>> = (0..n)
-            .map(|i| (0..n).map(|j| ch.k[i][j] / (ch.m[i] * ch.m[j]).sqrt()).collect())
+            .map(|i| {
+                (0..n)
+                    .map(|j| ch.k[i][j] / (ch.m[i] * ch.m[j]).sqrt())
+                    .collect()
+            })
             .collect();
         let (w2, v) = jacobi(a);
         let w_min = w2.iter().copied().fold(f64::INFINITY, f64::min).sqrt();

@@ -49,7 +49,11 @@ fn check(case: &DampingTruth) -> String {
         case.name, report.law, report.reason
     );
     assert_eq!(report.identifiable, want.is_some());
-    let mut line = format!("{:34} {:18}", case.name, report.law.map_or("null", Law::name));
+    let mut line = format!(
+        "{:34} {:18}",
+        case.name,
+        report.law.map_or("null", Law::name)
+    );
     if want.is_some() {
         let truth: Vec<(&str, f64)> = match case.law {
             TruthLaw::Rayleigh { alpha, beta } => {
@@ -87,7 +91,14 @@ fn check(case: &DampingTruth) -> String {
     line
 }
 
-fn case(name: &str, law: TruthLaw, masses: &[f64], surge: bool, noise: f64, seed: u64) -> DampingTruth {
+fn case(
+    name: &str,
+    law: TruthLaw,
+    masses: &[f64],
+    surge: bool,
+    noise: f64,
+    seed: u64,
+) -> DampingTruth {
     DampingTruth {
         name: name.to_string(),
         law,
@@ -100,8 +111,20 @@ fn case(name: &str, law: TruthLaw, masses: &[f64], surge: bool, noise: f64, seed
 
 fn laws() -> Vec<(&'static str, TruthLaw)> {
     vec![
-        ("beta", TruthLaw::Rayleigh { alpha: 0.0, beta: BETA_ONLY }),
-        ("alpha+beta", TruthLaw::Rayleigh { alpha: ALPHA, beta: BETA }),
+        (
+            "beta",
+            TruthLaw::Rayleigh {
+                alpha: 0.0,
+                beta: BETA_ONLY,
+            },
+        ),
+        (
+            "alpha+beta",
+            TruthLaw::Rayleigh {
+                alpha: ALPHA,
+                beta: BETA,
+            },
+        ),
         ("hysteretic", TruthLaw::Hysteretic { eta: ETA }),
         ("dashpot", TruthLaw::Dashpot { c: DASHPOT }),
     ]
@@ -111,12 +134,60 @@ fn laws() -> Vec<(&'static str, TruthLaw)> {
 fn representative_cases_are_decided_or_refused() {
     let m = 5.24;
     let cases = vec![
-        case("hysteretic 2 masses x2", TruthLaw::Hysteretic { eta: ETA }, &[m, 2.0 * m], false, 0.005, 1),
-        case("alpha+beta 2 masses + surge", TruthLaw::Rayleigh { alpha: ALPHA, beta: BETA }, &[m, 1.5 * m], true, 0.005, 2),
-        case("dashpot 1 mass + surge", TruthLaw::Dashpot { c: DASHPOT }, &[m], true, 0.01, 3),
-        case("beta 2 masses x3 (viscous tie)", TruthLaw::Rayleigh { alpha: 0.0, beta: BETA_ONLY }, &[m, 3.0 * m], false, 0.005, 4),
-        case("hysteretic masses 2% apart", TruthLaw::Hysteretic { eta: ETA }, &[m, 1.02 * m], false, 0.02, 5),
-        case("hysteretic one record", TruthLaw::Hysteretic { eta: ETA }, &[m], false, 0.002, 6),
+        case(
+            "hysteretic 2 masses x2",
+            TruthLaw::Hysteretic { eta: ETA },
+            &[m, 2.0 * m],
+            false,
+            0.005,
+            1,
+        ),
+        case(
+            "alpha+beta 2 masses + surge",
+            TruthLaw::Rayleigh {
+                alpha: ALPHA,
+                beta: BETA,
+            },
+            &[m, 1.5 * m],
+            true,
+            0.005,
+            2,
+        ),
+        case(
+            "dashpot 1 mass + surge",
+            TruthLaw::Dashpot { c: DASHPOT },
+            &[m],
+            true,
+            0.01,
+            3,
+        ),
+        case(
+            "beta 2 masses x3 (viscous tie)",
+            TruthLaw::Rayleigh {
+                alpha: 0.0,
+                beta: BETA_ONLY,
+            },
+            &[m, 3.0 * m],
+            false,
+            0.005,
+            4,
+        ),
+        case(
+            "hysteretic masses 2% apart",
+            TruthLaw::Hysteretic { eta: ETA },
+            &[m, 1.02 * m],
+            false,
+            0.02,
+            5,
+        ),
+        case(
+            "hysteretic one record",
+            TruthLaw::Hysteretic { eta: ETA },
+            &[m],
+            false,
+            0.002,
+            6,
+        ),
     ];
     for c in &cases {
         println!("{}", check(c));
@@ -129,7 +200,11 @@ fn every_generated_case() {
     let m = 5.24;
     let mut seed = 100;
     for (name, law) in laws() {
-        for masses in [vec![m, 1.5 * m], vec![m, 3.0 * m], vec![m, 1.7 * m, 2.5 * m]] {
+        for masses in [
+            vec![m, 1.5 * m],
+            vec![m, 3.0 * m],
+            vec![m, 1.7 * m, 2.5 * m],
+        ] {
             for surge in [false, true] {
                 for noise in [0.002, 0.02] {
                     seed += 1;
@@ -147,7 +222,10 @@ fn every_generated_case() {
         for noise in [0.002, 0.02] {
             seed += 1;
             let label = format!("{name} masses 2% apart {:.1}%", noise * 100.0);
-            println!("{}", check(&case(&label, law, &[m, 1.02 * m], false, noise, seed)));
+            println!(
+                "{}",
+                check(&case(&label, law, &[m, 1.02 * m], false, noise, seed))
+            );
             seed += 1;
             let label = format!("{name} one record {:.1}%", noise * 100.0);
             println!("{}", check(&case(&label, law, &[m], false, noise, seed)));

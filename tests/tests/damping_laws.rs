@@ -56,7 +56,10 @@ fn misfit(extra: &str, method: &str, zeta: f64) -> f64 {
     let CaseSolution::Transient(t) = &cases[0].solution else {
         panic!("expected a transient");
     };
-    let u = t.history.column("node2_uz_disp_m").expect("the weight's record");
+    let u = t
+        .history
+        .column("node2_uz_disp_m")
+        .expect("the weight's record");
     let w = omega();
     let wd = w * (1.0 - zeta * zeta).sqrt();
     let scale = V0_MM_S / w * 1e-3;
@@ -105,7 +108,10 @@ fn single_dof_decay_matches_the_closed_form_for_every_law() {
         );
         assert!(direct < 2e-4, "{name}: direct misfit {direct}");
         assert!(modal < 1e-9, "{name}: modal misfit {modal}");
-        assert!(wrong > 2e-3, "{name}: a 1% error in zeta must show ({wrong})");
+        assert!(
+            wrong > 2e-3,
+            "{name}: a 1% error in zeta must show ({wrong})"
+        );
     }
 }
 
@@ -123,7 +129,7 @@ fn modal_damping_in_direct_integration_refuses_other_schemes() {
 mod spring {
     use coil_mesher::{AnalysisKind, SpringSpec, TransientScheme, WEIGHT_NODE};
     use coil_solver::analysis::{run, CaseSolution, TransientSolution};
-    use coil_solver::model::{Damping, Dashpot, FixedDisp, Model, ModalDamping};
+    use coil_solver::model::{Damping, Dashpot, FixedDisp, ModalDamping, Model};
 
     const MASS_KG: f64 = 5.243161;
     const BETA: f64 = 1.2812e-4;
@@ -235,7 +241,11 @@ mod spring {
                 "hysteretic" => ETA / 2.0,
                 _ => 0.0,
             };
-            let surge_err = if surge_closed > 0.0 { zs / surge_closed - 1.0 } else { zs };
+            let surge_err = if surge_closed > 0.0 {
+                zs / surge_closed - 1.0
+            } else {
+                zs
+            };
             lines.push(format!(
                 "{law:10} weight mode {:.3} Hz zeta {zeta:.6} (closed form {closed:.6}, {:+.2e}); \
                  surge {:.1} Hz zeta {zs:.6} (closed form {surge_closed:.6}, {:+.2e})",
@@ -248,7 +258,10 @@ mod spring {
             assert!(surge_err.abs() < 1e-9, "{law}: {}", lines.last().unwrap());
             let k_n_m = w * w * m_eff;
             let bar = std::f64::consts::PI * (k_n_m / m_s).sqrt();
-            assert!((ws / bar - 1.0).abs() < 0.03, "surge {ws} vs fixed-fixed bar {bar}");
+            assert!(
+                (ws / bar - 1.0).abs() < 0.03,
+                "surge {ws} vs fixed-fixed bar {bar}"
+            );
         }
         for l in &lines {
             println!("{l}");
@@ -294,7 +307,11 @@ mod spring {
             values: a.to_vec(),
         };
         let (_, zeta, _, _) = coil_tuner::law::fit_decay(&signal).unwrap();
-        println!("direct, loss factor {ETA}: zeta {zeta:.7} (eta / 2 = {}, {:+.2e})", ETA / 2.0, zeta / (ETA / 2.0) - 1.0);
+        println!(
+            "direct, loss factor {ETA}: zeta {zeta:.7} (eta / 2 = {}, {:+.2e})",
+            ETA / 2.0,
+            zeta / (ETA / 2.0) - 1.0
+        );
         assert!((zeta / (ETA / 2.0) - 1.0).abs() < 3e-3, "{zeta}");
     }
 }

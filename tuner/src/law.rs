@@ -208,7 +208,10 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
     let y = &signal.values;
     let bad = |what: String| TuneError::Invalid(format!("{}: {what}", signal.source.display()));
     if t.len() < 20 {
-        return Err(bad(format!("{} samples; expected a decay record of at least 20", t.len())));
+        return Err(bad(format!(
+            "{} samples; expected a decay record of at least 20",
+            t.len()
+        )));
     }
     // Noise from fourth differences (the decay itself contributes (w dt)^4, negligible
     // when sampled finely), then the record is kept while a two-period window stands
@@ -245,14 +248,18 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
         (s.iter().map(|x| (x - m).powi(2)).sum::<f64>() / s.len() as f64).sqrt()
     };
     let dt = signal.step_s.max(f64::MIN_POSITIVE);
-    let window = ((2.0 * std::f64::consts::TAU / (w0 * dt)).round() as usize).clamp(8, (y.len() / 4).max(8));
+    let window =
+        ((2.0 * std::f64::consts::TAU / (w0 * dt)).round() as usize).clamp(8, (y.len() / 4).max(8));
     let mut windows: Vec<(f64, f64)> = Vec::new();
     for (k, chunk) in y.chunks_exact(window).enumerate() {
         let r = rms(chunk);
         if k >= 4 && r < 5.0 * noise {
             break;
         }
-        windows.push(((k as f64 + 0.5) * window as f64 * dt, r.max(f64::MIN_POSITIVE)));
+        windows.push((
+            (k as f64 + 0.5) * window as f64 * dt,
+            r.max(f64::MIN_POSITIVE),
+        ));
     }
     let kept = (windows.len() * window).max(4 * window).min(y.len());
     let (t, y) = (&t[..kept], &y[..kept]);
@@ -264,7 +271,11 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
     let (sxy, sxx) = windows.iter().fold((0.0, 0.0), |(a, b), (tk, r)| {
         (a + (tk - mt) * (r.ln() - ml), b + (tk - mt).powi(2))
     });
-    let s0 = if sxx > 0.0 { (-sxy / sxx).max(1e-6 * w0) } else { 1e-3 * w0 };
+    let s0 = if sxx > 0.0 {
+        (-sxy / sxx).max(1e-6 * w0)
+    } else {
+        1e-3 * w0
+    };
     let residuals = |p: &[f64]| -> std::result::Result<Vec<f64>, String> {
         let (wd, s) = (p[0] * w0, p[1] * w0);
         let cols: Vec<Vec<f64>> = vec![
@@ -421,7 +432,11 @@ pub fn fit_law(law: Law, records: &[RecordFit], scatter: f64) -> Option<Candidat
     let n = records.len();
     let k = law.parameters().len();
     let dof = n.saturating_sub(k);
-    let inflate = if dof > 0 { (chi2 / dof as f64).max(1.0) } else { 1.0 };
+    let inflate = if dof > 0 {
+        (chi2 / dof as f64).max(1.0)
+    } else {
+        1.0
+    };
     let predicted: Vec<f64> = x
         .iter()
         .map(|row| row.iter().zip(&p).map(|(a, b)| a * b).sum())
@@ -682,7 +697,11 @@ pub fn identify(case_path: &Path, settings: &DampingSettings) -> Result<DampingR
 
 /// The state of the case's spring whose weight mode has the frequency of the first axial
 /// record at its mass (E scaled: `w^2` is proportional to E at fixed shape).
-fn calibrated_state(case: &MeasuredCase, records: &[RecordFit], fe: &FeSettings) -> Result<SpringState> {
+fn calibrated_state(
+    case: &MeasuredCase,
+    records: &[RecordFit],
+    fe: &FeSettings,
+) -> Result<SpringState> {
     let nominal = SpringState::nominal(case);
     let Some(base) = records.iter().find(|r| r.mode == DecayMode::Axial) else {
         return Ok(nominal);
@@ -729,7 +748,12 @@ fn predict_variants(
         let (zeta, se) = match chosen {
             Some(cand) => {
                 let row = c.row(cand.law);
-                let p: Vec<f64> = cand.law.parameters().iter().map(|n| cand.parameters[*n]).collect();
+                let p: Vec<f64> = cand
+                    .law
+                    .parameters()
+                    .iter()
+                    .map(|n| cand.parameters[*n])
+                    .collect();
                 let z: f64 = row.iter().zip(&p).map(|(a, b)| a * b).sum();
                 let k = row.len();
                 let var: f64 = (0..k)
@@ -754,7 +778,9 @@ fn predict_variants(
 
 /// `(max - min) / min` in percent.
 pub fn spread_percent(values: impl Iterator<Item = f64>) -> f64 {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+        (l.min(x), h.max(x))
+    });
     if lo > 0.0 && hi.is_finite() {
         100.0 * (hi - lo) / lo
     } else {
@@ -794,8 +820,14 @@ fn deciding_test(
     let c = &base.coefficients;
     let alpha_only = zeta / c.row(Law::Rayleigh)[0];
     let beta_only = zeta / c.row(Law::Rayleigh)[1];
-    surge_zeta.insert("rayleigh_beta_only".to_string(), beta_only * surge.row(Law::Rayleigh)[1]);
-    surge_zeta.insert("rayleigh_alpha_only".to_string(), alpha_only * surge.row(Law::Rayleigh)[0]);
+    surge_zeta.insert(
+        "rayleigh_beta_only".to_string(),
+        beta_only * surge.row(Law::Rayleigh)[1],
+    );
+    surge_zeta.insert(
+        "rayleigh_alpha_only".to_string(),
+        alpha_only * surge.row(Law::Rayleigh)[0],
+    );
     surge_zeta.insert("hysteretic".to_string(), zeta);
     surge_zeta.insert("external_viscous".to_string(), 0.0);
     let _ = candidates;
@@ -875,7 +907,10 @@ pub fn summary(r: &DampingReport) -> String {
         let _ = writeln!(
             s,
             "record {} ({:?}, {:.3} kg): f = {:.4} Hz, zeta = {:.6} +- {:.6}",
-            rec.file.file_name().map(|f| f.to_string_lossy()).unwrap_or_default(),
+            rec.file
+                .file_name()
+                .map(|f| f.to_string_lossy())
+                .unwrap_or_default(),
             rec.mode,
             rec.mass_kg,
             rec.frequency_hz,
@@ -896,7 +931,11 @@ pub fn summary(r: &DampingReport) -> String {
             c.chi2,
             c.bic,
             c.held_out.map_or("-".to_string(), |h| format!("{h:.2}")),
-            if c.consistent { "consistent  " } else { "inconsistent" },
+            if c.consistent {
+                "consistent  "
+            } else {
+                "inconsistent"
+            },
             params.join(", ")
         );
     }
@@ -907,7 +946,11 @@ pub fn summary(r: &DampingReport) -> String {
         r.reason
     );
     for v in &r.table4 {
-        let laws: Vec<String> = v.by_law.iter().map(|(k, z)| format!("{k} {z:.5}")).collect();
+        let laws: Vec<String> = v
+            .by_law
+            .iter()
+            .map(|(k, z)| format!("{k} {z:.5}"))
+            .collect();
         let _ = writeln!(
             s,
             "  {:4} {}{}  spread {:.1}%",
@@ -1037,8 +1080,16 @@ pub fn band_markdown(b: &Band) -> String {
         let range = if v.against_paper_percent.is_empty() {
             "-".to_string()
         } else {
-            let lo = v.against_paper_percent.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = v.against_paper_percent.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let lo = v
+                .against_paper_percent
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            let hi = v
+                .against_paper_percent
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max);
             format!("{lo:+.1}% .. {hi:+.1}%")
         };
         let _ = writeln!(
@@ -1050,7 +1101,8 @@ pub fn band_markdown(b: &Band) -> String {
             v.zeta[2],
             v.zeta[3],
             v.spread_percent,
-            v.paper_damping_ratio.map_or("-".to_string(), |p| format!("{p}")),
+            v.paper_damping_ratio
+                .map_or("-".to_string(), |p| format!("{p}")),
             range
         );
     }
@@ -1093,7 +1145,10 @@ pub fn report_markdown(r: &DampingReport) -> String {
         let _ = writeln!(
             s,
             "| {} | {:?} | {:.3} | {:.4} | {:.6} | {:.2e} | {:.3} |",
-            rec.file.file_name().map(|f| f.to_string_lossy()).unwrap_or_default(),
+            rec.file
+                .file_name()
+                .map(|f| f.to_string_lossy())
+                .unwrap_or_default(),
             rec.mode,
             rec.mass_kg,
             rec.frequency_hz,
@@ -1129,7 +1184,11 @@ pub fn report_markdown(r: &DampingReport) -> String {
     if !r.table4.is_empty() {
         s.push_str("| variant | rayleigh | hysteretic | external_viscous | spread | chosen law (+- se) | paper |\n|---|---:|---:|---:|---:|---:|---:|\n");
         for v in &r.table4 {
-            let g = |k: &str| v.by_law.get(k).map_or("-".to_string(), |z| format!("{z:.5}"));
+            let g = |k: &str| {
+                v.by_law
+                    .get(k)
+                    .map_or("-".to_string(), |z| format!("{z:.5}"))
+            };
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {:.1}% | {} | {} |",
@@ -1142,7 +1201,8 @@ pub fn report_markdown(r: &DampingReport) -> String {
                     (Some(z), Some(e)) => format!("{z:.5} +- {e:.5}"),
                     _ => "-".to_string(),
                 },
-                v.paper_damping_ratio.map_or("-".to_string(), |z| format!("{z}"))
+                v.paper_damping_ratio
+                    .map_or("-".to_string(), |z| format!("{z}"))
             );
         }
     }
@@ -1180,7 +1240,10 @@ mod tests {
             record(27.0, 0.0037, 1.0 / 5.26, 0.00175),
             record(27.0 / 2f64.sqrt(), 0.0019, 1.0 / 10.5, 0.00175),
         ];
-        let c: Vec<Candidate> = LAWS.iter().filter_map(|&l| fit_law(l, &recs, 0.03)).collect();
+        let c: Vec<Candidate> = LAWS
+            .iter()
+            .filter_map(|&l| fit_law(l, &recs, 0.03))
+            .collect();
         let (law, why) = choose(&c, 2);
         assert_eq!(law, Some(Law::Hysteretic), "{why}");
         let h = c.iter().find(|c| c.law == Law::Hysteretic).unwrap();
@@ -1198,7 +1261,10 @@ mod tests {
                 record(w, 0.0037 * 5.26 / m, 1.0 / m, beta * w / 2.0)
             })
             .collect();
-        let c: Vec<Candidate> = LAWS.iter().filter_map(|&l| fit_law(l, &recs, 0.03)).collect();
+        let c: Vec<Candidate> = LAWS
+            .iter()
+            .filter_map(|&l| fit_law(l, &recs, 0.03))
+            .collect();
         let (law, why) = choose(&c, 2);
         assert_eq!(law, None, "{why}");
         let d = c.iter().find(|c| c.law == Law::ExternalViscous).unwrap();

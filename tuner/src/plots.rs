@@ -533,9 +533,11 @@ impl Figure for BandPlot<'_> {
         for (k, (law, colour)) in b.laws.iter().zip(colours).enumerate() {
             let offset = (k as f64 - 1.5) * 0.12;
             chart
-                .draw_series(b.variants.iter().enumerate().map(|(i, v)| {
-                    Circle::new((i as f64 + offset, v.zeta[k]), 6, colour.filled())
-                }))
+                .draw_series(
+                    b.variants.iter().enumerate().map(|(i, v)| {
+                        Circle::new((i as f64 + offset, v.zeta[k]), 6, colour.filled())
+                    }),
+                )
                 .map_err(e)?
                 .label(law.as_str())
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));

@@ -51,9 +51,17 @@ fn two_masses_with_one_zeta_are_hysteretic() {
     let dir = tempfile::tempdir().unwrap();
     record(&dir.path().join("a.csv"), 5.24);
     record(&dir.path().join("b.csv"), 10.48);
-    case(dir.path(), r#"["a.csv", {"file": "b.csv", "mass_kg": 10.48, "location": "weight"}]"#);
+    case(
+        dir.path(),
+        r#"["a.csv", {"file": "b.csv", "mass_kg": 10.48, "location": "weight"}]"#,
+    );
     let out = dir.path().join("out");
-    let o = coil_tune(&["damping", dir.path().to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = coil_tune(&[
+        "damping",
+        dir.path().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("damping.json")).unwrap()).unwrap();
@@ -79,7 +87,12 @@ fn one_record_is_not_identifiable_and_names_the_deciding_test() {
     record(&dir.path().join("a.csv"), 5.24);
     case(dir.path(), r#"["a.csv"]"#);
     let out = dir.path().join("out");
-    let o = coil_tune(&["damping", dir.path().to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = coil_tune(&[
+        "damping",
+        dir.path().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("damping.json")).unwrap()).unwrap();
@@ -97,16 +110,32 @@ fn a_bad_decay_entry_is_located_and_nothing_is_written() {
     record(&dir.path().join("a.csv"), 5.24);
     case(dir.path(), r#"[{"file": "a.csv", "mode": "sideways"}]"#);
     let out = dir.path().join("out");
-    let o = coil_tune(&["damping", dir.path().to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = coil_tune(&[
+        "damping",
+        dir.path().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("case.json:7:") && err.contains("records.decay[0].mode"), "{err}");
+    assert!(
+        err.contains("case.json:7:") && err.contains("records.decay[0].mode"),
+        "{err}"
+    );
     assert!(err.contains("\"axial\" or \"surge\""), "{err}");
     assert!(!out.exists());
     case(dir.path(), r#"[{"mass_kg": 3.0}]"#);
-    let o = coil_tune(&["damping", dir.path().to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = coil_tune(&[
+        "damping",
+        dir.path().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("records.decay[0]") && err.contains("file"), "{err}");
+    assert!(
+        err.contains("records.decay[0]") && err.contains("file"),
+        "{err}"
+    );
     assert!(!out.exists());
 }

@@ -20,9 +20,9 @@ use super::raw::{
     PointLawKind, RawDeck, RawDofValues, RawList, RawLoadCase, RawPointLoad, SetKind,
 };
 use crate::model::{
-    Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry, InitialVelocity,
-    Dashpot, LoadCase, Material, ModalDamping, Model, Node, NodeSet, OutputRequest, PointElement, PointLoad, PointMass,
-    RigidTie, Table,
+    Analysis, Damping, Dashpot, Element, ElementSet, ElementType, FixedDisp, Geometry,
+    InitialVelocity, LoadCase, Material, ModalDamping, Model, Node, NodeSet, OutputRequest,
+    PointElement, PointLoad, PointMass, RigidTie, Table,
 };
 
 /// Relative tolerance under which an element counts as zero-length: its length over

@@ -1233,7 +1233,12 @@ fn parse_loss_factor(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     c.field_count(l, 2, 2, LAYOUT)?;
     let x = c.real(l, 0, "the loss factor eta")?;
     let eta = c.non_negative(x, l.loc_of(0), "the loss factor eta")?;
-    let modes = c.count(l, 1, 1, "the number of modes carrying eta in direct integration")?;
+    let modes = c.count(
+        l,
+        1,
+        1,
+        "the number of modes carrying eta in direct integration",
+    )?;
     if let Some((_, _, first)) = c.deck.loss_factor {
         return Err(c.err(
             l.start_loc(),
@@ -1256,7 +1261,11 @@ fn parse_modal_damping(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         let x = c.real(l, 1, "the damping ratio zeta")?;
         let zeta = c.non_negative(x, l.loc_of(1), "the damping ratio zeta")?;
         if mode > 100_000 {
-            return Err(c.err(l.loc_of(0), format!("mode {mode}"), "a mode number 1..100000"));
+            return Err(c.err(
+                l.loc_of(0),
+                format!("mode {mode}"),
+                "a mode number 1..100000",
+            ));
         }
         if zeta >= 1.0 {
             return Err(c.err(

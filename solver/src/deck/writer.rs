@@ -319,7 +319,11 @@ impl Writer<'_> {
         if md.loss_factor_modes > 0 {
             self.line("LOSS FACTOR");
             self.comment("eta (-), modes carrying it in direct integration");
-            self.line(&format!("{}, {}", num(md.loss_factor), md.loss_factor_modes));
+            self.line(&format!(
+                "{}, {}",
+                num(md.loss_factor),
+                md.loss_factor_modes
+            ));
         }
         if md.ratios.iter().any(|&z| z != 0.0) {
             self.line("MODAL DAMPING");

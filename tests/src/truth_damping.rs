@@ -21,6 +21,9 @@
 //! (`|lambda dt| < 1` for every eigenvalue, overdamped chain modes included), in SI units.
 //! Noise: seeded Gaussian, standard deviation `noise` times the record's largest value.
 
+// The small dense kernels below index matrices as the textbook formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -254,7 +254,7 @@ impl<'m> System<'m> {
         let dashpot_first = blocks.len();
         let mut dashpot_blocks = Vec::with_capacity(model.dashpots.len());
         for d in &model.dashpots {
-            if !(d.c.is_finite() && d.c >= 0.0) || !(1..=6).contains(&d.dof) {
+            if !(d.c.is_finite() && d.c >= 0.0 && (1..=6).contains(&d.dof)) {
                 return Err(SolveError::BadInput {
                     what: format!(
                         "DASHPOT at node {} DOF {}: c must be finite and >= 0 on a DOF 1..6, got {}",

@@ -1,7 +1,7 @@
 //! An independent truth model for the damping-law tests (issue 10): it writes measured
 //! cases (shared/spec/measured-case.md) whose decay records come from a damping law the
 //! test knows and `coil-tune damping` must find. It shares no code with coil's solver or
-//! tuner, nor with `truth.rs`.
+//! tuner (only `truth.rs`'s Jacobi eigensolver).
 //!
 //! # Model
 //! The spring is a chain of `N` equal segments along its axis: the wire's mass
@@ -11,7 +11,7 @@
 //! Damping laws (the weight's mass never takes Rayleigh alpha, as in the paper):
 //! - `Rayleigh { alpha, beta }`: `C = alpha M_wire + beta K_chain`;
 //! - `Hysteretic { eta }`: `C = M V diag(eta w_i) V^T M` over every chain mode
-//!   (`zeta_i = eta / 2`), the modes from a cyclic Jacobi eigensolver written here;
+//!   (`zeta_i = eta / 2`), the modes from the truth model's cyclic Jacobi eigensolver;
 //! - `Dashpot { c }`: `c` (N s/m) between the weight and ground.
 //!
 //! A record at the weight (`mode: axial`) starts from the quasi-static velocity profile
@@ -97,53 +97,6 @@ impl Normal {
     }
 }
 
-/// Eigenvalues and eigenvectors (columns) of a symmetric matrix, cyclic Jacobi.
-fn jacobi(mut a: Vec<Vec<f64>>) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let n = a.len();
-    let mut v: Vec<Vec<f64>> = (0..n)
-        .map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect())
-        .collect();
-    for _sweep in 0..100 {
-        let off: f64 = (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .filter(|(i, j)| i != j)
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        let scale: f64 = (0..n).map(|i| a[i][i] * a[i][i]).sum();
-        if off <= 1e-30 * scale {
-            break;
-        }
-        for p in 0..n {
-            for q in p + 1..n {
-                if a[p][q] == 0.0 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for k in 0..n {
-                    let (akp, akq) = (a[k][p], a[k][q]);
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
-                }
-                for k in 0..n {
-                    let (apk, aqk) = (a[p][k], a[q][k]);
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
-                }
-                for row in v.iter_mut() {
-                    let (vp, vq) = (row[p], row[q]);
-                    row[p] = c * vp - s * vq;
-                    row[q] = s * vp + c * vq;
-                }
-            }
-        }
-    }
-    ((0..n).map(|i| a[i][i]).collect(), v)
-}
-
 /// The chain's M (diagonal), K and C (dense) on its free nodes, SI units.
 struct Chain {
     m: Vec<f64>,
@@ -193,7 +146,7 @@ fn chain(law: TruthLaw, mass_kg: f64, held: bool) -> Chain {
             let a: Vec<Vec<f64>> = (0..n)
                 .map(|i| (0..n).map(|j| k[i][j] / (m[i] * m[j]).sqrt()).collect())
                 .collect();
-            let (w2, v) = jacobi(a);
+            let (w2, v) = crate::truth::jacobi_eigen(a);
             for (mode, &lambda) in w2.iter().enumerate() {
                 let d = eta * lambda.max(0.0).sqrt();
                 for i in 0..n {
@@ -357,7 +310,7 @@ mod tests {
                     .collect()
             })
             .collect();
-        let (w2, v) = jacobi(a);
+        let (w2, v) = crate::truth::jacobi_eigen(a);
         let w_min = w2.iter().copied().fold(f64::INFINITY, f64::min).sqrt();
         let rayleigh = (k / (5.0 + m_s / 3.0)).sqrt();
         assert!((w_min / rayleigh - 1.0).abs() < 1e-3, "{w_min} {rayleigh}");

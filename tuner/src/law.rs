@@ -60,7 +60,7 @@ use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{AnalysisKind, WEIGHT_NODE};
 use coil_postproc::signal::Signal;
 use coil_postproc::spectrum::{amplitude_spectrum, SpectrumOptions};
-use coil_solver::analysis::{self, CaseSolution};
+use coil_solver::analysis;
 use coil_solver::model::{units, FixedDisp};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -147,17 +147,7 @@ pub fn mode_coefficients(
         context: context.clone(),
         source: Box::new(source),
     })?;
-    let modal = results
-        .iter()
-        .find_map(|r| match &r.solution {
-            CaseSolution::Modal(m) => Some(m),
-            _ => None,
-        })
-        .ok_or_else(|| TuneError::Missing {
-            context: context.clone(),
-            what: "no modal case".into(),
-        })?;
-    let axial = modal
+    let axial = crate::fe::modal_of(&results, &context)?
         .modes
         .iter()
         .max_by(|a, b| a.effective_mass[2].total_cmp(&b.effective_mass[2]))
@@ -198,6 +188,16 @@ pub struct RecordFit {
     pub residual_rms: f64,
     /// The FE coefficients of this record's mode (frequency replaced by the measured one).
     pub coefficients: Coefficients,
+}
+
+impl RecordFit {
+    /// The record's file name.
+    pub fn name(&self) -> String {
+        self.file
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
 }
 
 /// Fits `exp(-s t) (c1 cos w_d t + c2 sin w_d t) + c3` to a record (module docs).
@@ -907,10 +907,7 @@ pub fn summary(r: &DampingReport) -> String {
         let _ = writeln!(
             s,
             "record {} ({:?}, {:.3} kg): f = {:.4} Hz, zeta = {:.6} +- {:.6}",
-            rec.file
-                .file_name()
-                .map(|f| f.to_string_lossy())
-                .unwrap_or_default(),
+            rec.name(),
             rec.mode,
             rec.mass_kg,
             rec.frequency_hz,
@@ -1145,10 +1142,7 @@ pub fn report_markdown(r: &DampingReport) -> String {
         let _ = writeln!(
             s,
             "| {} | {:?} | {:.3} | {:.4} | {:.6} | {:.2e} | {:.3} |",
-            rec.file
-                .file_name()
-                .map(|f| f.to_string_lossy())
-                .unwrap_or_default(),
+            rec.name(),
             rec.mode,
             rec.mass_kg,
             rec.frequency_hz,

@@ -14,6 +14,15 @@ fn coil_tune(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+fn damping(case: &Path, out: &Path) -> Output {
+    coil_tune(&[
+        "damping",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 const ZETA: f64 = 0.00175;
 
 fn record(path: &Path, mass_kg: f64) {
@@ -56,12 +65,7 @@ fn two_masses_with_one_zeta_are_hysteretic() {
         r#"["a.csv", {"file": "b.csv", "mass_kg": 10.48, "location": "weight"}]"#,
     );
     let out = dir.path().join("out");
-    let o = coil_tune(&[
-        "damping",
-        dir.path().to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = damping(dir.path(), &out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("damping.json")).unwrap()).unwrap();
@@ -87,12 +91,7 @@ fn one_record_is_not_identifiable_and_names_the_deciding_test() {
     record(&dir.path().join("a.csv"), 5.24);
     case(dir.path(), r#"["a.csv"]"#);
     let out = dir.path().join("out");
-    let o = coil_tune(&[
-        "damping",
-        dir.path().to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = damping(dir.path(), &out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("damping.json")).unwrap()).unwrap();
@@ -110,12 +109,7 @@ fn a_bad_decay_entry_is_located_and_nothing_is_written() {
     record(&dir.path().join("a.csv"), 5.24);
     case(dir.path(), r#"[{"file": "a.csv", "mode": "sideways"}]"#);
     let out = dir.path().join("out");
-    let o = coil_tune(&[
-        "damping",
-        dir.path().to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = damping(dir.path(), &out);
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -125,12 +119,7 @@ fn a_bad_decay_entry_is_located_and_nothing_is_written() {
     assert!(err.contains("\"axial\" or \"surge\""), "{err}");
     assert!(!out.exists());
     case(dir.path(), r#"[{"mass_kg": 3.0}]"#);
-    let o = coil_tune(&[
-        "damping",
-        dir.path().to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = damping(dir.path(), &out);
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(

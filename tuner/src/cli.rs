@@ -249,14 +249,21 @@ pub fn run(cli: Cli) -> Result<()> {
                 beside.is_file().then_some(beside)
             });
             let report = crate::law::identify(&case, &settings)?;
-            let out = OutDir::create(out)?;
             let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
                 .map_err(|e| crate::TuneError::Invalid(format!("damping.json: {e}")))?;
-            let summary = crate::law::summary(&report);
-            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
-            out.write("damping.json", json.as_bytes())?;
-            print!("{summary}");
-            println!("damping.json in {}", out.root().display());
+            // One output set: damping.json and report.md appear together or not at all.
+            let set_error = |e: coil_io::SetError| crate::TuneError::Invalid(e.to_string());
+            let set = coil_io::OutputSet::open(&out, "coil-tune damping").map_err(set_error)?;
+            set.write(
+                std::path::Path::new("report.md"),
+                crate::law::report_markdown(&report).as_bytes(),
+            )
+            .map_err(set_error)?;
+            set.write(std::path::Path::new("damping.json"), json.as_bytes())
+                .map_err(set_error)?;
+            set.commit().map_err(set_error)?;
+            print!("{}", crate::law::summary(&report));
+            println!("damping.json in {}", out.display());
             Ok(())
         }
         Command::Diagnose {

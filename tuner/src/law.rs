@@ -592,6 +592,10 @@ pub struct DampingReport {
     pub candidates: Vec<Candidate>,
     pub table4: Vec<VariantPrediction>,
     pub deciding_test: Option<DecidingTest>,
+    /// When not identifiable: the band of section 2 for the case's spring (each law
+    /// calibrated to the first weight-mode record; the variants when given, and the
+    /// surge mode).
+    pub band: Option<Band>,
 }
 
 /// Settings of the damping command.
@@ -676,10 +680,33 @@ pub fn identify(case_path: &Path, settings: &DampingSettings) -> Result<DampingR
         Some(v) => predict_variants(&case, &records, &candidates, chosen, v, &settings.fe)?,
         None => Vec::new(),
     };
-    let deciding_test = if law.is_none() {
-        Some(deciding_test(&case, &records, &candidates, settings)?)
+    let (deciding_test, band) = if law.is_none() {
+        let state = calibrated_state(&case, &records, &settings.fe)?;
+        let base = records
+            .iter()
+            .find(|r| r.mode == DecayMode::Axial)
+            .unwrap_or(&records[0]);
+        let none = VariantsFile {
+            file: PathBuf::new(),
+            source: None,
+            variants: Vec::new(),
+        };
+        let band = band(
+            &SpringState {
+                mass_kg: base.mass_kg,
+                ..state
+            },
+            variants.as_ref().unwrap_or(&none),
+            &settings.fe,
+            base.damping_ratio,
+            settings.scatter,
+        )?;
+        (
+            Some(deciding_test(&case, &records, &candidates, settings)?),
+            Some(band),
+        )
     } else {
-        None
+        (None, None)
     };
     Ok(DampingReport {
         case: case.name.clone(),
@@ -692,6 +719,7 @@ pub fn identify(case_path: &Path, settings: &DampingSettings) -> Result<DampingR
         candidates,
         table4,
         deciding_test,
+        band,
     })
 }
 
@@ -896,6 +924,7 @@ pub fn report_json(r: &DampingReport) -> serde_json::Value {
         "records": r.records,
         "table4": r.table4,
         "deciding_test": r.deciding_test,
+        "band": r.band,
     })
 }
 
@@ -1066,7 +1095,7 @@ pub fn band(
 pub fn band_markdown(b: &Band) -> String {
     use std::fmt::Write as _;
     let mut s = format!(
-        "Each law calibrated to the same measured decay (zeta = {} on the case's spring): \
+        "Each law calibrated to the same measured decay (zeta = {:.6} on the case's spring): \
          beta alone = {:.5e} s (the valley's alpha = 0 end), alpha alone = {:.4} 1/s (its \
          beta = 0 end), loss factor = {:.5}, dashpot at the weight = {:.4} N s/m. First-order \
          modal damping on coil's FE modes of each variant (same E, weight).\n\n",
@@ -1114,21 +1143,25 @@ pub fn band_markdown(b: &Band) -> String {
         .filter(|v| v.spread_percent > 200.0 * b.scatter)
         .map(|v| format!("{} ({:.0}%)", v.name, v.spread_percent))
         .collect();
+    if b.variants.iter().any(|v| v.paper_damping_ratio.is_some()) {
+        let _ = write!(
+            s,
+            "The paper's printed zeta is the beta-only column's assumption. A variant depends \
+             on the assumption when the laws spread by more than twice the {:.0}% repeat \
+             scatter of one measurement (the paper's Table 1): {}. ",
+            100.0 * b.scatter,
+            if dependent.is_empty() {
+                "none".to_string()
+            } else {
+                dependent.join(", ")
+            },
+        );
+    }
     let _ = writeln!(
         s,
-        "The paper's printed zeta is the beta-only column's assumption. A variant depends on \
-         the assumption when the laws spread by more than twice the {:.0}% repeat scatter of \
-         one measurement (the paper's Table 1): {}. The one measurement that closes the band \
-         is the surge mode (last row): beta predicts {:.3}, a loss factor {:.5}, a dashpot at \
-         the weight 0.",
-        100.0 * b.scatter,
-        if dependent.is_empty() {
-            "none".to_string()
-        } else {
-            dependent.join(", ")
-        },
-        b.surge_zeta[0],
-        b.surge_zeta[2]
+        "The one measurement that closes the band is the surge mode (last row): beta predicts \
+         {:.3}, a loss factor {:.5}, a dashpot at the weight 0.",
+        b.surge_zeta[0], b.surge_zeta[2]
     );
     s
 }
@@ -1199,6 +1232,13 @@ pub fn report_markdown(r: &DampingReport) -> String {
                     .map_or("-".to_string(), |z| format!("{z}"))
             );
         }
+    }
+    if let Some(b) = &r.band {
+        let _ = writeln!(
+            s,
+            "\n## The band these records allow\n\n{}",
+            band_markdown(b)
+        );
     }
     if let Some(t) = &r.deciding_test {
         let _ = writeln!(s, "\n## The test that would decide\n\n{}", t.text);

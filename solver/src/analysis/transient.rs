@@ -971,22 +971,25 @@ fn run_direct(
     let mut f0 = vec![0.0; n];
     force(0.0, &mut f0);
     if system.model.modal_damping.is_active() {
-        if scheme != Scheme::AverageAcceleration || !system.point_laws()?.is_empty() {
+        if system.point_laws()?.iter().any(|(_, law)| !law.is_zero()) {
             return Err(SolveError::BadInput {
                 what: format!(
                     "load case '{title}': LOSS FACTOR and MODAL DAMPING run by direct \
-                     integration with average acceleration (NEWMARK) and without nonlinear \
-                     point elements only; use NEWMARK or MODAL"
+                     integration without nonlinear point elements only (the point laws' \
+                     end-of-step correction is not linear); use MODAL or drop one of them"
                 ),
             });
         }
         let factor = factor.ok_or_else(|| SolveError::BadInput {
             what: format!("load case '{title}': modal damping needs the stiffness factor"),
         })?;
-        let mut term = ModalDampingTerm::new(system, factor, title, stepper, dt)?;
+        let mut term = ModalDampingTerm::new(system, factor, title, stepper)?;
         term.add_force(v0, &mut f0);
         let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
-        let zero = vec![0.0; n];
+        // f_n carries the modal force of the step's start, f_next the load alone: the
+        // term's own end-of-step force is added by `correct` through the stepper's
+        // response to it.
+        let mut f_n = f0;
         let mut f_next = vec![0.0; n];
         if recorder.wants(0) {
             recorder.record_free(state.t, &state.u, &state.v, &state.a);
@@ -995,10 +998,11 @@ fn run_direct(
             let t = k as f64 * dt;
             f_next.fill(0.0);
             force(t, &mut f_next);
-            // Average acceleration balances at the end of the step only: f_n is unused.
-            stepper.step(&mut state, &zero, &f_next, k).map_err(fail)?;
-            term.correct(&mut state, dt);
+            stepper.step(&mut state, &f_n, &f_next, k).map_err(fail)?;
+            term.correct(&mut state);
             state.t = t;
+            std::mem::swap(&mut f_n, &mut f_next);
+            term.add_force(&state.v, &mut f_n);
             if recorder.wants(k) {
                 recorder.record_free(state.t, &state.u, &state.v, &state.a);
             }
@@ -1016,23 +1020,24 @@ fn run_direct(
 }
 
 /// Modal damping in direct integration: `C_m = U D U^T`, `U = M Phi` over the lowest
-/// [`crate::model::ModalDamping::basis_modes`] modes, `D = diag(2 zeta_i w_i)`, added to
-/// the average-acceleration step as an exact low-rank correction (Sherman-Morrison-
-/// Woodbury) instead of a dense matrix in the banded operator. With `S` the step's
-/// effective matrix `M + dt/2 C + dt^2/4 K`, the step without `C_m` gives `v_base`; the
-/// damped step's `z = U^T v_{n+1}` solves `(I + dt/2 W D) z = U^T v_base`,
-/// `W = U^T S^-1 U`, and the acceleration changes by `-S^-1 U D z` (velocity `dt/2`,
-/// displacement `dt^2/4` times that). `S^-1 U` is taken from the stepper itself (one
-/// step from rest under each column of `U`), so the correction is exact for whatever
-/// engine the stepper runs on.
+/// [`crate::model::ModalDamping::basis_modes`] modes, `D = diag(2 zeta_i w_i)`, applied as
+/// the load `-C_m v` exactly and implicitly, a low-rank correction of each step
+/// (Sherman-Morrison-Woodbury) instead of a dense matrix in the banded operator. A step
+/// is affine in its end load `f_next`: from rest under `f_next = U e_j` it gives the
+/// response columns `(u_j, v_j, a_j)` (for average acceleration `a_j = S^-1 U e_j`,
+/// `S = M + dt/2 C + dt^2/4 K`; every scheme of the family likewise). The step under the
+/// load alone gives `v_base`; the damped step's `z = U^T v_{n+1}` solves
+/// `(I + U^T V D) z = U^T v_base` (`V` the columns `v_j`) and the state changes by
+/// `-sum_j (u_j, v_j, a_j) d_j z_j`. The step's start load carries `-C_m v_n`, so schemes
+/// that blend the two loads (HHT, generalised-alpha) see the term at both ends.
 struct ModalDampingTerm {
     /// Columns of `U = M Phi`.
     u: Vec<Vec<f64>>,
     /// `2 zeta_i w_i`.
     d: Vec<f64>,
-    /// Columns of `S^-1 U`.
-    s_inv_u: Vec<Vec<f64>>,
-    /// LU of `I + dt/2 W D`.
+    /// The step's response to each column of `U` as its end load: (u, v, a).
+    response: Vec<State>,
+    /// LU of `I + U^T V D`.
     lu: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
     z: Vec<f64>,
 }
@@ -1043,7 +1048,6 @@ impl ModalDampingTerm {
         factor: &Cholesky,
         title: &str,
         stepper: &mut Stepper,
-        dt: f64,
     ) -> Result<Self, SolveError> {
         let fail = |e| integrate_error(system, title, false, e);
         let n = system.dim();
@@ -1062,21 +1066,21 @@ impl ModalDampingTerm {
             d.push(2.0 * zeta * mode.omega_squared.max(0.0).sqrt());
         }
         let zero = vec![0.0; n];
-        let mut s_inv_u = Vec::with_capacity(u.len());
+        let mut response = Vec::with_capacity(u.len());
         for col in &u {
             let mut state = State::zeros(n, 0.0);
             stepper.step(&mut state, &zero, col, 0).map_err(fail)?;
-            s_inv_u.push(state.a);
+            response.push(state);
         }
         let r = u.len();
         let g = nalgebra::DMatrix::from_fn(r, r, |i, j| {
-            let w: f64 = u[i].iter().zip(&s_inv_u[j]).map(|(a, b)| a * b).sum();
-            f64::from(u8::from(i == j)) + 0.5 * dt * w * d[j]
+            let w: f64 = u[i].iter().zip(&response[j].v).map(|(a, b)| a * b).sum();
+            f64::from(u8::from(i == j)) + w * d[j]
         });
         Ok(ModalDampingTerm {
             u,
             d,
-            s_inv_u,
+            response,
             lu: g.lu(),
             z: vec![0.0; r],
         })
@@ -1092,8 +1096,8 @@ impl ModalDampingTerm {
         }
     }
 
-    /// Turns the undamped-by-`C_m` step just taken into the damped one.
-    fn correct(&mut self, state: &mut State, dt: f64) {
+    /// Turns the step just taken under the load alone into the damped one.
+    fn correct(&mut self, state: &mut State) {
         for (zi, col) in self.z.iter_mut().zip(&self.u) {
             *zi = col.iter().zip(&state.v).map(|(a, b)| a * b).sum();
         }
@@ -1101,13 +1105,16 @@ impl ModalDampingTerm {
         let Some(z) = self.lu.solve(&rhs) else {
             return;
         };
-        for ((col, &d), &zj) in self.s_inv_u.iter().zip(&self.d).zip(z.iter()) {
+        for ((col, &d), &zj) in self.response.iter().zip(&self.d).zip(z.iter()) {
             let s = -d * zj;
-            for (i, ci) in col.iter().enumerate() {
-                let da = s * ci;
-                state.a[i] += da;
-                state.v[i] += 0.5 * dt * da;
-                state.u[i] += 0.25 * dt * dt * da;
+            for (x, c) in state.u.iter_mut().zip(&col.u) {
+                *x += s * c;
+            }
+            for (x, c) in state.v.iter_mut().zip(&col.v) {
+                *x += s * c;
+            }
+            for (x, c) in state.a.iter_mut().zip(&col.a) {
+                *x += s * c;
             }
         }
     }

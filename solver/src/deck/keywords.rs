@@ -410,7 +410,7 @@ pub static KEYWORDS: &[Keyword] = &[
         ],
         notes: "One line, once per deck. Modal superposition damps each retained mode with \
                 eta / 2 (plus any MODAL DAMPING ratio and the modal part of C). Direct \
-                integration (NEWMARK only) adds C_m = M Phi diag(2 zeta_i w_i) Phi^T M over \
+                integration (any scheme; not with non-zero nonlinear point elements) adds C_m = M Phi diag(2 zeta_i w_i) Phi^T M over \
                 the lowest `modes` modes; modes above them get no hysteretic damping. The \
                 equivalence holds per mode for free decay (the same loss per cycle); it is \
                 not the causal, frequency-independent loss of a forced response. See \
@@ -433,8 +433,9 @@ pub static KEYWORDS: &[Keyword] = &[
         ],
         notes: "Lines repeat until the next card; each mode once; modes not listed get none. \
                 Adds to LOSS FACTOR's eta / 2. Modal superposition applies it to the retained \
-                modes; direct integration (NEWMARK only) adds C_m = M Phi diag(2 zeta_i w_i) \
-                Phi^T M over the modes up to the highest one listed. See docs/transient.md.",
+                modes; direct integration (any scheme; not with non-zero nonlinear point elements) \
+                adds C_m = M Phi diag(2 zeta_i w_i) Phi^T M over the modes up to the highest one \
+                listed. See docs/transient.md.",
         example: "MODAL DAMPING\n1, 0.002\n2, 0.01",
         parse: parse_modal_damping,
     },

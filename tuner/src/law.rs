@@ -328,6 +328,22 @@ pub struct Candidate {
     pub covariance: Vec<Vec<f64>>,
 }
 
+impl Candidate {
+    /// `name = value +- se` for every parameter.
+    pub fn parameters_text(&self) -> String {
+        self.parameters
+            .iter()
+            .map(|(k, v)| format!("{k} = {v:.5e} +- {:.2e}", self.parameters_se[k]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The held-out score, or `-` when the records cannot give one.
+    pub fn held_out_text(&self) -> String {
+        self.held_out.map_or("-".to_string(), |h| format!("{h:.2}"))
+    }
+}
+
 /// Weighted non-negative least squares `sum w (y - X p)^2`, with the covariance of `p`
 /// (unscaled, from the active columns). Brute force over active sets (at most 2 columns).
 fn nnls(x: &[Vec<f64>], y: &[f64], w: &[f64]) -> Option<(Vec<f64>, Vec<Vec<f64>>, f64)> {
@@ -945,24 +961,19 @@ pub fn summary(r: &DampingReport) -> String {
         );
     }
     for c in &r.candidates {
-        let params: Vec<String> = c
-            .parameters
-            .iter()
-            .map(|(k, v)| format!("{k} = {v:.5e} +- {:.2e}", c.parameters_se[k]))
-            .collect();
         let _ = writeln!(
             s,
             "  {:17} chi2 {:10.2} BIC {:10.2} held-out {:>9} {}  {}",
             c.law.name(),
             c.chi2,
             c.bic,
-            c.held_out.map_or("-".to_string(), |h| format!("{h:.2}")),
+            c.held_out_text(),
             if c.consistent {
                 "consistent  "
             } else {
                 "inconsistent"
             },
-            params.join(", ")
+            c.parameters_text()
         );
     }
     let _ = writeln!(
@@ -1186,19 +1197,14 @@ pub fn report_markdown(r: &DampingReport) -> String {
     }
     s.push_str("\n| law | parameters (+- se) | chi2 | BIC | held-out | consistent |\n|---|---|---:|---:|---:|---|\n");
     for c in &r.candidates {
-        let params: Vec<String> = c
-            .parameters
-            .iter()
-            .map(|(k, v)| format!("{k} = {v:.5e} +- {:.2e}", c.parameters_se[k]))
-            .collect();
         let _ = writeln!(
             s,
             "| {} | {} | {:.2} | {:.2} | {} | {} |",
             c.law.name(),
-            params.join(", "),
+            c.parameters_text(),
             c.chi2,
             c.bic,
-            c.held_out.map_or("-".to_string(), |h| format!("{h:.2}")),
+            c.held_out_text(),
             c.consistent
         );
     }

@@ -42,6 +42,7 @@ use crate::dof::dof_name;
 use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
 use crate::vtk;
+use coil_io::OutputSet;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -191,13 +192,16 @@ pub struct TransientEntry {
     pub warnings: Vec<String>,
 }
 
-/// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
-/// in the error.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    crate::atomic::write_atomic(path, bytes).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+/// Stages `text` as `name` in `set` unless it holds a non-finite number.
+fn stage(set: &OutputSet, name: &str, text: &str) -> Result<(), Error> {
+    if let Some(at) = coil_io::non_finite_token(text) {
+        return Err(Error::NonFinite {
+            file: name.to_string(),
+            at,
+        });
+    }
+    set.write(Path::new(name), text.as_bytes())?;
+    Ok(())
 }
 
 fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDisplacement> {
@@ -346,17 +350,23 @@ pub fn history_file_name(first_transient: bool, case_number: usize) -> String {
     }
 }
 
-/// Builds the `results.json` content and writes every file of a run into `dir`
-/// (created if missing).
+/// Builds the `results.json` content and writes every file of a run into `dir` (created
+/// if missing) as one set: locked, staged, moved in together ([`coil_io::set`]).
 pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
-    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    write_atomic(
-        &dir.join("model.vtu"),
-        vtk::unstructured_grid(model, None).as_bytes(),
-    )?;
+    let set = OutputSet::open(dir, "coil-solve (results)")?;
+    let file = write_set(&set, model, cases)?;
+    set.commit()?;
+    Ok(file)
+}
+
+/// Stages every file of a run in `set` (the caller commits). A non-finite number in any
+/// of them is an error ([`Error::NonFinite`]) and nothing is written.
+pub fn write_set(
+    set: &OutputSet,
+    model: &Model,
+    cases: &[CaseResult],
+) -> Result<ResultsFile, Error> {
+    stage(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -364,9 +374,10 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         match &case.solution {
             CaseSolution::Static(s) => {
                 let file = format!("case{c}_static.vtu");
-                write_atomic(
-                    &dir.join(&file),
-                    vtk::unstructured_grid(model, Some(&s.displacement)).as_bytes(),
+                stage(
+                    set,
+                    &file,
+                    &vtk::unstructured_grid(model, Some(&s.displacement)),
                 )?;
                 entries.push(CaseEntry::Static(static_entry(model, &case.title, s, file)));
             }
@@ -374,9 +385,10 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
                 let width = m.modes.len().to_string().len();
                 let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
                 for (k, mode) in m.modes.iter().enumerate() {
-                    write_atomic(
-                        &dir.join(name(k + 1)),
-                        vtk::unstructured_grid(model, Some(&mode.shape)).as_bytes(),
+                    stage(
+                        set,
+                        &name(k + 1),
+                        &vtk::unstructured_grid(model, Some(&mode.shape)),
                     )?;
                 }
                 entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
@@ -384,7 +396,7 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
             CaseSolution::Transient(t) => {
                 let file = history_file_name(first_transient, c);
                 first_transient = false;
-                write_atomic(&dir.join(&file), t.history.to_csv().as_bytes())?;
+                stage(set, &file, &t.history.to_csv())?;
                 entries.push(CaseEntry::Transient(transient_entry(&case.title, t, file)));
             }
         }
@@ -393,13 +405,18 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         title: model.title.clone(),
         load_cases: entries,
     };
-    // Serialising plain structs of numbers and strings cannot fail except on non-finite
-    // floats, which serde_json writes as null.
+    // serde_json writes a non-finite float as null: check the numbers themselves.
+    if let Some(at) = coil_io::non_finite_token(&format!("{file:?}")) {
+        return Err(Error::NonFinite {
+            file: "results.json".into(),
+            at,
+        });
+    }
     let json = serde_json::to_string_pretty(&file).map_err(|e| Error::Io {
-        path: dir.join("results.json"),
+        path: set.destination(Path::new("results.json")),
         source: std::io::Error::other(e),
     })?;
-    write_atomic(&dir.join("results.json"), json.as_bytes())?;
+    stage(set, "results.json", &json)?;
     Ok(file)
 }
 

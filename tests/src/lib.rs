@@ -293,5 +293,6 @@ impl Spring {
         m
     }
 }
+pub mod scoring;
 pub mod truth;
 pub mod truth_damping;

@@ -376,7 +376,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
             },
         ],
         true,
-        &out.path("fig10_decay.png"),
+        &out.staged("fig10_decay.png")?,
     )
     .map_err(|source| TuneError::Post {
         context: "Fig. 10".into(),

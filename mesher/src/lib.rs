@@ -659,6 +659,8 @@ impl SpringSpec {
             outputs,
             load_cases,
             point_laws,
+            dashpots: vec![],
+            modal_damping: Default::default(),
         })
     }
 }

@@ -359,6 +359,74 @@ pub struct Model {
     /// combined. Sorted by (node, DOF). See [`PointElement`].
     #[serde(default)]
     pub point_laws: Vec<PointElement>,
+    /// Linear dashpots to ground (`DASHPOT`; added for issue 10, append-only), sorted by
+    /// (node, DOF). See [`Dashpot`].
+    #[serde(default)]
+    pub dashpots: Vec<Dashpot>,
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; added for issue 10). See
+    /// [`ModalDamping`].
+    #[serde(default)]
+    pub modal_damping: ModalDamping,
+}
+
+/// A linear (viscous) dashpot between one DOF of a node and the ground (coil card
+/// `DASHPOT`): the force `c v` against the DOF's velocity `v`. It is part of the viscous
+/// damping matrix `C` (one diagonal entry), so every transient method and scheme runs it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Dashpot {
+    pub node: NodeId,
+    /// 1..=6; the DOF must be free (neither prescribed nor tied).
+    pub dof: u8,
+    /// Damping coefficient c >= 0 (N s/mm; N mm s/rad on a rotation; 1 N s/m = 1e-3 N s/mm).
+    pub c: f64,
+}
+
+/// Modal damping: mode `i` (0-based, ascending frequency) gets the damping ratio
+/// `zeta_i = loss_factor / 2 + ratios[i]` (missing ratios are 0).
+///
+/// `loss_factor` is the hysteretic (structural) loss factor eta of `LOSS FACTOR`: its
+/// standard time-domain equivalent for free vibration is viscous modal damping with
+/// `zeta_i = eta / 2` in every mode (the same energy loss per cycle, `2 pi eta` times
+/// the peak strain energy, at each mode's own frequency). `ratios` are the per-mode
+/// ratios of `MODAL DAMPING`. Modal superposition adds `zeta_i` to each retained mode;
+/// direct integration adds `C_m = M Phi diag(2 zeta_i w_i) Phi^T M` over the lowest
+/// [`ModalDamping::basis_modes`] modes (docs/transient.md, "Modal damping").
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ModalDamping {
+    /// Loss factor eta >= 0 (-).
+    pub loss_factor: f64,
+    /// Modes that carry the loss factor in direct integration (>= 1 when eta > 0).
+    pub loss_factor_modes: u32,
+    /// Per-mode damping ratios, mode 1 first (>= 0).
+    pub ratios: Vec<f64>,
+}
+
+impl ModalDamping {
+    /// Whether any mode gets damping.
+    pub fn is_active(&self) -> bool {
+        self.loss_factor > 0.0 || self.ratios.iter().any(|&z| z > 0.0)
+    }
+
+    /// The damping ratio of mode `i` (0-based).
+    pub fn zeta(&self, i: usize) -> f64 {
+        0.5 * self.loss_factor + self.ratios.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// The number of lowest modes direct integration damps: the loss factor's count
+    /// and every mode `MODAL DAMPING` names.
+    pub fn basis_modes(&self) -> usize {
+        let eta = if self.loss_factor > 0.0 {
+            self.loss_factor_modes as usize
+        } else {
+            0
+        };
+        let last = self
+            .ratios
+            .iter()
+            .rposition(|&z| z > 0.0)
+            .map_or(0, |i| i + 1);
+        eta.max(last)
+    }
 }
 
 /// A nonlinear restoring force between one DOF of a node and the ground (coil cards

@@ -407,6 +407,55 @@ impl Reduction {
     }
 }
 
+impl ReducedOperators {
+    /// Adds modal damping (`LOSS FACTOR`, `MODAL DAMPING`) to `c`: the reduced model's
+    /// own modes `x_i` (`K x = w^2 M x`, mass-normalised, ascending) each get
+    /// `zeta(i)`, i.e. `C += M X diag(2 zeta_i w_i) X^T M` over all `r` modes, the
+    /// exact modal damping of the reduced model (dense, like the operators). Computed as
+    /// `L Y D Y^T L^T` with `M = L L^T` and `Y` the eigenvectors of `L^-1 K L^-T`.
+    pub fn add_modal_damping(&mut self, zeta: impl Fn(usize) -> f64) -> Result<(), ReduceError> {
+        let bad = || ReduceError::BadValue {
+            what: "modal damping needs a positive definite reduced mass".to_string(),
+        };
+        let n = self.m.nrows();
+        let l = self.m.clone().cholesky().ok_or_else(bad)?.l();
+        let l_inv = l.clone().try_inverse().ok_or_else(bad)?;
+        let a = &l_inv * &self.k * l_inv.transpose();
+        let a = (&a + a.transpose()) * 0.5;
+        let eigen = a.symmetric_eigen();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
+        let ly = &l * &eigen.eigenvectors;
+        for (rank, &j) in order.iter().enumerate() {
+            let z = zeta(rank);
+            if z == 0.0 {
+                continue;
+            }
+            if !(z.is_finite() && z >= 0.0) {
+                return Err(ReduceError::BadValue {
+                    what: format!("modal damping ratio {z} of mode {}", rank + 1),
+                });
+            }
+            let d = 2.0 * z * eigen.eigenvalues[j].max(0.0).sqrt();
+            let col = ly.column(j);
+            self.c += col * col.transpose() * d;
+        }
+        Ok(())
+    }
+
+    /// Adds a linear dashpot `c_n_s_mm` (N s/mm) on reduced coordinate `i` (a boundary
+    /// DOF, e.g. the weight's axial translation).
+    pub fn add_dashpot(&mut self, i: usize, c_n_s_mm: f64) -> Result<(), ReduceError> {
+        if i >= self.c.nrows() || !(c_n_s_mm.is_finite() && c_n_s_mm >= 0.0) {
+            return Err(ReduceError::BadValue {
+                what: format!("dashpot {c_n_s_mm} N s/mm on reduced coordinate {i}"),
+            });
+        }
+        self.c[(i, i)] += c_n_s_mm;
+        Ok(())
+    }
+}
+
 /// Eigenvalues `omega^2` (ascending) of `K x = omega^2 M x` for symmetric `K` and
 /// symmetric positive definite `M`, or `None` if `M` is not positive definite.
 /// Both are first scaled by `D = diag(M)^-1/2` (the reduced coordinates mix mm, rad
@@ -446,6 +495,45 @@ mod tests {
         let mut model = damped_tied_frame(0.5, 1e-4);
         model.fixed_disp[1].dofs = vec![(4, 0.0)];
         model
+    }
+
+    #[test]
+    fn reduced_modal_damping_gives_each_mode_its_ratio() {
+        let model = frame();
+        let red = craig_bampton(&model, &[(10, 3)], 4).unwrap();
+        let mut ops = red.operators(1.0, &[0.0], 0.0, 0.0).unwrap();
+        ops.add_modal_damping(|i| 0.001 * (i + 1) as f64).unwrap();
+        // The state matrix's eigenvalues -zeta w +- i w sqrt(1 - zeta^2), per mode.
+        let w2 = generalized_eigenvalues(&ops.k, &ops.m).unwrap();
+        let n = ops.m.nrows();
+        let m_inv = ops.m.clone().try_inverse().unwrap();
+        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+        for i in 0..n {
+            a[(i, n + i)] = 1.0;
+        }
+        let mk = -&m_inv * &ops.k;
+        let mc = -&m_inv * &ops.c;
+        for i in 0..n {
+            for j in 0..n {
+                a[(n + i, j)] = mk[(i, j)];
+                a[(n + i, n + j)] = mc[(i, j)];
+            }
+        }
+        let mut lambda: Vec<_> = a
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .filter(|l| l.im > 0.0)
+            .collect();
+        lambda.sort_by(|x, y| x.norm().total_cmp(&y.norm()));
+        for (i, l) in lambda.iter().enumerate() {
+            let zeta = -l.re / l.norm();
+            assert!((l.norm() / w2[i].sqrt() - 1.0).abs() < 1e-8);
+            assert!(
+                (zeta / (0.001 * (i + 1) as f64) - 1.0).abs() < 1e-6,
+                "mode {i}: {zeta}"
+            );
+        }
     }
 
     #[test]

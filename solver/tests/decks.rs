@@ -520,6 +520,16 @@ fn every_field_model() -> Model {
                 friction: 12.5,
             },
         ],
+        dashpots: vec![Dashpot {
+            node: 20,
+            dof: 3,
+            c: 2.5e-4,
+        }],
+        modal_damping: ModalDamping {
+            loss_factor: 3.5e-3,
+            loss_factor_modes: 12,
+            ratios: vec![0.0, 0.02, 0.005],
+        },
     }
 }
 

@@ -34,6 +34,8 @@ pub fn empty_model(title: &str) -> Model {
         outputs: Vec::new(),
         load_cases: Vec::new(),
         point_laws: Vec::new(),
+        dashpots: Vec::new(),
+        modal_damping: Default::default(),
     }
 }
 
@@ -293,3 +295,4 @@ impl Spring {
 }
 pub mod scoring;
 pub mod truth;
+pub mod truth_damping;

@@ -598,7 +598,7 @@ impl Chain {
 
 /// Cyclic Jacobi eigen-decomposition of a symmetric matrix: eigenvalues and the matrix
 /// whose columns are the orthonormal eigenvectors (Golub and Van Loan, section 8.5).
-fn jacobi_eigen(mut a: Vec<Vec<f64>>) -> (Vec<f64>, Vec<Vec<f64>>) {
+pub(crate) fn jacobi_eigen(mut a: Vec<Vec<f64>>) -> (Vec<f64>, Vec<Vec<f64>>) {
     let n = a.len();
     let mut v: Vec<Vec<f64>> = (0..n)
         .map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect())

@@ -81,12 +81,85 @@ pub struct MeasuredCase {
     pub static_files: Vec<PathBuf>,
     /// Decay records, resolved against the case folder (they exist).
     pub decay_files: Vec<PathBuf>,
+    /// What each decay record says about itself, in `decay_files` order (a plain file
+    /// name: the case's mass, the axial mode, at the weight).
+    pub decay_info: Vec<DecayInfo>,
     pub targets: Targets,
     /// Line and column of the `targets` object (for messages about a missing target).
     #[serde(skip)]
     pub targets_at: Option<(usize, usize)>,
     pub tested_springs: Vec<TestedSpring>,
     pub paper: Option<PaperFigures>,
+}
+
+/// The mode a decay record shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DecayMode {
+    /// The weight bouncing on the spring (the default).
+    Axial,
+    /// The spring's own first axial mode, with the weight held (fixed-fixed coil).
+    Surge,
+}
+
+/// A `records.decay` entry's own description (shared/spec/measured-case.md, "Several
+/// decay records").
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DecayInfo {
+    /// The attached mass of this record (kg); `None`: the case's `mass_kg`.
+    pub mass_kg: Option<f64>,
+    pub mode: DecayMode,
+    /// Where the sensor sat, in words (`"weight"` by default).
+    pub location: String,
+}
+
+impl Default for DecayInfo {
+    fn default() -> Self {
+        DecayInfo {
+            mass_kg: None,
+            mode: DecayMode::Axial,
+            location: "weight".to_string(),
+        }
+    }
+}
+
+/// Reads a `records.decay` entry: a file name, or `{file, mass_kg?, mode?, location?}`.
+/// Returns the field holding the file name and the entry's description.
+fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldError> {
+    if !matches!(item.node.value, json::Value::Object(_)) {
+        return Ok((item.clone(), DecayInfo::default()));
+    }
+    let o = item.object("a decay record: a file name or {file, mass_kg, mode, location}")?;
+    let file = o.require("file", "the record's file, relative to the case folder")?;
+    let mass_kg = o.opt_number(
+        "mass_kg",
+        Range::Positive,
+        "the attached mass of this record in kg",
+    )?;
+    let mode = match o.get("mode") {
+        None => DecayMode::Axial,
+        Some(m) => match m.string("the record's mode: \"axial\" or \"surge\"")? {
+            "axial" => DecayMode::Axial,
+            "surge" => DecayMode::Surge,
+            other => {
+                return Err(m.error(
+                    format!("found the string \"{other}\""),
+                    "the record's mode: \"axial\" or \"surge\"",
+                ))
+            }
+        },
+    };
+    let location = o
+        .opt_string("location", "where the sensor sat, in words")?
+        .unwrap_or_else(|| "weight".to_string());
+    Ok((
+        file,
+        DecayInfo {
+            mass_kg,
+            mode,
+            location,
+        },
+    ))
 }
 
 /// A static force-compression record (`displacement_mm,force_n`).
@@ -211,6 +284,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
     )?;
 
     let (mut static_files, mut decay_files) = (Vec::new(), Vec::new());
+    let mut decay_info = Vec::new();
     if let Some(records) = doc.get("records") {
         let records = records.object("the record files")?;
         for (key, out) in [("static", &mut static_files), ("decay", &mut decay_files)] {
@@ -221,6 +295,13 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
                 continue;
             }
             for item in list.array(&format!("a list of {key} record files"))? {
+                let item = if key == "decay" {
+                    let (file, info) = decay_entry(&item)?;
+                    decay_info.push(info);
+                    file
+                } else {
+                    item
+                };
                 let rel = item.string("a path relative to the case folder")?;
                 out.push(resolve_record(&folder, rel, &item)?);
             }
@@ -306,6 +387,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
         gravity_m_s2,
         static_files,
         decay_files,
+        decay_info,
         targets,
         targets_at,
         tested_springs,

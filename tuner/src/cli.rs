@@ -256,6 +256,26 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
+    /// records of a case at once (records at several masses, a surge record), chooses by
+    /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
+    /// (shared/spec/measured-case.md) and DIR/report.md (docs/damping.md).
+    Damping {
+        /// The case folder (or its case.json).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/damping")]
+        out: PathBuf,
+        /// Table 4 variants to predict (default: table4.json beside case.json, if any).
+        #[arg(long)]
+        variants: Option<PathBuf>,
+        /// Beams per coil of the helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+        /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
+        #[arg(long, default_value_t = 0.03)]
+        scatter: f64,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         procedure: PathBuf,
@@ -401,6 +421,39 @@ pub fn run(cli: Cli) -> Result<()> {
                 merged.rows.len(),
                 out.path(merged.study.table_file()).display()
             )?;
+            Ok(())
+        }
+        Command::Damping {
+            case,
+            out,
+            variants,
+            elements_per_coil,
+            scatter,
+        } => {
+            if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
+                return Err(crate::TuneError::Invalid(format!(
+                    "--scatter {scatter}; expected a relative scatter in (0, 1), e.g. 0.03"
+                )));
+            }
+            let mut settings = crate::law::DampingSettings {
+                scatter,
+                ..Default::default()
+            };
+            settings.fe.elements_per_coil = elements_per_coil;
+            settings.variants = variants.or_else(|| {
+                let beside = crate::case::case_file(&case).with_file_name("table4.json");
+                beside.is_file().then_some(beside)
+            });
+            let out = OutDir::create(out)?;
+            let report = crate::law::identify(&case, &settings)?;
+            let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
+                .map_err(|e| crate::TuneError::Invalid(format!("damping.json: {e}")))?;
+            // One output set: damping.json and report.md appear together or not at all.
+            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
+            out.write("damping.json", json.as_bytes())?;
+            out.commit()?;
+            text(&crate::law::summary(&report))?;
+            say!("damping.json in {}", out.root().display())?;
             Ok(())
         }
         Command::Diagnose {

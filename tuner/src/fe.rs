@@ -169,9 +169,12 @@ pub fn stiffness_of(results: &[analysis::CaseResult], context: &str) -> Result<f
         })
 }
 
-/// The axial mode (largest effective mass along z) of the first modal case of `results`.
-pub fn axial_mode_of(results: &[analysis::CaseResult], context: &str) -> Result<AxialMode> {
-    let modal = results
+/// The first modal case of `results`.
+pub fn modal_of<'a>(
+    results: &'a [analysis::CaseResult],
+    context: &str,
+) -> Result<&'a analysis::ModalSolution> {
+    results
         .iter()
         .find_map(|r| match &r.solution {
             CaseSolution::Modal(m) => Some(m),
@@ -180,8 +183,12 @@ pub fn axial_mode_of(results: &[analysis::CaseResult], context: &str) -> Result<
         .ok_or_else(|| TuneError::Missing {
             context: context.to_string(),
             what: "no modal case in the run".into(),
-        })?;
-    modal
+        })
+}
+
+/// The axial mode (largest effective mass along z) of the first modal case of `results`.
+pub fn axial_mode_of(results: &[analysis::CaseResult], context: &str) -> Result<AxialMode> {
+    modal_of(results, context)?
         .modes
         .iter()
         .enumerate()

@@ -19,6 +19,7 @@ pub mod damping;
 pub mod decay;
 pub mod diagnose;
 pub mod grid;
+pub mod law;
 pub mod paper;
 pub mod plots;
 pub mod procedure;

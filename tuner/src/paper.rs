@@ -113,6 +113,8 @@ pub struct PaperReport {
     pub table4: Vec<VariantResult>,
     /// Variant predictions along the valley (why a variant's zeta can miss).
     pub family: Vec<FamilyMember>,
+    /// Each variant's zeta under every damping law calibrated to the same decay.
+    pub damping_band: crate::law::Band,
     pub mesh_study: MeshStudy,
     pub calibration: Calibration,
     pub timings: Timings,
@@ -327,6 +329,11 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         });
     }
 
+    // The band of damping laws one decay allows (issue 10), with its figure.
+    let damping_band =
+        crate::law::band(&state, &variants, &settings.fe, targets.damping_ratio, 0.03)?;
+    crate::plots::band_figure(&damping_band, &out.path("damping_band.png"))?;
+
     let mesh_start = std::time::Instant::now();
     let paper_e = case
         .paper
@@ -412,6 +419,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         },
         table4: table4_sweep.variants.clone(),
         family,
+        damping_band,
         mesh_study: mesh,
         calibration,
         timings: Timings {

@@ -488,6 +488,85 @@ pub fn valley_figure(valley: &ValleyPlot<'_>, path: &Path) -> Result<()> {
     render(path, valley)
 }
 
+/// Table 4's variants' zeta under each damping law calibrated to the same decay.
+struct BandPlot<'a>(&'a crate::law::Band);
+
+impl Figure for BandPlot<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> plot::Draw {
+        let b = self.0;
+        root.fill(&WHITE).map_err(e)?;
+        let n = b.variants.len();
+        let hi = b
+            .variants
+            .iter()
+            .flat_map(|v| v.zeta.iter().copied().chain(v.paper_damping_ratio))
+            .fold(0.0, f64::max)
+            * 1.15;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Table 4: zeta under each law calibrated to the same decay",
+                (FONT, 26),
+            )
+            .margin(20)
+            .x_label_area_size(45)
+            .y_label_area_size(90)
+            .build_cartesian_2d(-0.5..(n as f64 - 0.5), 0.0..hi)
+            .map_err(e)?;
+        let names: Vec<String> = b.variants.iter().map(|v| v.name.clone()).collect();
+        chart
+            .configure_mesh()
+            .x_labels(n.max(1))
+            .x_label_formatter(&|x| {
+                let i = x.round();
+                if (x - i).abs() < 1e-6 && i >= 0.0 {
+                    names.get(i as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            })
+            .y_desc("zeta")
+            .y_label_formatter(&|y| format!("{y:.4}"))
+            .label_style((FONT, 16))
+            .draw()
+            .map_err(e)?;
+        let colours = [RED, GREEN, BLUE, RGBColor(148, 103, 189)];
+        for (k, (law, colour)) in b.laws.iter().zip(colours).enumerate() {
+            let offset = (k as f64 - 1.5) * 0.12;
+            chart
+                .draw_series(
+                    b.variants.iter().enumerate().map(|(i, v)| {
+                        Circle::new((i as f64 + offset, v.zeta[k]), 6, colour.filled())
+                    }),
+                )
+                .map_err(e)?
+                .label(law.as_str())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
+        }
+        chart
+            .draw_series(b.variants.iter().enumerate().filter_map(|(i, v)| {
+                v.paper_damping_ratio
+                    .map(|p| Cross::new((i as f64, p), 8, BLACK.stroke_width(2)))
+            }))
+            .map_err(e)?
+            .label("the paper's Table 4")
+            .legend(|(x, y)| Cross::new((x + 10, y), 5, BLACK.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .label_font((FONT, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()
+            .map_err(e)?;
+        Ok(())
+    }
+}
+
+/// The damping band figure (`damping_band.png`).
+pub fn band_figure(band: &crate::law::Band, path: &Path) -> Result<()> {
+    render(path, &BandPlot(band))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -372,6 +372,15 @@ pub fn markdown(r: &PaperReport) -> String {
         }
     }
 
+    let _ = writeln!(
+        s,
+        "\n### Which damping law? The band one decay allows\n\n\
+         One decay fixes one number, the weight mode's zeta; it cannot tell stiffness-proportional \
+         material damping from a constant loss factor or from a dashpot at the weight \
+         (`damping_band.png`; `coil-tune damping` identifies the law from records that can).\n"
+    );
+    s.push_str(&crate::law::band_markdown(&r.damping_band));
+
     let m = &r.mesh_study;
     let _ = writeln!(s, "\n## Mesh bias in E\n");
     let _ = writeln!(

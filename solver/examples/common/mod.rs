@@ -94,6 +94,8 @@ pub fn paper_spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) 
             }],
         }],
         point_laws: Vec::new(),
+        dashpots: Vec::new(),
+        modal_damping: Default::default(),
     }
 }
 

@@ -249,6 +249,24 @@ impl<'m> System<'m> {
             blocks.push(node_dofs(p.node, "POINT MASS")?.collect());
             point_mass_blocks.push(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()));
         }
+        // Linear dashpots (`DASHPOT`): one 6x6 block per dashpot at its node, after the
+        // point masses.
+        let dashpot_first = blocks.len();
+        let mut dashpot_blocks = Vec::with_capacity(model.dashpots.len());
+        for d in &model.dashpots {
+            if !(d.c.is_finite() && d.c >= 0.0 && (1..=6).contains(&d.dof)) {
+                return Err(SolveError::BadInput {
+                    what: format!(
+                        "DASHPOT at node {} DOF {}: c must be finite and >= 0 on a DOF 1..6, got {}",
+                        d.node, d.dof, d.c
+                    ),
+                });
+            }
+            blocks.push(node_dofs(d.node, "DASHPOT")?.collect());
+            let mut values = [0.0; 6];
+            values[usize::from(d.dof) - 1] = d.c;
+            dashpot_blocks.push(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()));
+        }
         let assembler = Assembler::new(&dofs, &blocks)?;
         let n_elements = model.elements.len();
 
@@ -307,6 +325,9 @@ impl<'m> System<'m> {
                     });
                 }
             }
+        }
+        for (k, block) in dashpot_blocks.iter().enumerate() {
+            assembler.add_block(&mut c_values, dashpot_first + k, block.as_slice(), 1.0);
         }
         let stiffness = assembler.matrix(&k_values)?;
         let mass = assembler.matrix(&m_values)?;
@@ -660,6 +681,8 @@ pub(crate) mod test_support {
             outputs: Vec::new(),
             load_cases: Vec::new(),
             point_laws: Vec::new(),
+            dashpots: Vec::new(),
+            modal_damping: Default::default(),
         }
     }
 

@@ -330,6 +330,7 @@ pub fn method_label(method: &TransientMethod) -> String {
 pub fn needs_stiffness_factor(model: &Model, method: &TransientMethod) -> bool {
     matches!(method, TransientMethod::Modal { .. })
         || model.initial_velocities.iter().any(|v| v.quasi_static)
+        || model.modal_damping.is_active()
 }
 
 /// How `coil-solve --method` replaces the transient method of every transient case.
@@ -442,6 +443,7 @@ pub fn solve(
             run_direct(
                 system,
                 context,
+                factor,
                 title,
                 integrator,
                 dt,
@@ -963,6 +965,7 @@ fn integrate_error(system: &System, case: &str, modal: bool, source: IntegrateEr
 fn run_direct(
     system: &System,
     context: &mut Context,
+    factor: Option<&Cholesky>,
     title: &str,
     integrator: Integrator,
     dt: f64,
@@ -1008,6 +1011,45 @@ fn run_direct(
     };
     let mut f0 = vec![0.0; n];
     force(0.0, &mut f0);
+    if system.model.modal_damping.is_active() {
+        if system.point_laws()?.iter().any(|(_, law)| !law.is_zero()) {
+            return Err(SolveError::BadInput {
+                what: format!(
+                    "load case '{title}': LOSS FACTOR and MODAL DAMPING run by direct \
+                     integration without nonlinear point elements only (the point laws' \
+                     end-of-step correction is not linear); use MODAL or drop one of them"
+                ),
+            });
+        }
+        let factor = factor.ok_or_else(|| SolveError::BadInput {
+            what: format!("load case '{title}': modal damping needs the stiffness factor"),
+        })?;
+        let mut term = ModalDampingTerm::new(system, factor, title, stepper)?;
+        term.add_force(v0, &mut f0);
+        let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
+        // f_n carries the modal force of the step's start, f_next the load alone: the
+        // term's own end-of-step force is added by `correct` through the stepper's
+        // response to it.
+        let mut f_n = f0;
+        let mut f_next = vec![0.0; n];
+        if recorder.wants(0) {
+            recorder.record_free(state.t, &state.u, &state.v, &state.a);
+        }
+        for k in 1..=steps {
+            let t = k as f64 * dt;
+            f_next.fill(0.0);
+            force(t, &mut f_next);
+            stepper.step(&mut state, &f_n, &f_next, k).map_err(fail)?;
+            term.correct(&mut state);
+            state.t = t;
+            std::mem::swap(&mut f_n, &mut f_next);
+            term.add_force(&state.v, &mut f_n);
+            if recorder.wants(k) {
+                recorder.record_free(state.t, &state.u, &state.v, &state.a);
+            }
+        }
+        return Ok(());
+    }
     let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
     stepper
         .run(&mut state, steps, &mut force, &mut |k, s| {
@@ -1019,6 +1061,107 @@ fn run_direct(
             }
         })
         .map_err(fail)
+}
+
+/// Modal damping in direct integration: `C_m = U D U^T`, `U = M Phi` over the lowest
+/// [`crate::model::ModalDamping::basis_modes`] modes, `D = diag(2 zeta_i w_i)`, applied as
+/// the load `-C_m v` exactly and implicitly, a low-rank correction of each step
+/// (Sherman-Morrison-Woodbury) instead of a dense matrix in the banded operator. A step
+/// is affine in its end load `f_next`: from rest under `f_next = U e_j` it gives the
+/// response columns `(u_j, v_j, a_j)` (for average acceleration `a_j = S^-1 U e_j`,
+/// `S = M + dt/2 C + dt^2/4 K`; every scheme of the family likewise). The step under the
+/// load alone gives `v_base`; the damped step's `z = U^T v_{n+1}` solves
+/// `(I + U^T V D) z = U^T v_base` (`V` the columns `v_j`) and the state changes by
+/// `-sum_j (u_j, v_j, a_j) d_j z_j`. The step's start load carries `-C_m v_n`, so schemes
+/// that blend the two loads (HHT, generalised-alpha) see the term at both ends.
+struct ModalDampingTerm {
+    /// Columns of `U = M Phi`.
+    u: Vec<Vec<f64>>,
+    /// `2 zeta_i w_i`.
+    d: Vec<f64>,
+    /// The step's response to each column of `U` as its end load: (u, v, a).
+    response: Vec<State>,
+    /// LU of `I + U^T V D`.
+    lu: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    z: Vec<f64>,
+}
+
+impl ModalDampingTerm {
+    fn new(
+        system: &System,
+        factor: &Cholesky,
+        title: &str,
+        stepper: &mut Stepper,
+    ) -> Result<Self, SolveError> {
+        let fail = |e| integrate_error(system, title, false, e);
+        let n = system.dim();
+        let wanted = system.model.modal_damping.basis_modes();
+        let solution = modal::solve(system, factor, title, wanted)?;
+        let mut u = Vec::new();
+        let mut d = Vec::new();
+        for (i, mode) in solution.modes.iter().enumerate() {
+            let zeta = system.model.modal_damping.zeta(i);
+            if zeta == 0.0 {
+                continue;
+            }
+            let mut mphi = vec![0.0; n];
+            sym_upper_matvec(system.mass.as_ref(), &mode.shape_free, 1.0, &mut mphi);
+            u.push(mphi);
+            d.push(2.0 * zeta * mode.omega_squared.max(0.0).sqrt());
+        }
+        let zero = vec![0.0; n];
+        let mut response = Vec::with_capacity(u.len());
+        for col in &u {
+            let mut state = State::zeros(n, 0.0);
+            stepper.step(&mut state, &zero, col, 0).map_err(fail)?;
+            response.push(state);
+        }
+        let r = u.len();
+        let g = nalgebra::DMatrix::from_fn(r, r, |i, j| {
+            let w: f64 = u[i].iter().zip(&response[j].v).map(|(a, b)| a * b).sum();
+            f64::from(u8::from(i == j)) + w * d[j]
+        });
+        Ok(ModalDampingTerm {
+            u,
+            d,
+            response,
+            lu: g.lu(),
+            z: vec![0.0; r],
+        })
+    }
+
+    /// Adds the modal damping force `-U D U^T v` to `f`.
+    fn add_force(&self, v: &[f64], f: &mut [f64]) {
+        for (col, &d) in self.u.iter().zip(&self.d) {
+            let z: f64 = col.iter().zip(v).map(|(a, b)| a * b).sum();
+            for (fi, ci) in f.iter_mut().zip(col) {
+                *fi -= d * z * ci;
+            }
+        }
+    }
+
+    /// Turns the step just taken under the load alone into the damped one.
+    fn correct(&mut self, state: &mut State) {
+        for (zi, col) in self.z.iter_mut().zip(&self.u) {
+            *zi = col.iter().zip(&state.v).map(|(a, b)| a * b).sum();
+        }
+        let rhs = nalgebra::DVector::from_column_slice(&self.z);
+        let Some(z) = self.lu.solve(&rhs) else {
+            return;
+        };
+        for ((col, &d), &zj) in self.response.iter().zip(&self.d).zip(z.iter()) {
+            let s = -d * zj;
+            for (x, c) in state.u.iter_mut().zip(&col.u) {
+                *x += s * c;
+            }
+            for (x, c) in state.v.iter_mut().zip(&col.v) {
+                *x += s * c;
+            }
+            for (x, c) in state.a.iter_mut().zip(&col.a) {
+                *x += s * c;
+            }
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1195,6 +1338,11 @@ fn damping_coupling(system: &System, modes: &[super::Mode], omega: &[f64]) -> Co
             .sum();
         0.5 * (a + b)
     });
+    // Modal damping (`LOSS FACTOR`, `MODAL DAMPING`) is diagonal in the modes.
+    let mut c = c;
+    for i in 0..m {
+        c[(i, i)] += 2.0 * system.model.modal_damping.zeta(i) * omega[i];
+    }
     let zeta: Vec<f64> = (0..m).map(|i| c[(i, i)] / (2.0 * omega[i])).collect();
     let mut max = 0.0;
     let mut pair = None;

@@ -20,9 +20,9 @@ use super::raw::{
     PointLawKind, RawDeck, RawDofValues, RawList, RawLoadCase, RawPointLoad, SetKind,
 };
 use crate::model::{
-    Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry, InitialVelocity,
-    LoadCase, Material, Model, Node, NodeSet, OutputRequest, PointElement, PointLoad, PointMass,
-    RigidTie, Table,
+    Analysis, Damping, Dashpot, Element, ElementSet, ElementType, FixedDisp, Geometry,
+    InitialVelocity, LoadCase, Material, ModalDamping, Model, Node, NodeSet, OutputRequest,
+    PointElement, PointLoad, PointMass, RigidTie, Table,
 };
 
 /// Relative tolerance under which an element counts as zero-length: its length over
@@ -641,6 +641,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
 
     // Nonlinear point elements: free DOFs only, one line per card, node and DOF.
     let mut point_laws: Vec<PointElement> = Vec::new();
+    let mut dashpots: Vec<Dashpot> = Vec::new();
     let mut law_lines: HashMap<(u32, u8, PointLawKind), Loc> = HashMap::new();
     for p in &raw.point_laws {
         let card = p.kind.card();
@@ -691,6 +692,14 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
                 "each DOF of a node once per card",
             ));
         }
+        if p.kind == PointLawKind::Dashpot {
+            dashpots.push(Dashpot {
+                node: p.node,
+                dof: p.dof,
+                c: p.value,
+            });
+            continue;
+        }
         let at = match point_laws
             .iter()
             .position(|e| (e.node, e.dof) == (p.node, p.dof))
@@ -712,9 +721,26 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             PointLawKind::Friction => e.friction = p.value,
             PointLawKind::Quadratic => e.quadratic = p.value,
             PointLawKind::Cubic => e.cubic = p.value,
+            PointLawKind::Dashpot => {}
         }
     }
     point_laws.sort_by_key(|e| (e.node, e.dof));
+    dashpots.sort_by_key(|d| (d.node, d.dof));
+    let mut modal_damping = ModalDamping::default();
+    if let Some((eta, modes, _)) = raw.loss_factor {
+        modal_damping.loss_factor = eta;
+        modal_damping.loss_factor_modes = modes;
+    }
+    for &(mode, zeta, _) in &raw.modal_ratios {
+        let i = mode as usize - 1;
+        if modal_damping.ratios.len() <= i {
+            modal_damping.ratios.resize(i + 1, 0.0);
+        }
+        modal_damping.ratios[i] = zeta;
+    }
+    while modal_damping.ratios.last() == Some(&0.0) {
+        modal_damping.ratios.pop();
+    }
 
     // Loads, initial velocities, outputs.
     let mut point_loads = raw
@@ -835,6 +861,8 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         outputs,
         load_cases,
         point_laws,
+        dashpots,
+        modal_damping,
     })
 }
 

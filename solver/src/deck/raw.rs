@@ -102,6 +102,8 @@ pub(crate) enum PointLawKind {
     Friction,
     Quadratic,
     Cubic,
+    /// `DASHPOT` (issue 10): linear, so it goes to the model's dashpots, not its laws.
+    Dashpot,
 }
 
 impl PointLawKind {
@@ -110,6 +112,7 @@ impl PointLawKind {
             PointLawKind::Friction => "FRICTION",
             PointLawKind::Quadratic => "QUADRATIC DAMPER",
             PointLawKind::Cubic => "CUBIC SPRING",
+            PointLawKind::Dashpot => "DASHPOT",
         }
     }
 
@@ -119,6 +122,7 @@ impl PointLawKind {
             PointLawKind::Friction => "the friction force (N)",
             PointLawKind::Quadratic => "c2 (N s^2/mm^2)",
             PointLawKind::Cubic => "k3 (N/mm^3)",
+            PointLawKind::Dashpot => "c (N s/mm)",
         }
     }
 
@@ -127,6 +131,7 @@ impl PointLawKind {
             PointLawKind::Friction => "node, dof, friction force (N)",
             PointLawKind::Quadratic => "node, dof, c2 (N s^2/mm^2)",
             PointLawKind::Cubic => "node, dof, k3 (N/mm^3)",
+            PointLawKind::Dashpot => "node, dof, c (N s/mm)",
         }
     }
 }
@@ -221,6 +226,10 @@ pub(crate) struct RawDeck {
     pub damping: Vec<RawDamping>,
     pub point_masses: Vec<RawPointMass>,
     pub point_laws: Vec<RawPointLaw>,
+    /// `LOSS FACTOR`: (eta, modes, where).
+    pub loss_factor: Option<(f64, u32, Loc)>,
+    /// `MODAL DAMPING` lines: (mode 1.., zeta, where).
+    pub modal_ratios: Vec<(u32, f64, Loc)>,
     pub rigid_ties: Vec<RawTie>,
     pub fixed_disp: Vec<RawDofValues>,
     pub point_loads: Vec<RawPointLoad>,

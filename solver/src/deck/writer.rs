@@ -308,6 +308,33 @@ impl Writer<'_> {
             }
         }
 
+        if !m.dashpots.is_empty() {
+            self.line("DASHPOT");
+            self.comment("node, dof, c (N s/mm)");
+            for d in &m.dashpots {
+                self.line(&format!("{}, {}, {}", d.node, d.dof, num(d.c)));
+            }
+        }
+        let md = &m.modal_damping;
+        if md.loss_factor_modes > 0 {
+            self.line("LOSS FACTOR");
+            self.comment("eta (-), modes carrying it in direct integration");
+            self.line(&format!(
+                "{}, {}",
+                num(md.loss_factor),
+                md.loss_factor_modes
+            ));
+        }
+        if md.ratios.iter().any(|&z| z != 0.0) {
+            self.line("MODAL DAMPING");
+            self.comment("mode, zeta");
+            for (i, &z) in md.ratios.iter().enumerate() {
+                if z != 0.0 {
+                    self.line(&format!("{}, {}", i + 1, num(z)));
+                }
+            }
+        }
+
         if !m.rigid_ties.is_empty() {
             self.line("RBE2");
             for (k, t) in m.rigid_ties.iter().enumerate() {

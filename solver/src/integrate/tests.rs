@@ -930,6 +930,8 @@ fn paper_like_spring(coils: usize, per_coil: usize, lumped_mass: bool) -> (Mck, 
         outputs: Vec::new(),
         load_cases: Vec::new(),
         point_laws: Vec::new(),
+        dashpots: Vec::new(),
+        modal_damping: Default::default(),
     };
     let system = System::new(&model).unwrap();
     let weight = match system.dofs.status(system.dofs.full_index(1, 3).unwrap()) {

@@ -41,7 +41,7 @@ use crate::analysis::{CaseResult, CaseSolution, ModalSolution, StaticSolution};
 use crate::dof::dof_name;
 use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
-use crate::vtk;
+use crate::{vtk, wire};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -108,6 +108,75 @@ pub struct StaticEntry {
     /// Equilibrium check of the solve, `|T^T (K u - f)| / |T^T f|`.
     pub relative_residual: f64,
     pub shape_file: String,
+    /// The largest wire stress and where it sits (solid circular wires only).
+    #[serde(default)]
+    pub wire_stress: Option<WireStressEntry>,
+    /// Spring index, solid length, handbook stresses and the coil contact load, when
+    /// the wire is one helix about global z (see [`crate::wire`]).
+    #[serde(default)]
+    pub spring: Option<SpringEntry>,
+    #[serde(default)]
+    pub warnings: Vec<String>,
+    /// Section forces and stresses of every beam element.
+    #[serde(default)]
+    pub section_forces: Vec<SectionForceEntry>,
+}
+
+/// The element with the largest combined shear stress (MPa) and its stresses.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WireStressEntry {
+    /// Torsion plus direct shear, the largest along the wire.
+    pub max_shear_stress_mpa: f64,
+    pub torsion_stress_mpa: f64,
+    pub direct_shear_stress_mpa: f64,
+    pub bending_stress_mpa: f64,
+    pub axial_stress_mpa: f64,
+    pub element: u32,
+    /// Midpoint of that element (mm).
+    pub at_mm: [f64; 3],
+}
+
+/// What a spring engineer reads off a static case (see [`crate::wire`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpringEntry {
+    pub coils: f64,
+    pub mean_diameter_mm: f64,
+    pub wire_diameter_mm: f64,
+    pub pitch_mm: f64,
+    /// C = D / d.
+    pub spring_index: f64,
+    /// `(n + 1) d` of the modelled helix.
+    pub solid_length_mm: f64,
+    /// Axial force the wire carries (N).
+    pub axial_force_n: f64,
+    /// `8 F D / (pi d^3)`.
+    pub nominal_stress_mpa: f64,
+    pub wahl_factor: f64,
+    pub wahl_stress_mpa: f64,
+    pub bergstraesser_factor: f64,
+    pub bergstraesser_stress_mpa: f64,
+    /// The axial force at which adjacent coils first touch (N); `null` when the load
+    /// case opens the coils.
+    pub coil_contact_load_n: Option<f64>,
+    /// The node where they touch first (the lower of the two coils).
+    pub coil_contact_node: Option<NodeId>,
+}
+
+/// Section resultants of one beam at its two ends `[node 1, node 2]` in the element's
+/// local axes (see [`crate::wire`]), and its wire stresses (MPa).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SectionForceEntry {
+    pub element: u32,
+    pub axial_force_n: [f64; 2],
+    pub shear_force_y_n: [f64; 2],
+    pub shear_force_z_n: [f64; 2],
+    pub torque_n_mm: [f64; 2],
+    pub moment_y_n_mm: [f64; 2],
+    pub moment_z_n_mm: [f64; 2],
+    pub torsion_stress_mpa: Option<f64>,
+    pub direct_shear_stress_mpa: Option<f64>,
+    pub shear_stress_mpa: Option<f64>,
+    pub bending_stress_mpa: Option<f64>,
 }
 
 /// One mode.
@@ -136,6 +205,9 @@ pub struct ModalEntry {
     /// `max |phi_i^T M phi_j - delta_ij|` of the mass-normalised modes.
     pub orthonormality_error: f64,
     pub modes: Vec<ModeEntry>,
+    /// ParaView collection of the mode shapes, frequency (Hz) as the series value.
+    #[serde(default)]
+    pub series_file: String,
 }
 
 /// One mode of a modal superposition.
@@ -214,8 +286,126 @@ fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDispl
     })
 }
 
-fn static_entry(model: &Model, name: &str, s: &StaticSolution, shape_file: String) -> StaticEntry {
+/// The spring summary, the wire's stress peak and their warnings for a static case.
+fn spring_results(
+    model: &Model,
+    s: &StaticSolution,
+    forces: &[wire::ElementForces],
+) -> (Option<WireStressEntry>, Option<SpringEntry>, Vec<String>) {
+    let mut warnings = Vec::new();
+    let stress = wire::peak(model, forces).map(|p| WireStressEntry {
+        max_shear_stress_mpa: p.stress.shear_mpa,
+        torsion_stress_mpa: p.stress.torsion_mpa,
+        direct_shear_stress_mpa: p.stress.direct_shear_mpa,
+        bending_stress_mpa: p.stress.bending_mpa,
+        axial_stress_mpa: p.stress.axial_mpa,
+        element: p.element,
+        at_mm: p.xyz,
+    });
+    let spring = wire::Helix::of(model).map(|helix| {
+        let force = forces
+            .get(forces.len() / 2)
+            .map_or(0.0, |f| f.force_global_n[2].abs());
+        let (d_mean, d) = (helix.mean_diameter_mm, helix.wire_diameter_mm);
+        let c = helix.index();
+        let nominal = wire::nominal_stress_mpa(force, d_mean, d);
+        let contact = helix
+            .contact_factor(model, &s.displacement)
+            .filter(|_| force > 0.0);
+        if let Some((factor, node)) = contact {
+            if factor < 1.0 {
+                warnings.push(format!(
+                    "the axial load {force:.4} N passes the load at which adjacent coils touch \
+                     ({:.4} N, first at node {}): beyond it the coils are solid and this linear \
+                     model does not apply",
+                    factor * force,
+                    model.nodes[node].id
+                ));
+            }
+        }
+        SpringEntry {
+            coils: helix.coils,
+            mean_diameter_mm: d_mean,
+            wire_diameter_mm: d,
+            pitch_mm: helix.pitch_mm,
+            spring_index: c,
+            solid_length_mm: helix.solid_length_mm(),
+            axial_force_n: force,
+            nominal_stress_mpa: nominal,
+            wahl_factor: wire::wahl_factor(c),
+            wahl_stress_mpa: wire::wahl_factor(c) * nominal,
+            bergstraesser_factor: wire::bergstraesser_factor(c),
+            bergstraesser_stress_mpa: wire::bergstraesser_factor(c) * nominal,
+            coil_contact_load_n: contact.map(|(factor, _)| factor * force),
+            coil_contact_node: contact.map(|(_, node)| model.nodes[node].id),
+        }
+    });
+    (stress, spring, warnings)
+}
+
+fn section_force_entry(f: &wire::ElementForces) -> SectionForceEntry {
+    let pair = |c: usize| [f.ends[0][c], f.ends[1][c]];
+    SectionForceEntry {
+        element: f.element,
+        axial_force_n: pair(0),
+        shear_force_y_n: pair(1),
+        shear_force_z_n: pair(2),
+        torque_n_mm: pair(3),
+        moment_y_n_mm: pair(4),
+        moment_z_n_mm: pair(5),
+        torsion_stress_mpa: f.stress.map(|s| s.torsion_mpa),
+        direct_shear_stress_mpa: f.stress.map(|s| s.direct_shear_mpa),
+        shear_stress_mpa: f.stress.map(|s| s.shear_mpa),
+        bending_stress_mpa: f.stress.map(|s| s.bending_mpa),
+    }
+}
+
+/// The section forces and stresses as VTU cell arrays, in `model.elements` order.
+pub fn cell_fields(model: &Model, forces: &[wire::ElementForces]) -> Vec<vtk::CellField> {
+    type Getter = fn(&wire::ElementForces) -> f64;
+    let fields: [(&str, Getter); 8] = [
+        ("axial_force_n", |f| f.ends[1][0]),
+        ("shear_force_n", |f| f.shear_force_n()),
+        ("torque_n_mm", |f| f.ends[1][3]),
+        ("bending_moment_n_mm", |f| f.bending_moment_n_mm()),
+        ("torsion_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.torsion_mpa)
+        }),
+        ("direct_shear_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.direct_shear_mpa)
+        }),
+        ("shear_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.shear_mpa)
+        }),
+        ("bending_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.bending_mpa)
+        }),
+    ];
+    let by_id: std::collections::HashMap<u32, &wire::ElementForces> =
+        forces.iter().map(|f| (f.element, f)).collect();
+    fields
+        .iter()
+        .map(|(name, get)| vtk::CellField {
+            name: (*name).to_string(),
+            components: 1,
+            values: model
+                .elements
+                .iter()
+                .map(|e| by_id.get(&e.id).map_or(0.0, |f| get(f)))
+                .collect(),
+        })
+        .collect()
+}
+
+fn static_entry(
+    model: &Model,
+    name: &str,
+    s: &StaticSolution,
+    forces: &[wire::ElementForces],
+    shape_file: String,
+) -> StaticEntry {
     let translational = |dof: u8| dof <= 3;
+    let (wire_stress, spring, warnings) = spring_results(model, s, forces);
     StaticEntry {
         name: name.to_string(),
         stiffness_n_mm: s.stiffness_n_mm,
@@ -256,10 +446,19 @@ fn static_entry(model: &Model, name: &str, s: &StaticSolution, shape_file: Strin
             .fold(0.0, f64::max),
         relative_residual: s.relative_residual,
         shape_file,
+        wire_stress,
+        spring,
+        warnings,
+        section_forces: forces.iter().map(section_force_entry).collect(),
     }
 }
 
-fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> String) -> ModalEntry {
+fn modal_entry(
+    name: &str,
+    m: &ModalSolution,
+    shape_file: impl Fn(usize) -> String,
+    series_file: String,
+) -> ModalEntry {
     let kg = units::mass_to_si;
     ModalEntry {
         name: name.to_string(),
@@ -282,6 +481,7 @@ fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> Stri
                 shape_file: shape_file(k + 1),
             })
             .collect(),
+        series_file,
     }
 }
 
@@ -353,10 +553,7 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         path: dir.to_path_buf(),
         source,
     })?;
-    write_atomic(
-        &dir.join("model.vtu"),
-        vtk::unstructured_grid(model, None).as_bytes(),
-    )?;
+    write_atomic(&dir.join("model.vtu"), &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -364,22 +561,38 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         match &case.solution {
             CaseSolution::Static(s) => {
                 let file = format!("case{c}_static.vtu");
+                let forces = wire::element_forces(model, &s.displacement);
                 write_atomic(
                     &dir.join(&file),
-                    vtk::unstructured_grid(model, Some(&s.displacement)).as_bytes(),
+                    &vtk::grid(model, Some(&s.displacement), &cell_fields(model, &forces)),
                 )?;
-                entries.push(CaseEntry::Static(static_entry(model, &case.title, s, file)));
+                entries.push(CaseEntry::Static(static_entry(
+                    model,
+                    &case.title,
+                    s,
+                    &forces,
+                    file,
+                )));
             }
             CaseSolution::Modal(m) => {
                 let width = m.modes.len().to_string().len();
                 let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
+                let mut series = Vec::with_capacity(m.modes.len());
                 for (k, mode) in m.modes.iter().enumerate() {
                     write_atomic(
                         &dir.join(name(k + 1)),
-                        vtk::unstructured_grid(model, Some(&mode.shape)).as_bytes(),
+                        &vtk::unstructured_grid(model, Some(&mode.shape)),
                     )?;
+                    series.push((mode.frequency_hz, name(k + 1)));
                 }
-                entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
+                let series_file = format!("case{c}_modes.pvd");
+                write_atomic(&dir.join(&series_file), vtk::collection(&series).as_bytes())?;
+                entries.push(CaseEntry::Modal(modal_entry(
+                    &case.title,
+                    m,
+                    name,
+                    series_file,
+                )));
             }
             CaseSolution::Transient(t) => {
                 let file = history_file_name(first_transient, c);

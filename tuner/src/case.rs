@@ -1,4 +1,4 @@
-//! Reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//! Reading a measured case (`docs/measured-case.md`) and a variants file.
 //!
 //! A case is a folder holding `case.json` and the record files it names; [`read_case`]
 //! takes the folder or the `case.json` path. Field names and units are exactly the
@@ -157,7 +157,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
     let file = case_file(path);
     let (_, node) = read_json(&file)?;
     let top = root(&file, &node);
-    let doc = top.object("a measured case (see shared/spec/measured-case.md)")?;
+    let doc = top.object("a measured case (see docs/measured-case.md)")?;
     let folder = file.parent().map(Path::to_path_buf).unwrap_or_default();
 
     let name = doc.string("name", "the case's name (a non-empty string)")?;

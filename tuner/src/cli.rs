@@ -111,7 +111,7 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
-    /// Diagnose a measured case (shared/spec/measured-case.md): fit the paper's model,
+    /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
     /// show what it misses, name the cause, extend the model and measure the gain.
     /// Writes DIR/diagnosis.json, report.md, figures and tables (docs/diagnose.md).
     Diagnose {

@@ -1,6 +1,6 @@
 //! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
 //!
-//! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 
 pub mod case;
 pub mod error;

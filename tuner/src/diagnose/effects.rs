@@ -1,4 +1,4 @@
-//! The catalogue of effects the diagnosis can name (`shared/spec/measured-case.md`).
+//! The catalogue of effects the diagnosis can name (`docs/measured-case.md`).
 //!
 //! One [`Effect`] per physical cause: its name and parameter (exactly the spec's), how
 //! it extends the reduced FE model ([`EffectKind`], [`Mount`]), and how its signature in

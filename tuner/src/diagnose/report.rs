@@ -1,4 +1,4 @@
-//! `diagnosis.json` (field names and units exactly as `shared/spec/measured-case.md`),
+//! `diagnosis.json` (field names and units exactly as `docs/measured-case.md`),
 //! `report.md` with its figures and tables, written through temporary files with
 //! `diagnosis.json` last: a failed run leaves no diagnosis behind.
 

@@ -200,7 +200,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
             out.write("sweep.json", json.as_bytes())?;
             println!(
-                "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
+                "material: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
                 material.youngs_modulus_mpa, material.mass_kg, material.alpha, material.beta
             );
             print!("{}", result.table());
@@ -282,7 +282,7 @@ pub fn run(cli: Cli) -> Result<()> {
             })?;
             if let Some(s) = result.state {
                 println!(
-                    "final: E = {} MPa, mass = {} kg, alpha = {} 1/s, beta = {} s",
+                    "final: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
                     s.youngs_modulus_mpa, s.mass_kg, s.alpha, s.beta
                 );
             }

@@ -393,7 +393,8 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
             opt(c.residual_rms),
             opt(c.forecast_rms),
             opt(c.delta_bic),
-            opt(c.effective_samples),
+            c.effective_samples
+                .map_or_else(|| "-".to_string(), |n| format!("{n:.0}")),
             if c.significant { "yes" } else { "no" },
             c.evidence
         ));

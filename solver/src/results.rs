@@ -1,13 +1,23 @@
 //! Result files of a run: `DIR/results.json`, `DIR/model.vtu`, one `.vtu` per static
-//! displaced shape and per mode shape, and one history CSV per transient load case.
+//! displaced shape (with section forces and wire stresses as cell data) and per mode
+//! shape, a `.pvd` series of each modal case's shapes (frequency in Hz as the series
+//! value, so ParaView steps through the modes), and one history CSV per transient load
+//! case.
 //!
 //! # results.json
 //! ```json
 //! {"title": "...", "load_cases": [
 //!   {"name": "...", "kind": "static", "stiffness_n_mm": 3.86,
 //!    "reference_node": {"node": 338, "ux_mm": 0, "uy_mm": 0, "uz_mm": -2.59, "rx_rad": 0, ...},
-//!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu"},
+//!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu",
+//!    "wire_stress": {"max_shear_stress_mpa": 25.3, "torsion_stress_mpa": 23.9,
+//!                    "direct_shear_stress_mpa": 1.41, "element": 36, "at_mm": [...], ...},
+//!    "spring": {"spring_index": 8.0, "solid_length_mm": 45.0, "coil_contact_load_n": 162.0,
+//!               "nominal_stress_mpa": 22.6, "wahl_stress_mpa": 26.8, ...},
+//!    "warnings": [], "section_forces": [{"element": 1, "axial_force_n": [n1, n2],
+//!               "torque_n_mm": [...], "shear_stress_mpa": 23.9, ...}, ...]},
 //!   {"name": "...", "kind": "modal", "total_mass_kg": 5.4,
+//!    "series_file": "case2_modes.pvd",
 //!    "modes": [{"mode": 1, "frequency_hz": 4.34, "period_s": 0.2304, "omega_rad_s": 27.3,
 //!               "axial_effective_mass_kg": 5.2, "effective_mass_x_kg": ..., ...}]},
 //!   {"name": "...", "kind": "transient", "method": "newmark", "dt_s": 0.001,
@@ -32,6 +42,10 @@
 //! tonnes. `axial_effective_mass_kg` is the effective mass along global z, the spring
 //! axis of coil's models. `stiffness_n_mm` is `null` when no single loaded DOF
 //! identifies the reference node (see [`crate::analysis::static_analysis`]).
+//!
+//! Section forces, wire stresses and the spring summary (index, solid length, handbook
+//! stresses with Wahl's and Bergsträsser's factors, the load at which adjacent coils
+//! touch, a warning when the load case passes it) are defined in [`crate::wire`].
 //!
 //! Every file is written to a temporary file in the same directory and renamed, so a
 //! failed run never leaves half a file.

@@ -2,7 +2,8 @@
 //! displaced shape (with section forces and wire stresses as cell data) and per mode
 //! shape, a `.pvd` series of each modal case's shapes (frequency in Hz as the series
 //! value, so ParaView steps through the modes), and one history CSV per transient load
-//! case.
+//! case; when that history records every node's displacement (a `HISTORY OUTPUT` of the
+//! whole model at a stride), also a `.pvd` series of the moving model ([`transient_series`]).
 //!
 //! # results.json
 //! ```json
@@ -275,6 +276,11 @@ pub struct TransientEntry {
     pub initial_velocity_field: String,
     pub modal: Option<ModalSummaryEntry>,
     pub warnings: Vec<String>,
+    /// ParaView collection of the whole model's displaced shape over time (time in s as
+    /// the series value), written when the history records the displacement of every
+    /// node along x, y and z (see [`transient_series`]).
+    #[serde(default)]
+    pub series_file: Option<String>,
 }
 
 /// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
@@ -547,7 +553,66 @@ fn transient_entry(name: &str, t: &TransientSolution, history_file: String) -> T
         initial_velocity_field: t.velocity_field.name().to_string(),
         modal: t.modal.as_ref().map(modal_summary_entry),
         warnings: t.warnings.clone(),
+        series_file: None,
     }
+}
+
+/// Most snapshots a transient series holds; a longer history is thinned evenly.
+pub const MAX_SNAPSHOTS: usize = 1000;
+
+/// The whole model's displaced shapes of a transient, one full DOF vector (mm, rad) per
+/// kept sample with its time (s), when the history holds `node{ID}_{ux,uy,uz}_disp_m`
+/// of every node (a `HISTORY OUTPUT` of DISP, DOFs 1 to 3, on all nodes, at the stride
+/// wanted: the "whole model" request). Rotations are taken when recorded (DOFs 4 to 6),
+/// else left zero. `None` when some node's translation is not recorded. The samples are
+/// those of the whole-model request's own stride (the history holds every sample any
+/// request asked for), thinned further to at most [`MAX_SNAPSHOTS`].
+pub fn transient_series(model: &Model, t: &TransientSolution) -> Option<Vec<(f64, Vec<f64>)>> {
+    let history = &t.history;
+    let rows = history.time_s.len();
+    if rows == 0 || model.nodes.is_empty() {
+        return None;
+    }
+    let mut columns: Vec<(usize, f64, &[f64])> = Vec::with_capacity(6 * model.nodes.len());
+    for (i, node) in model.nodes.iter().enumerate() {
+        for (dof, name) in ["ux", "uy", "uz", "rx", "ry", "rz"].iter().enumerate() {
+            let (suffix, scale) = if dof < 3 {
+                ("disp_m", units::MM_PER_M)
+            } else {
+                ("disp_rad", 1.0)
+            };
+            match history.column(&format!("node{}_{name}_{suffix}", node.id)) {
+                Some(values) => columns.push((i * DOFS_PER_NODE + dof, scale, values)),
+                None if dof < 3 => return None,
+                None => {}
+            }
+        }
+    }
+    let all_nodes = model
+        .outputs
+        .iter()
+        .filter(|o| {
+            o.quantities.contains(&crate::model::Quantity::Displacement)
+                && [1, 2, 3].iter().all(|d| o.dofs.contains(d))
+                && o.nodes.len() >= model.nodes.len()
+        })
+        .map(|o| o.every as usize)
+        .max()
+        .unwrap_or(1);
+    let request = (all_nodes / t.output_every.max(1)).max(1);
+    let stride = request.max(rows.div_ceil(MAX_SNAPSHOTS)).max(1);
+    Some(
+        (0..rows)
+            .step_by(stride)
+            .map(|r| {
+                let mut u = vec![0.0; model.dof_count()];
+                for &(slot, scale, values) in &columns {
+                    u[slot] = values[r] * scale;
+                }
+                (history.time_s[r], u)
+            })
+            .collect(),
+    )
 }
 
 /// The history file of load case `case_number` (1-based): `history.csv` for the first
@@ -612,7 +677,20 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
                 let file = history_file_name(first_transient, c);
                 first_transient = false;
                 write_atomic(&dir.join(&file), t.history.to_csv().as_bytes())?;
-                entries.push(CaseEntry::Transient(transient_entry(&case.title, t, file)));
+                let mut entry = transient_entry(&case.title, t, file);
+                if let Some(series) = transient_series(model, t) {
+                    let width = series.len().to_string().len();
+                    let mut listed = Vec::with_capacity(series.len());
+                    for (k, (time, u)) in series.iter().enumerate() {
+                        let name = format!("case{c}_t{k:0width$}.vtu");
+                        write_atomic(&dir.join(&name), &vtk::unstructured_grid(model, Some(u)))?;
+                        listed.push((*time, name));
+                    }
+                    let series_file = format!("case{c}_transient.pvd");
+                    write_atomic(&dir.join(&series_file), vtk::collection(&listed).as_bytes())?;
+                    entry.series_file = Some(series_file);
+                }
+                entries.push(CaseEntry::Transient(entry));
             }
         }
     }

@@ -1,5 +1,7 @@
-//! Wire stress, spring summary and coil contact load of a static case (results.json)
-//! against the spring handbook, on the paper's spring and two Table 4 variants.
+//! What coil-solve writes for a spring engineer and for ParaView: wire stress, spring
+//! summary and coil contact load of a static case (results.json) against the spring
+//! handbook, on the paper's spring and two Table 4 variants; the modes and the moving
+//! model as `.pvd` series.
 //!
 //! Reference: a guided helical spring under an axial force F carries, at every section
 //! of the wire, the force F along the axis at the lever arm R = D/2. In the wire's frame
@@ -189,4 +191,64 @@ fn coils_touch_at_pitch_minus_d_times_n_k_and_a_larger_load_is_flagged() {
         assert_eq!(beyond.warnings.len(), 1, "{:?}", beyond.warnings);
         assert!(beyond.warnings[0].contains("adjacent coils touch"));
     }
+}
+
+#[test]
+fn modes_and_a_whole_model_history_become_paraview_series() {
+    let spec = SpringSpec {
+        youngs_modulus_mpa: 190708.0,
+        mass_kg: 5.1778,
+        analyses: vec![AnalysisKind::Modal, AnalysisKind::Transient],
+        modes: 4,
+        dt_s: 1e-3,
+        duration_s: 0.2,
+        snapshot_every: 20,
+        ..SpringSpec::default()
+    };
+    let model = spec.build().expect("valid spec");
+    let cases = coil_solver::analysis::run(&model).expect("solves");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = results::write_all(dir.path(), &model, &cases).expect("writes");
+    let (CaseEntry::Modal(modal), CaseEntry::Transient(transient)) =
+        (&file.load_cases[0], &file.load_cases[1])
+    else {
+        panic!("modal then transient")
+    };
+    let pvd = std::fs::read_to_string(dir.path().join(&modal.series_file)).expect("modes pvd");
+    for mode in &modal.modes {
+        let entry = format!(
+            "timestep=\"{:e}\" part=\"0\" file=\"{}\"",
+            mode.frequency_hz, mode.shape_file
+        );
+        assert!(pvd.contains(&entry), "{entry} in {pvd}");
+    }
+    // 200 steps, a snapshot every 20th: 11 shapes at 0, 0.02, ... 0.2 s.
+    let series = transient.series_file.as_ref().expect("a transient series");
+    let pvd = std::fs::read_to_string(dir.path().join(series)).expect("transient pvd");
+    assert_eq!(pvd.matches("<DataSet").count(), 11, "{pvd}");
+    assert!(pvd.contains("timestep=\"2e-1\" part=\"0\" file=\"case2_t10.vtu\""));
+    // The last shape's weight displacement is the history's, in mm.
+    let history = std::fs::read_to_string(dir.path().join("history.csv")).expect("history");
+    let header: Vec<&str> = history.lines().next().expect("header").split(',').collect();
+    let column = header
+        .iter()
+        .position(|c| *c == "node1_uz_disp_m")
+        .expect("weight column");
+    let last: Vec<f64> = history
+        .lines()
+        .last()
+        .expect("rows")
+        .split(',')
+        .map(|v| v.trim().parse().expect("number"))
+        .collect();
+    let vtu = std::fs::read_to_string(dir.path().join("case2_t10.vtu")).expect("vtu");
+    let start = vtu.find("Name=\"displacement_mm\"").expect("array");
+    let body = &vtu[start..];
+    let values: Vec<f64> = body
+        [body.find('>').expect(">") + 1..body.find("</DataArray>").expect("end")]
+        .split_whitespace()
+        .map(|v| v.parse().expect("number"))
+        .collect();
+    // Node 1 is the first point: its z displacement is the third value.
+    assert!((values[2] - 1000.0 * last[column]).abs() <= 1e-9 * values[2].abs().max(1.0));
 }

@@ -137,7 +137,10 @@ mod tests {
     fn lines_say_how_far_and_how_long() {
         let p = Progress::new("transient", 20000, "steps");
         let l = p.line(5000, Duration::from_secs(10));
-        assert_eq!(l, "transient: 5000/20000 steps (25%), 10 s, about 30 s left");
+        assert_eq!(
+            l,
+            "transient: 5000/20000 steps (25%), 10 s, about 30 s left"
+        );
         assert_eq!(
             p.line(20000, Duration::from_secs(40)),
             "transient: 20000/20000 steps (100%), 40 s"

@@ -423,7 +423,13 @@ mod tests {
         let set = OutputSet::open(&out, "test one").unwrap();
         set.write(Path::new("a.txt"), b"1").unwrap();
         set.write(Path::new("sub/b.txt"), b"1").unwrap();
-        assert_eq!(names(&out), [".coil-lock", &format!(".coil-staging-{}", std::process::id())]);
+        assert_eq!(
+            names(&out),
+            [
+                ".coil-lock",
+                &format!(".coil-staging-{}", std::process::id())
+            ]
+        );
         set.commit().unwrap();
         assert_eq!(names(&out), [".coil-manifest", "a.txt", "sub"]);
 
@@ -465,7 +471,9 @@ mod tests {
     fn one_run_per_folder_and_stale_locks_taken_over() {
         let dir = tempfile::tempdir().unwrap();
         let first = OutputSet::open(dir.path(), "coil-solve a.dat").unwrap();
-        let e = OutputSet::open(dir.path(), "second").unwrap_err().to_string();
+        let e = OutputSet::open(dir.path(), "second")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("another run holds"), "{e}");
         assert!(e.contains("coil-solve a.dat"), "{e}");
         assert!(e.contains(&format!("pid {}", std::process::id())), "{e}");

@@ -150,7 +150,9 @@ pub fn open_journal(path: &Path) -> Result<File, WriteError> {
         .map_err(|e| WriteError::io(path, e))?;
     let opened = file.metadata().map_err(|e| WriteError::io(path, e))?;
     let now = std::fs::symlink_metadata(path).map_err(|e| WriteError::io(path, e))?;
-    if !opened.is_file() || opened.nlink() != 1 || (opened.dev(), opened.ino()) != (now.dev(), now.ino())
+    if !opened.is_file()
+        || opened.nlink() != 1
+        || (opened.dev(), opened.ino()) != (now.dev(), now.ino())
     {
         return Err(WriteError::NotRegular {
             path: path.into(),
@@ -188,14 +190,20 @@ mod tests {
         let e = write_file(&link, b"x").unwrap_err().to_string();
         assert!(e.contains("symlink"), "{e}");
         assert_eq!(std::fs::read(&outside).unwrap(), b"keep");
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
 
         let null = dir.path().join("null.txt");
         std::os::unix::fs::symlink("/dev/null", &null).unwrap();
         assert!(write_file(&null, b"x").is_err());
         let sub = dir.path().join("sub");
         std::fs::create_dir(&sub).unwrap();
-        assert!(write_file(&sub, b"x").unwrap_err().to_string().contains("folder"));
+        assert!(write_file(&sub, b"x")
+            .unwrap_err()
+            .to_string()
+            .contains("folder"));
         assert_eq!(entries(dir.path()), 5, "no temporaries left");
     }
 
@@ -224,6 +232,9 @@ mod tests {
         assert!(open_journal(&link).is_err());
         let hard = dir.path().join("h.jsonl");
         std::fs::hard_link(&other, &hard).unwrap();
-        assert!(open_journal(&hard).unwrap_err().to_string().contains("hard-linked"));
+        assert!(open_journal(&hard)
+            .unwrap_err()
+            .to_string()
+            .contains("hard-linked"));
     }
 }

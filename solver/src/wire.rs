@@ -264,7 +264,8 @@ impl Helix {
         let xyz = |i: usize| model.nodes[i].xyz;
         let radii: Vec<f64> = chain.iter().map(|&i| xyz(i)[0].hypot(xyz(i)[1])).collect();
         let mean_radius = radii.iter().sum::<f64>() / radii.len() as f64;
-        if !(mean_radius > 0.0)
+        if mean_radius.is_nan()
+            || mean_radius <= 0.0
             || radii
                 .iter()
                 .any(|r| (r - mean_radius).abs() > 0.02 * mean_radius)

@@ -123,6 +123,41 @@ pub(crate) fn plain_name(name: &str) -> (&str, &str) {
     }
 }
 
+/// A panel of values against iteration 1..=n.
+fn iteration_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: String,
+    y_desc: String,
+    n: f64,
+    (lo, hi): (f64, f64),
+) -> std::result::Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    String,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(100)
+        .build_cartesian_2d(0.5..n + 0.5, lo..hi)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("iteration")
+        .y_desc(y_desc)
+        .x_label_formatter(&whole)
+        .y_label_formatter(&short)
+        .axis_desc_style((FONT, 18))
+        .label_style((FONT, 16))
+        .draw()
+        .map_err(e)?;
+    Ok(chart)
+}
+
 impl Figure for LoopsFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         root.fill(&WHITE).map_err(e)?;
@@ -151,26 +186,13 @@ impl Figure for LoopsFigure<'_> {
                     .map(|p| p.1)
                     .chain(std::iter::once(report.target)),
             );
-            let mut first = ChartBuilder::on(&rows[3 * k])
-                .caption(
-                    format!("Loop {}: {quantity} against its target", k + 1),
-                    (FONT, 22),
-                )
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(100)
-                .build_cartesian_2d(0.5..n + 0.5, lo..hi)
-                .map_err(e)?;
-            first
-                .configure_mesh()
-                .x_desc("iteration")
-                .y_desc(format!("{} [{quantity_unit}]", symbol(quantity)))
-                .x_label_formatter(&whole)
-                .y_label_formatter(&short)
-                .axis_desc_style((FONT, 18))
-                .label_style((FONT, 16))
-                .draw()
-                .map_err(e)?;
+            let mut first = iteration_chart(
+                &rows[3 * k],
+                format!("Loop {}: {quantity} against its target", k + 1),
+                format!("{} [{quantity_unit}]", symbol(quantity)),
+                n,
+                (lo, hi),
+            )?;
             first
                 .draw_series(LineSeries::new(
                     [(0.5, report.target), (n + 0.5, report.target)],
@@ -203,23 +225,13 @@ impl Figure for LoopsFigure<'_> {
                 .map(|i| (i.iteration as f64, i.parameter))
                 .collect();
             let (lo, hi) = range_of(points.iter().map(|p| p.1));
-            let mut second = ChartBuilder::on(&rows[3 * k + 1])
-                .caption(format!("{parameter} of each run"), (FONT, 22))
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(100)
-                .build_cartesian_2d(0.5..n + 0.5, lo..hi)
-                .map_err(e)?;
-            second
-                .configure_mesh()
-                .x_desc("iteration")
-                .y_desc(format!("{} [{parameter_unit}]", symbol(parameter)))
-                .x_label_formatter(&whole)
-                .y_label_formatter(&short)
-                .axis_desc_style((FONT, 18))
-                .label_style((FONT, 16))
-                .draw()
-                .map_err(e)?;
+            let mut second = iteration_chart(
+                &rows[3 * k + 1],
+                format!("{parameter} of each run"),
+                format!("{} [{parameter_unit}]", symbol(parameter)),
+                n,
+                (lo, hi),
+            )?;
             second
                 .draw_series(LineSeries::new(points.clone(), GREEN.stroke_width(2)))
                 .map_err(e)?;

@@ -72,6 +72,23 @@ pub fn excerpt_n(text: &str, max_chars: usize) -> String {
     out
 }
 
+/// A message that may quote user text: every `` `quoted` `` span is cut to an
+/// [`excerpt`], and the whole is sanitised and capped at `max_chars`.
+pub fn sanitise_message(message: &str, max_chars: usize) -> String {
+    let mut out = String::new();
+    for (k, part) in message.split('`').enumerate() {
+        if k > 0 {
+            out.push('`');
+        }
+        if k % 2 == 1 {
+            out.push_str(&excerpt(part));
+        } else {
+            out.push_str(part);
+        }
+    }
+    excerpt_n(&out, max_chars)
+}
+
 /// Bidirectional overrides that reorder what a terminal shows.
 fn is_bidi_control(c: char) -> bool {
     matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
@@ -149,6 +166,19 @@ pub fn resolve_inside(folder: &Path, entry: &str) -> Result<PathBuf, ConfineErro
 /// Reads a text input of at most `limit` bytes (`what` names the kind for the error). A
 /// non-regular file is refused before it is opened.
 pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<String, ConfineError> {
+    let bytes = read_bounded_bytes(path, limit, what)?;
+    String::from_utf8(bytes).map_err(|e| ConfineError::NotText {
+        path: path.into(),
+        at: e.utf8_error().valid_up_to(),
+    })
+}
+
+/// [`read_bounded`] without the UTF-8 check.
+pub fn read_bounded_bytes(
+    path: &Path,
+    limit: u64,
+    what: &'static str,
+) -> Result<Vec<u8>, ConfineError> {
     let io = |source| ConfineError::Io {
         path: path.into(),
         source,
@@ -172,10 +202,7 @@ pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Strin
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
-    String::from_utf8(bytes).map_err(|e| ConfineError::NotText {
-        path: path.into(),
-        at: e.utf8_error().valid_up_to(),
-    })
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -188,6 +215,8 @@ mod tests {
         let long = "x".repeat(500);
         assert_eq!(excerpt(&long).chars().count(), EXCERPT_CHARS + 3);
         assert_eq!(excerpt("\u{202e}abc"), "?abc");
+        let m = sanitise_message(&format!("bad `{}` here", "7".repeat(500)), 200);
+        assert_eq!(m, format!("bad `{}...` here", "7".repeat(EXCERPT_CHARS)));
     }
 
     #[test]

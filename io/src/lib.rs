@@ -37,3 +37,53 @@ pub const MAX_RECORD_BYTES: u64 = 64 << 20;
 pub const MAX_JSON_BYTES: u64 = 8 << 20;
 /// The size limit of a procedure file, bytes.
 pub const MAX_PROCEDURE_BYTES: u64 = 1 << 20;
+
+/// Where a non-finite number (`NaN`, `inf`) sits in generated text (VTU, CSV or the
+/// `Debug` form of the results), skipping quoted strings (titles); `None` if all finite.
+pub fn non_finite_token(text: &str) -> Option<usize> {
+    let mut quoted = false;
+    let mut start = 0;
+    let bytes = text.as_bytes();
+    for (i, &b) in bytes.iter().chain(std::iter::once(&b' ')).enumerate() {
+        let separator = matches!(
+            b,
+            b' ' | b'\n'
+                | b'\t'
+                | b','
+                | b'['
+                | b']'
+                | b'('
+                | b')'
+                | b'{'
+                | b'}'
+                | b'<'
+                | b'>'
+                | b'='
+                | b':'
+                | b'"'
+        );
+        if separator {
+            if !quoted && matches!(&text[start..i], "NaN" | "inf" | "-inf") {
+                return Some(start);
+            }
+            if b == b'"' && (i == 0 || bytes[i - 1] != b'\\') {
+                quoted = !quoted;
+            }
+            start = i + 1;
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn non_finite_tokens_are_found_outside_quotes() {
+        use super::non_finite_token as t;
+        assert_eq!(t("a: 1.0, b: [2.0, NaN]"), Some(17));
+        assert_eq!(t("x,inf\n"), Some(2));
+        assert_eq!(t("<v>-inf</v>"), Some(3));
+        assert_eq!(t("title: \"inf NaN\", k: 3.5"), None);
+        assert_eq!(t("information NaNa 1e308"), None);
+    }
+}

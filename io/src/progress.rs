@@ -70,31 +70,36 @@ impl Progress {
             return;
         }
         self.done.store(done, Ordering::Relaxed);
-        let now = Instant::now();
-        let elapsed = now - self.start;
-        if elapsed < QUIET_FOR {
-            return;
-        }
-        let every = if self.terminal {
-            TERMINAL_EVERY
-        } else {
-            PLAIN_EVERY
-        };
-        let Ok(mut last) = self.last.try_lock() else {
+        let Some(line) = self.due(done, Instant::now()) else {
             return;
         };
-        if last.is_some_and(|t| now - t < every) {
-            return;
-        }
-        *last = Some(now);
-        self.shown.store(true, Ordering::Relaxed);
-        let line = self.line(done, elapsed);
         let mut err = std::io::stderr().lock();
         let _ = if self.terminal {
             write!(err, "\r{line}\x1b[K")
         } else {
             writeln!(err, "{line}")
         };
+    }
+
+    /// The line to show at `now` for `done` units, if one is due (past [`QUIET_FOR`], and
+    /// the interval since the last line passed).
+    fn due(&self, done: u64, now: Instant) -> Option<String> {
+        let elapsed = now.saturating_duration_since(self.start);
+        if elapsed < QUIET_FOR {
+            return None;
+        }
+        let every = if self.terminal {
+            TERMINAL_EVERY
+        } else {
+            PLAIN_EVERY
+        };
+        let mut last = self.last.try_lock().ok()?;
+        if last.is_some_and(|t| now.saturating_duration_since(t) < every) {
+            return None;
+        }
+        *last = Some(now);
+        self.shown.store(true, Ordering::Relaxed);
+        Some(self.line(done, elapsed))
     }
 
     /// The progress line for `done` units after `elapsed`.
@@ -147,5 +152,31 @@ mod tests {
         );
         p.inc(3);
         assert_eq!(p.done.load(Ordering::Relaxed), 3);
+    }
+
+    #[test]
+    fn plain_lines_every_few_seconds_when_not_a_terminal() {
+        let mut p = Progress::new("grid", 100, "runs");
+        p.terminal = false;
+        let t0 = p.start;
+        assert_eq!(
+            p.due(1, t0 + Duration::from_secs(1)),
+            None,
+            "quiet at first"
+        );
+        let first = p
+            .due(10, t0 + Duration::from_secs(3))
+            .expect("a line past 2 s");
+        assert!(first.starts_with("grid: 10/100 runs (10%), 3 s"), "{first}");
+        assert_eq!(
+            p.due(12, t0 + Duration::from_secs(6)),
+            None,
+            "not again within 5 s"
+        );
+        assert!(
+            p.due(20, t0 + Duration::from_secs(9)).is_some(),
+            "again after 5 s"
+        );
+        assert!(p.shown.load(Ordering::Relaxed));
     }
 }

@@ -29,6 +29,7 @@ use crate::write::{check_replaceable, kind_of, produce_file, write_file, WriteEr
 use std::collections::BTreeSet;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// The lock file's name inside an output folder.
@@ -61,15 +62,17 @@ fn io(path: &Path, e: std::io::Error) -> SetError {
 pub struct OutputSet {
     root: PathBuf,
     staging: PathBuf,
-    lock: Lock,
-    files: Mutex<BTreeSet<PathBuf>>,
-    committed: bool,
+    lock: Mutex<Lock>,
+    committed: AtomicBool,
+    /// The run created the folder: a failed run removes it again if it is empty.
+    created_root: bool,
 }
 
 impl OutputSet {
     /// Creates `root` if needed, locks it for `command` (a short description shown to a
     /// second run), finishes or removes what a killed run left, and opens a staging folder.
     pub fn open(root: &Path, command: &str) -> Result<Self, SetError> {
+        let created_root = std::fs::symlink_metadata(root).is_err();
         std::fs::create_dir_all(root).map_err(|e| io(root, e))?;
         let meta = std::fs::metadata(root).map_err(|e| io(root, e))?;
         if !meta.is_dir() {
@@ -85,9 +88,9 @@ impl OutputSet {
         Ok(OutputSet {
             root: root.into(),
             staging,
-            lock,
-            files: Mutex::new(BTreeSet::new()),
-            committed: false,
+            lock: Mutex::new(lock),
+            committed: AtomicBool::new(false),
+            created_root,
         })
     }
 
@@ -101,18 +104,20 @@ impl OutputSet {
         self.root.join(relative)
     }
 
+    /// The staging folder: every regular file in it at [`OutputSet::commit`] is part of
+    /// the set (a writer may put files there directly, e.g. a figure renderer).
+    pub fn staging(&self) -> &Path {
+        &self.staging
+    }
+
     /// The staging path for `relative` (checked: relative, no `..`, no control
-    /// characters), with its sub-folders created; the file is now part of the set.
+    /// characters), with its sub-folders created.
     pub fn staged_path(&self, relative: &Path) -> Result<PathBuf, SetError> {
         let rel = check_name(relative, &self.root)?;
         let path = self.staging.join(&rel);
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
         }
-        self.files
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .insert(rel);
         Ok(path)
     }
 
@@ -143,15 +148,15 @@ impl OutputSet {
         Ok(self.root.join(rel))
     }
 
-    /// Moves the staged files in as a set (module doc); returns their destinations.
-    pub fn commit(mut self) -> Result<Vec<PathBuf>, SetError> {
-        let files: Vec<PathBuf> = self
-            .files
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .iter()
-            .cloned()
-            .collect();
+    /// Moves the staged files in as a set (module doc); returns their destinations. A
+    /// set is committed once; later writes into it fail.
+    pub fn commit(&self) -> Result<Vec<PathBuf>, SetError> {
+        if self.committed.load(Ordering::SeqCst) {
+            return Ok(Vec::new());
+        }
+        let mut files = Vec::new();
+        staged_files(&self.staging, Path::new(""), &mut files)?;
+        files.sort();
         let mut text = format!("{MANIFEST_HEADER}\n");
         for f in &files {
             text.push_str(&f.to_string_lossy());
@@ -162,18 +167,52 @@ impl OutputSet {
             check_replaceable(&self.root.join(f))?;
         }
         finish(&self.root, &self.staging)?;
-        self.committed = true;
+        self.committed.store(true, Ordering::SeqCst);
+        self.lock
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .release();
         Ok(files.iter().map(|f| self.root.join(f)).collect())
     }
 }
 
 impl Drop for OutputSet {
     fn drop(&mut self) {
-        if !self.committed {
+        if !self.committed.load(Ordering::SeqCst) {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
-        self.lock.release();
+        self.lock
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .release();
+        if self.created_root && !self.committed.load(Ordering::SeqCst) {
+            let _ = std::fs::remove_dir(&self.root);
+        }
     }
+}
+
+/// The regular files under `dir` (relative to the staging folder), skipping unfinished
+/// temporaries of a writer; a symlink or special file there is an error.
+fn staged_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) -> Result<(), SetError> {
+    let here = dir.join(rel);
+    for entry in std::fs::read_dir(&here).map_err(|e| io(&here, e))? {
+        let entry = entry.map_err(|e| io(&here, e))?;
+        let name = rel.join(entry.file_name());
+        let meta = std::fs::symlink_metadata(entry.path()).map_err(|e| io(&entry.path(), e))?;
+        if meta.is_dir() {
+            staged_files(dir, &name, out)?;
+        } else if meta.is_file() {
+            if !entry.file_name().to_string_lossy().contains(".coil-") {
+                out.push(name);
+            }
+        } else {
+            return Err(SetError::Write(WriteError::NotRegular {
+                path: entry.path(),
+                kind: kind_of(&meta),
+            }));
+        }
+    }
+    Ok(())
 }
 
 /// A relative output name: checked as an entry, without control characters.

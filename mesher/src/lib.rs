@@ -212,6 +212,16 @@ impl Default for SpringSpec {
     }
 }
 
+/// The fewest coils a spec may have.
+pub const MIN_COILS: f64 = 1.0;
+
+/// The admissible spring index D/d (mean coil diameter over wire diameter). EN 13906-1
+/// (cylindrical helical compression springs) recommends 4 <= D/d <= 20 for manufacture;
+/// coil accepts the wider [3, 25]: below 3 the curved-wire stress correction (Wahl factor
+/// 1.58 at 3) says straight beams misrepresent the wire, above 25 the coil is too slack to
+/// hold its shape. Outside, the mesher refuses (docs/mesher.md).
+pub const SPRING_INDEX: (f64, f64) = (3.0, 25.0);
+
 /// A spec that cannot be meshed, naming the field and what was expected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{field} = {value}: expected {expected}")]
@@ -258,10 +268,10 @@ impl SpringSpec {
     /// message is clearer in the spec's own terms.
     pub fn validate(&self) -> Result<(), SpecError> {
         check(
-            self.coils > 0.0,
+            self.coils >= MIN_COILS,
             "coils",
             self.coils,
-            "a positive number of coils",
+            "at least 1 coil (EN 13906-1 asks for at least 2 active coils)",
         )?;
         check(
             self.mean_diameter_mm > 0.0,
@@ -275,13 +285,24 @@ impl SpringSpec {
             self.wire_diameter_mm,
             "a positive wire diameter smaller than the mean diameter",
         )?;
-        // A pitch angle near 90 degrees would make the axis-parallel orientation vector
+        let index = self.mean_diameter_mm / self.wire_diameter_mm;
+        check(
+            (SPRING_INDEX.0..=SPRING_INDEX.1).contains(&index),
+            "spring index D/d",
+            index,
+            "D/d between 3 and 25 (EN 13906-1 recommends 4 to 20; below 3 the wire is too \
+             curved for beam theory, above 25 the coil is too slack to keep its shape)",
+        )?;
+        // Coils through each other (pitch at or below the wire diameter) is not a spring;
+        // a pitch angle near 90 degrees would make the axis-parallel orientation vector
         // parallel to the wire.
         check(
-            self.pitch_mm >= 0.0 && self.pitch_mm < 2.0 * PI * self.mean_diameter_mm,
+            self.pitch_mm > self.wire_diameter_mm
+                && self.pitch_mm < 2.0 * PI * self.mean_diameter_mm,
             "pitch_mm",
             self.pitch_mm,
-            "a pitch >= 0 and below 2 pi D (pitch angle under 63 degrees)",
+            "a pitch above the wire diameter (coils that do not pass through each other) and \
+             below 2 pi D (pitch angle under 63 degrees)",
         )?;
         if self.elements_per_coil < 3 {
             return Err(SpecError {

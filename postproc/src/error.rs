@@ -5,11 +5,35 @@
 //! from in-memory signals name the 0-based sample index instead. Each message says what was
 //! expected, so that the person reading it knows what to fix.
 
+use coil_io::excerpt;
 use std::path::PathBuf;
+
+/// Column names of a user file for a message: each a short sanitised excerpt, at most 8.
+fn names(available: &[String]) -> String {
+    let mut shown: Vec<String> = available.iter().take(8).map(|n| excerpt(n)).collect();
+    if available.len() > 8 {
+        shown.push(format!("and {} more", available.len() - 8));
+    }
+    excerpt_n(&shown.join(", "), 300)
+}
+
+use coil_io::confine::excerpt_n;
 
 /// Everything that can go wrong while reading, analysing or writing signals.
 #[derive(Debug, thiserror::Error)]
 pub enum PostError {
+    /// An input outside its limits (size, not a regular file; docs/files.md).
+    #[error(transparent)]
+    Input(#[from] coil_io::ConfineError),
+
+    /// An analysis produced a non-finite number (the data is outside its numeric range).
+    #[error("the {what} holds a non-finite number (inf or NaN): the data is outside the range this analysis can represent (e.g. values near 1e308); expected finite results, nothing was printed")]
+    NonFiniteResult { what: String },
+
+    /// An output file cannot be written (or would replace a non-regular file).
+    #[error(transparent)]
+    Output(#[from] coil_io::WriteError),
+
     /// The input file could not be opened or read.
     #[error("{}: cannot read the file: {source}", path.display())]
     Read {
@@ -31,9 +55,10 @@ pub enum PostError {
 
     /// A requested column (or `time_s`) is not in the header.
     #[error(
-        "{}:{line}: no column named `{column}` in the header; available columns: {}",
+        "{}:{line}: no column named `{}` in the header; available columns: {}",
         path.display(),
-        available.join(", ")
+        excerpt(column),
+        names(available)
     )]
     MissingColumn {
         path: PathBuf,
@@ -56,7 +81,7 @@ pub enum PostError {
     },
 
     /// A cell does not parse as a number.
-    #[error("{}:{line}: column `{column}`: expected a number, found `{text}`", path.display())]
+    #[error("{}:{line}: column `{}`: expected a number, found `{}`", path.display(), excerpt(column), excerpt(text))]
     NotANumber {
         path: PathBuf,
         line: u64,
@@ -65,7 +90,7 @@ pub enum PostError {
     },
 
     /// A cell parses as NaN or an infinity.
-    #[error("{}:{line}: column `{column}`: `{text}` is not a finite number; expected a finite value", path.display())]
+    #[error("{}:{line}: column `{}`: `{}` is not a finite number; expected a finite value", path.display(), excerpt(column), excerpt(text))]
     NonFinite {
         path: PathBuf,
         line: u64,
@@ -111,7 +136,7 @@ pub enum PostError {
         "{}:{line}: {} signal columns ({}); choose one with --column",
         path.display(),
         available.len(),
-        available.join(", ")
+        names(available)
     )]
     AmbiguousColumn {
         path: PathBuf,

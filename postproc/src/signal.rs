@@ -178,10 +178,11 @@ struct Source {
 
 impl Source {
     fn open(path: &Path) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|source| PostError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes = coil_io::confine::read_bounded_bytes(
+            path,
+            coil_io::MAX_RECORD_BYTES,
+            "a record (CSV)",
+        )?;
         let record_lines = bytes
             .split(|&b| b == b'\n')
             .enumerate()

@@ -12,6 +12,12 @@ pub enum Error {
     /// An analysis failed (mechanism, failed eigensolve, non-finite state, ...).
     #[error(transparent)]
     Solve(#[from] crate::analysis::SolveError),
+    /// The output folder is held by another run, or a file cannot be put there.
+    #[error(transparent)]
+    Output(#[from] coil_io::SetError),
+    /// A result holds a non-finite number: nothing is written.
+    #[error("{file}: a non-finite number (NaN or inf) at byte {at} of the results; nothing was written (the model or its loads are out of range)")]
+    NonFinite { file: String, at: usize },
     /// A file could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {

@@ -11,7 +11,6 @@
 
 pub mod analysis;
 pub mod assembly;
-pub mod atomic;
 pub mod deck;
 pub mod dof;
 pub mod element;

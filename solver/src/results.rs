@@ -57,6 +57,7 @@ use crate::dof::dof_name;
 use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
 use crate::{vtk, wire};
+use coil_io::OutputSet;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -283,13 +284,29 @@ pub struct TransientEntry {
     pub series_file: Option<String>,
 }
 
-/// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]), naming the file
-/// in the error.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    crate::atomic::write_atomic(path, bytes).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+/// Stages `text` as `name` in `set` unless it holds a non-finite number.
+fn stage(set: &OutputSet, name: &str, text: &str) -> Result<(), Error> {
+    if let Some(at) = coil_io::non_finite_token(text) {
+        return Err(Error::NonFinite {
+            file: name.to_string(),
+            at,
+        });
+    }
+    set.write(Path::new(name), text.as_bytes())?;
+    Ok(())
+}
+
+/// Stages a `.vtu`: an ASCII one is checked like any text ([`stage`]); a binary one
+/// (appended raw data) is written as it is (the VTK writer writes no non-finite number:
+/// see [`crate::vtk`]).
+fn stage_vtu(set: &OutputSet, name: &str, bytes: &[u8]) -> Result<(), Error> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => stage(set, name, text),
+        Err(_) => {
+            set.write(Path::new(name), bytes)?;
+            Ok(())
+        }
+    }
 }
 
 fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDisplacement> {
@@ -625,14 +642,23 @@ pub fn history_file_name(first_transient: bool, case_number: usize) -> String {
     }
 }
 
-/// Builds the `results.json` content and writes every file of a run into `dir`
-/// (created if missing).
+/// Builds the `results.json` content and writes every file of a run into `dir` (created
+/// if missing) as one set: locked, staged, moved in together ([`coil_io::set`]).
 pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {
-    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    write_atomic(&dir.join("model.vtu"), &vtk::unstructured_grid(model, None))?;
+    let set = OutputSet::open(dir, "coil-solve (results)")?;
+    let file = write_set(&set, model, cases)?;
+    set.commit()?;
+    Ok(file)
+}
+
+/// Stages every file of a run in `set` (the caller commits). A non-finite number in any
+/// of them is an error ([`Error::NonFinite`]) and nothing is written.
+pub fn write_set(
+    set: &OutputSet,
+    model: &Model,
+    cases: &[CaseResult],
+) -> Result<ResultsFile, Error> {
+    stage_vtu(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -641,8 +667,9 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
             CaseSolution::Static(s) => {
                 let file = format!("case{c}_static.vtu");
                 let forces = wire::element_forces(model, &s.displacement);
-                write_atomic(
-                    &dir.join(&file),
+                stage_vtu(
+                    set,
+                    &file,
                     &vtk::grid(model, Some(&s.displacement), &cell_fields(model, &forces)),
                 )?;
                 entries.push(CaseEntry::Static(static_entry(
@@ -658,14 +685,15 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
                 let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
                 let mut series = Vec::with_capacity(m.modes.len());
                 for (k, mode) in m.modes.iter().enumerate() {
-                    write_atomic(
-                        &dir.join(name(k + 1)),
+                    stage_vtu(
+                        set,
+                        &name(k + 1),
                         &vtk::unstructured_grid(model, Some(&mode.shape)),
                     )?;
                     series.push((mode.frequency_hz, name(k + 1)));
                 }
                 let series_file = format!("case{c}_modes.pvd");
-                write_atomic(&dir.join(&series_file), vtk::collection(&series).as_bytes())?;
+                stage(set, &series_file, &vtk::collection(&series))?;
                 entries.push(CaseEntry::Modal(modal_entry(
                     &case.title,
                     m,
@@ -676,18 +704,18 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
             CaseSolution::Transient(t) => {
                 let file = history_file_name(first_transient, c);
                 first_transient = false;
-                write_atomic(&dir.join(&file), t.history.to_csv().as_bytes())?;
+                stage(set, &file, &t.history.to_csv())?;
                 let mut entry = transient_entry(&case.title, t, file);
                 if let Some(series) = transient_series(model, t) {
                     let width = series.len().to_string().len();
                     let mut listed = Vec::with_capacity(series.len());
                     for (k, (time, u)) in series.iter().enumerate() {
                         let name = format!("case{c}_t{k:0width$}.vtu");
-                        write_atomic(&dir.join(&name), &vtk::unstructured_grid(model, Some(u)))?;
+                        stage_vtu(set, &name, &vtk::unstructured_grid(model, Some(u)))?;
                         listed.push((*time, name));
                     }
                     let series_file = format!("case{c}_transient.pvd");
-                    write_atomic(&dir.join(&series_file), vtk::collection(&listed).as_bytes())?;
+                    stage(set, &series_file, &vtk::collection(&listed))?;
                     entry.series_file = Some(series_file);
                 }
                 entries.push(CaseEntry::Transient(entry));
@@ -698,13 +726,18 @@ pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<Resu
         title: model.title.clone(),
         load_cases: entries,
     };
-    // Serialising plain structs of numbers and strings cannot fail except on non-finite
-    // floats, which serde_json writes as null.
+    // serde_json writes a non-finite float as null: check the numbers themselves.
+    if let Some(at) = coil_io::non_finite_token(&format!("{file:?}")) {
+        return Err(Error::NonFinite {
+            file: "results.json".into(),
+            at,
+        });
+    }
     let json = serde_json::to_string_pretty(&file).map_err(|e| Error::Io {
-        path: dir.join("results.json"),
+        path: set.destination(Path::new("results.json")),
         source: std::io::Error::other(e),
     })?;
-    write_atomic(&dir.join("results.json"), json.as_bytes())?;
+    stage(set, "results.json", &json)?;
     Ok(file)
 }
 

@@ -46,7 +46,12 @@ pub struct Targets {
 
 impl Targets {
     /// The case's targets; each missing one is an error naming `targets.<field>`.
+    ///
+    /// The case's records are read and checked as well, whatever the targets: a case with
+    /// a junk record is refused rather than calibrated beside it.
     pub fn of(case: &MeasuredCase) -> Result<Self> {
+        case.static_records()?;
+        case.decay_records()?;
         Ok(Targets {
             stiffness_n_mm: case.target("stiffness_n_mm")?,
             period_s: case.target("period_s")?,
@@ -124,7 +129,7 @@ pub fn calibrate(
     if let Some(out) = out {
         plots::loops_figure(
             &[&calibration.stiffness, &calibration.period],
-            &out.path("fig7_loops.png"),
+            &out.staged("fig7_loops.png")?,
         )?;
         let json = serde_json::to_string_pretty(&calibration)
             .map_err(|e| TuneError::Invalid(format!("calibration.json: {e}")))?;

@@ -15,7 +15,7 @@
 //! when the case is read and parsed on demand ([`MeasuredCase::static_records`],
 //! [`MeasuredCase::decay_records`]), so a case with targets only costs nothing more.
 
-use crate::fields::{root, FieldError, Object, Range};
+use crate::fields::{root, Field, FieldError, Object, Range};
 use crate::json;
 use coil_postproc::signal::Signal;
 use serde::Serialize;
@@ -116,6 +116,9 @@ pub enum CaseError {
     },
     #[error(transparent)]
     Field(#[from] FieldError),
+    /// An input outside its limits or its folder (docs/files.md).
+    #[error(transparent)]
+    Input(#[from] coil_io::ConfineError),
     /// A record file (decay) that the post-processor cannot read.
     #[error(transparent)]
     Record(#[from] coil_postproc::PostError),
@@ -129,11 +132,17 @@ pub enum CaseError {
     },
 }
 
+/// A bounded read's error: an unreadable file stays [`CaseError::Io`].
+fn input(e: coil_io::ConfineError) -> CaseError {
+    match e {
+        coil_io::ConfineError::Io { path, source } => CaseError::Io { path, source },
+        other => CaseError::Input(other),
+    }
+}
+
 fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input").map_err(input)?;
     let node = json::parse(&text).map_err(|e| CaseError::Syntax {
         path: path.to_path_buf(),
         line: e.line,
@@ -141,6 +150,19 @@ fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
         message: e.message,
     })?;
     Ok((text, node))
+}
+
+/// A record entry of `case.json` resolved inside the case folder (docs/files.md): a
+/// relative path without `..` naming a regular file that stays inside the folder after
+/// symlinks are resolved. The error names the entry, never the target's content.
+fn resolve_record(folder: &Path, entry: &str, item: &Field<'_>) -> Result<PathBuf, CaseError> {
+    coil_io::resolve_inside(folder, entry).map_err(|e| {
+        item.error(
+            e.to_string(),
+            "a record file inside the case folder (relative, no `..`, no symlink out of it)",
+        )
+        .into()
+    })
 }
 
 /// The `case.json` of a case given as a folder or as the file itself.
@@ -192,16 +214,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
             }
             for item in list.array(&format!("a list of {key} record files"))? {
                 let rel = item.string("a path relative to the case folder")?;
-                let resolved = folder.join(rel);
-                if !resolved.is_file() {
-                    return Err(item
-                        .error(
-                            format!("{} does not exist or is not a file", resolved.display()),
-                            "a record file inside the case folder",
-                        )
-                        .into());
-                }
-                out.push(resolved);
+                out.push(resolve_record(&folder, rel, &item)?);
             }
         }
     }
@@ -407,10 +420,8 @@ impl MeasuredCase {
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
 /// allowed, `#` comment lines and blank lines skipped), finite numbers, at least 2 rows.
 pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)").map_err(input)?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let fail = |line: usize, problem: String, expected: &str| CaseError::StaticRecord {
         path: path.to_path_buf(),
@@ -439,7 +450,7 @@ pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
                 header_line,
                 format!(
                     "no column `{name}` in the header (columns: {})",
-                    names.join(", ")
+                    coil_io::excerpt(&names.join(", "))
                 ),
                 "the header `displacement_mm,force_n`",
             )),
@@ -471,14 +482,20 @@ pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
                 Ok(_) => {
                     return Err(fail(
                         line,
-                        format!("column `{column}`: `{cell}` is not finite"),
+                        format!(
+                            "column `{column}`: `{}` is not finite",
+                            coil_io::excerpt(cell)
+                        ),
                         "a finite number",
                     ))
                 }
                 Err(_) => {
                     return Err(fail(
                         line,
-                        format!("column `{column}`: `{cell}` is not a number"),
+                        format!(
+                            "column `{column}`: `{}` is not a number",
+                            coil_io::excerpt(cell)
+                        ),
                         "a number",
                     ))
                 }

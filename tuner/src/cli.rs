@@ -9,12 +9,43 @@ use crate::decay::Method;
 use crate::error::Result;
 use crate::output::OutDir;
 use clap::{Args, Parser, Subcommand};
+use coil_io::stdout::{line as stdout_line, text as stdout_text};
 use std::path::PathBuf;
+
+/// A failed write to stdout (other than a closed pipe, which is quiet).
+fn stdout_error(e: std::io::Error) -> crate::TuneError {
+    crate::TuneError::io("stdout", e)
+}
+
+/// Prints `s` as it is.
+fn text(s: &str) -> Result<()> {
+    stdout_text(s).map_err(stdout_error)
+}
+
+/// Prints `s` and a newline.
+fn line(s: &str) -> std::io::Result<()> {
+    stdout_line(s)
+}
+
+/// `say!(...)`: a formatted line on stdout.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        stdout_line(&format!($($arg)*)).map_err(stdout_error)
+    };
+}
 
 /// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
 /// paper's tables reproduced on coil's solver.
 #[derive(Debug, Parser)]
-#[command(name = "coil-tune", version, about)]
+#[command(
+    name = "coil-tune",
+    version,
+    about,
+    after_help = "Files (docs/files.md): --out is locked for the run and its files appear as a whole \
+set (a failed or killed run leaves the previous set); record paths in case.json stay inside the case \
+folder; procedure files write only inside their output folder. Records up to 64 MiB. A closed \
+stdout (| head) ends the printing, not the run."
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -162,8 +193,9 @@ pub fn run(cli: Cli) -> Result<()> {
                 Some(&out),
                 &model.control(),
             )?;
-            print!("{}", result.summary());
-            println!("files in {}", out.root().display());
+            out.commit()?;
+            text(&result.summary())?;
+            say!("files in {}", out.root().display())?;
             Ok(())
         }
         Command::Sweep {
@@ -186,7 +218,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 let targets = Targets::of(&case)?;
                 let sub = out.sub("calibration")?;
                 let result = calibrate(&case, &targets, &settings, Some(&sub), &model.control())?;
-                print!("{}", result.summary());
+                text(&result.summary())?;
                 result.state
             };
             // The table by direct integration unless checks are off (--no-check).
@@ -199,12 +231,16 @@ pub fn run(cli: Cli) -> Result<()> {
             let json = serde_json::to_string_pretty(&result)
                 .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
             out.write("sweep.json", json.as_bytes())?;
-            println!(
+            out.commit()?;
+            say!(
                 "material: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
-                material.youngs_modulus_mpa, material.mass_kg, material.alpha, material.beta
-            );
-            print!("{}", result.table());
-            println!("files in {}", out.root().display());
+                material.youngs_modulus_mpa,
+                material.mass_kg,
+                material.alpha,
+                material.beta
+            )?;
+            text(&result.table())?;
+            say!("files in {}", out.root().display())?;
             Ok(())
         }
         Command::Diagnose {
@@ -222,8 +258,8 @@ pub fn run(cli: Cli) -> Result<()> {
             settings.progress = !quiet;
             let outcome = crate::diagnose::diagnose(&case, &settings)?;
             crate::diagnose::write(&outcome, &out, &settings)?;
-            print!("{}", crate::diagnose::summary(&outcome));
-            println!("report in {}", out.join("report.md").display());
+            text(&crate::diagnose::summary(&outcome))?;
+            say!("report in {}", out.join("report.md").display())?;
             Ok(())
         }
         Command::Paper {
@@ -240,23 +276,24 @@ pub fn run(cli: Cli) -> Result<()> {
                 control: model.control(),
             };
             let report = crate::paper::run_paper(&options, &out)?;
-            println!("Table 3 ({}):", report.case);
-            print!("{}", crate::report::table3(&report));
-            println!("\nTable 4:");
-            print!("{}", crate::report::table4(&report));
+            out.commit()?;
+            say!("Table 3 ({}):", report.case)?;
+            text(&crate::report::table3(&report))?;
+            say!("\nTable 4:")?;
+            text(&crate::report::table4(&report))?;
             let m = &report.mesh_study;
-            println!(
+            say!(
                 "\nmesh bias: the paper's E = {} MPa at ~{} elements per coil; mesh-converged E = {:.0} MPa",
                 m.paper_youngs_modulus_mpa,
                 m.elements_per_coil_matching_paper
                     .map_or("?".into(), |n| format!("{n:.1}")),
                 m.converged_youngs_modulus_mpa
-            );
-            println!(
+            )?;
+            say!(
                 "total {:.2} s; report in {}",
                 report.timings.total_s,
                 out.path("report.md").display()
-            );
+            )?;
             Ok(())
         }
         Command::Run {
@@ -267,24 +304,34 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             let parsed = crate::procedure::read(&procedure)?;
             if dry_run {
-                println!(
+                say!(
                     "{}: {} commands, no errors",
                     procedure.display(),
                     parsed.statements.len()
-                );
+                )?;
                 return Ok(());
             }
             let control = RunControl {
                 max_new_points: max_points,
             };
-            let result = crate::procedure::run(&parsed, out.as_deref(), &control, &mut |line| {
-                println!("{line}")
+            // A closed stdout ends the printing, not the run (coil_io::stdout).
+            let mut failed = None;
+            let result = crate::procedure::run(&parsed, out.as_deref(), &control, &mut |l| {
+                if let Err(e) = line(l) {
+                    failed.get_or_insert(e);
+                }
             })?;
+            if let Some(e) = failed {
+                return Err(stdout_error(e));
+            }
             if let Some(s) = result.state {
-                println!(
+                say!(
                     "final: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
-                    s.youngs_modulus_mpa, s.mass_kg, s.alpha, s.beta
-                );
+                    s.youngs_modulus_mpa,
+                    s.mass_kg,
+                    s.alpha,
+                    s.beta
+                )?;
             }
             Ok(())
         }

@@ -455,7 +455,8 @@ impl Loop3 {
             journal: self
                 .out
                 .as_ref()
-                .map(|o| o.path(format!("loop3_{}.journal.jsonl", spec.name))),
+                .map(|o| o.journal(format!("loop3_{}.journal.jsonl", spec.name)))
+                .transpose()?,
             progress: self.settings.progress,
             max_new_points: self.control.max_new_points,
         };
@@ -526,7 +527,7 @@ impl Loop3 {
                         paper: paper_point,
                         valley: plane.map(|p| (p.z0, p.a, p.b)),
                     };
-                    plots::heat_map(result, &marks, &out.path(&name))?;
+                    plots::heat_map(result, &marks, &out.staged(&name)?)?;
                     Some(name)
                 }
                 None => None,
@@ -642,7 +643,7 @@ impl Loop3 {
                         points: &measured,
                         alpha_max: alpha_max.max(1e-6),
                     },
-                    &out.path("loop3_valley.png"),
+                    &out.staged("loop3_valley.png")?,
                 )?;
             }
             // Decks of the transients that matter: the chosen point, the paper's point,

@@ -59,6 +59,15 @@ pub enum TuneError {
         #[source]
         source: std::io::Error,
     },
+    /// The output folder is held by another run, or a file cannot be put there.
+    #[error(transparent)]
+    Output(#[from] coil_io::SetError),
+    /// An output file cannot be written (or would replace a non-regular file).
+    #[error(transparent)]
+    Write(#[from] coil_io::WriteError),
+    /// An input file outside its folder, too large, or not a regular file.
+    #[error(transparent)]
+    Input(#[from] coil_io::ConfineError),
     /// A grid journal that cannot be resumed.
     #[error("{}:{line}: {problem}; {hint}", path.display())]
     Journal {

@@ -1,5 +1,5 @@
 //! Loop 3's grids of Rayleigh (alpha, beta): every point is a decay run and its
-//! logarithmic decrement, run in parallel (rayon) under a progress bar (indicatif), and
+//! logarithmic decrement, run in parallel (rayon) with progress lines ([`coil_io::Progress`]), and
 //! journaled so that a killed run resumes without recomputing or losing a point.
 //!
 //! # Axes
@@ -263,7 +263,8 @@ impl GridResult {
 pub struct GridOptions {
     /// Journal file; `None` runs without one (nothing resumable).
     pub journal: Option<PathBuf>,
-    /// Draw a progress bar on stderr (hidden anyway when stderr is not a terminal).
+    /// Progress on stderr past a few seconds (a line every few seconds when stderr is
+    /// not a terminal).
     pub progress: bool,
     /// Run at most this many new points, then return (the rest on a later call).
     pub max_new_points: Option<usize>,
@@ -417,18 +418,13 @@ where
                 std::fs::create_dir_all(parent).map_err(|e| TuneError::io(parent, e))?;
             }
             let mut keep_len = 0;
-            if path.exists() {
+            // A regular file with one link, or nothing (never through a symlink).
+            let mut file = coil_io::open_journal(path)?;
+            if file.metadata().map_err(|e| TuneError::io(path, e))?.len() > 0 {
                 let (points, len) = read_journal(path, &header)?;
                 done = points;
                 keep_len = len;
             }
-            let mut file = std::fs::OpenOptions::new()
-                .create(true)
-                .read(true)
-                .write(true)
-                .truncate(false)
-                .open(path)
-                .map_err(|e| TuneError::io(path, e))?;
             file.set_len(keep_len).map_err(|e| TuneError::io(path, e))?;
             file.seek(std::io::SeekFrom::End(0))
                 .map_err(|e| TuneError::io(path, e))?;
@@ -456,20 +452,9 @@ where
     }
     let resumed = done.len();
 
-    let bar = if options.progress {
-        indicatif::ProgressBar::new(spec.len() as u64)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{msg} [{bar:40}] {pos}/{len} runs, {elapsed} elapsed, eta {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.set_message(spec.name.clone());
-    bar.set_position(resumed as u64);
+    let bar = coil_io::Progress::new(format!("grid {}", spec.name), spec.len() as u64, "runs")
+        .hidden(!options.progress);
+    bar.set(resumed as u64);
 
     let new_points: Vec<GridPoint> = pending
         .par_iter()
@@ -504,7 +489,7 @@ where
             Ok(point)
         })
         .collect::<Result<Vec<_>>>()?;
-    bar.finish_and_clear();
+    bar.finish();
 
     let computed = new_points.len();
     done.extend(new_points);

@@ -1,48 +1,78 @@
-//! The output folder of a command: every file is written to a temporary sibling and
-//! renamed, so a failed or killed run never leaves half a file (decks, logs, CSVs,
-//! reports). Journals are the one exception: they are appended line by line on purpose
-//! (see [`crate::grid`]).
+//! The output folder of a command, on [`coil_io::OutputSet`]: the folder is locked for
+//! the run, every file is staged inside it and the files move in as a set at
+//! [`OutDir::commit`] (a failed or killed run leaves the previous set, never a mix; see
+//! `docs/files.md`). Names are relative and stay inside the folder. Journals are the one
+//! exception: they are appended in place, line by line, on purpose (see [`crate::grid`]).
 
 use crate::error::{Result, TuneError};
+use coil_io::OutputSet;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// A folder that receives a command's files.
+/// A folder (or a sub-folder of one) that receives a command's files.
 #[derive(Debug, Clone)]
 pub struct OutDir {
-    root: PathBuf,
+    set: Arc<OutputSet>,
+    prefix: PathBuf,
 }
 
 impl OutDir {
-    /// Creates the folder (and its parents) if needed.
+    /// Creates the folder (and its parents) if needed and locks it for this run.
     pub fn create(root: impl Into<PathBuf>) -> Result<Self> {
         let root = root.into();
-        std::fs::create_dir_all(&root).map_err(|e| TuneError::io(&root, e))?;
-        Ok(OutDir { root })
+        let command = std::env::args().collect::<Vec<_>>().join(" ");
+        Ok(OutDir {
+            set: Arc::new(OutputSet::open(&root, &command)?),
+            prefix: PathBuf::new(),
+        })
     }
 
-    /// The folder.
-    pub fn root(&self) -> &Path {
-        &self.root
+    /// The folder (where the files will be once committed).
+    pub fn root(&self) -> PathBuf {
+        self.set.root().join(&self.prefix)
     }
 
-    /// A path inside the folder.
+    /// Where `relative` will be once committed (for messages).
     pub fn path(&self, relative: impl AsRef<Path>) -> PathBuf {
-        self.root.join(relative)
+        self.root().join(relative)
     }
 
-    /// Writes `bytes` to `relative` atomically, creating sub-folders; returns the path.
+    /// The staged path to write `relative` to (sub-folders created); it is part of the set.
+    pub fn staged(&self, relative: impl AsRef<Path>) -> Result<PathBuf> {
+        Ok(self.set.staged_path(&self.prefix.join(relative))?)
+    }
+
+    /// The staging folder of this (sub-)folder, created: files put there are in the set.
+    pub fn staging_folder(&self) -> Result<PathBuf> {
+        let folder = self.set.staging().join(&self.prefix);
+        std::fs::create_dir_all(&folder).map_err(|e| TuneError::io(&folder, e))?;
+        Ok(folder)
+    }
+
+    /// The path of a journal inside the folder, appended in place (not staged).
+    pub fn journal(&self, relative: impl AsRef<Path>) -> Result<PathBuf> {
+        Ok(self.set.journal_path(&self.prefix.join(relative))?)
+    }
+
+    /// Stages `bytes` as `relative`; returns the final path.
     pub fn write(&self, relative: impl AsRef<Path>, bytes: &[u8]) -> Result<PathBuf> {
-        let path = self.path(relative);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| TuneError::io(parent, e))?;
-        }
-        coil_solver::atomic::write_atomic(&path, bytes).map_err(|e| TuneError::io(&path, e))?;
-        Ok(path)
+        Ok(self.set.write(&self.prefix.join(relative), bytes)?)
     }
 
-    /// A sub-folder (created).
+    /// A sub-folder, part of the same set.
     pub fn sub(&self, relative: impl AsRef<Path>) -> Result<OutDir> {
-        OutDir::create(self.path(relative))
+        let prefix = self.prefix.join(relative);
+        self.set.staged_path(&prefix)?;
+        Ok(OutDir {
+            set: Arc::clone(&self.set),
+            prefix,
+        })
+    }
+
+    /// Moves every staged file of the run in as a set and releases the folder.
+    pub fn commit(&self) -> Result<()> {
+        self.set.commit()?;
+        Ok(())
     }
 }
 

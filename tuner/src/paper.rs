@@ -365,7 +365,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
             accel_m_s2: &validated_record.accel_m_s2,
         },
         targets.period_s,
-        &out.path("fig10_decay.png"),
+        &out.staged("fig10_decay.png")?,
     )?;
 
     let paper = case.paper.clone().unwrap_or_default();

@@ -510,7 +510,10 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
         }
         "out" => {
             arity(w, 2, 2, usage)?;
-            Step::Out(w[1].clone())
+            Step::Out(inside_name(
+                &w[1],
+                "an output folder relative to the working directory",
+            )?)
         }
         "set" => {
             arity(w, 3, 3, usage)?;
@@ -519,7 +522,10 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
         }
         "mesh" => {
             arity(w, 1, 2, usage)?;
-            Step::Mesh(w.get(1).cloned())
+            let file = w
+                .get(1)
+                .map(|f| inside_name(f, "a deck file name inside the output folder"));
+            Step::Mesh(file.transpose()?)
         }
         "solve" => {
             arity(w, 2, 2, usage)?;
@@ -563,8 +569,18 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
                 match pair {
                     [key, value] if key == "alpha" => alpha = Some(Axis::parse(value)?),
                     [key, value] if key == "beta" => beta = Some(Axis::parse(value)?),
-                    [key, value] if key == "name" => name = Some(value.clone()),
+                    [key, value] if key == "name" => {
+                        name = Some(grid_name(value)?);
+                    }
                     _ => return Err(format!("`{}`: expected `{usage}`", w.join(" "))),
+                }
+            }
+            for (what, axis) in [("alpha", &alpha), ("beta", &beta)] {
+                if let Some(a) = axis.as_ref().filter(|a| a.start < 0.0) {
+                    return Err(format!(
+                        "{what} {a}: a negative Rayleigh coefficient is negative damping (energy \
+                         created); expected a range starting at 0 or above"
+                    ));
                 }
             }
             match (alpha, beta) {
@@ -607,6 +623,36 @@ fn parse_step(w: &[String]) -> std::result::Result<Step, String> {
             ))
         }
     })
+}
+
+/// A file or folder name written in a procedure: relative, no `..` (the boundary rules of
+/// `docs/files.md`: a procedure writes only inside its output folder).
+fn inside_name(word: &str, expected: &str) -> std::result::Result<String, String> {
+    coil_io::confine::check_entry(word, Path::new("the folder"))
+        .map_err(|e| format!("{e}; expected {expected}"))?;
+    if word.chars().any(char::is_control) {
+        return Err(format!("`{}`: expected {expected}", coil_io::excerpt(word)));
+    }
+    Ok(word.to_string())
+}
+
+/// A grid name: it names the grid's files, so letters, digits, `_`, `-` and `.` only.
+fn grid_name(word: &str) -> std::result::Result<String, String> {
+    let ok = !word.is_empty()
+        && word.len() <= 64
+        && !word.starts_with('.')
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+    if ok {
+        Ok(word.to_string())
+    } else {
+        Err(format!(
+            "grid name `{}`: expected letters, digits, `_`, `-` or `.` (at most 64, not \
+             starting with `.`): it names the grid's files inside the output folder",
+            coil_io::excerpt(word)
+        ))
+    }
 }
 
 /// Parses the words of a `grid` line without the command, e.g.
@@ -744,6 +790,7 @@ pub fn run(
     let json = serde_json::to_string_pretty(&result)
         .map_err(|e| TuneError::Invalid(format!("procedure.json: {e}")))?;
     out.write("procedure.json", json.as_bytes())?;
+    out.commit()?;
     Ok(result)
 }
 
@@ -896,6 +943,13 @@ impl Session<'_> {
             }
             Step::Out(dir) => {
                 if !self.out_fixed {
+                    if let Some(out) = &self.out {
+                        return Err(TuneError::Invalid(format!(
+                            "the output folder is {} already; put `out` once, before the \
+                             first command that writes a file",
+                            out.root().display()
+                        )));
+                    }
                     self.out = Some(OutDir::create(dir)?);
                 }
             }

@@ -118,11 +118,17 @@ pub fn sweep(
     decay: &DecaySettings,
 ) -> Result<Sweep> {
     let start = std::time::Instant::now();
+    let progress = coil_io::Progress::new("sweep", variants.variants.len() as u64, "variants");
     let results = variants
         .variants
         .par_iter()
-        .map(|v| run_variant(material, v, fe, decay))
+        .map(|v| {
+            let r = run_variant(material, v, fe, decay);
+            progress.inc(1);
+            r
+        })
         .collect::<Result<Vec<_>>>()?;
+    progress.finish();
     Ok(Sweep {
         material: *material,
         variants: results,

@@ -38,7 +38,14 @@ enum MethodArg {
 
 /// Mesh a helical spring into a coil input deck (mm, N, t, s).
 #[derive(Debug, Parser)]
-#[command(name = "coil-mesh", version, about)]
+#[command(
+    name = "coil-mesh",
+    version,
+    about,
+    after_help = "Geometry refused (docs/files.md): fewer than 1 coil, a pitch at or below the wire \
+diameter (coils through each other), D/d outside [3, 25] (EN 13906-1 recommends 4 to 20). \
+The deck is written as a regular file; an existing symlink, device or FIFO at -o is refused."
+)]
 struct Args {
     /// JSON spec file (fields of SpringSpec); flags override it.
     spec: Option<PathBuf>,
@@ -256,12 +263,10 @@ fn run(args: &Args) -> Result<(), String> {
         DeckFormat::Free => coil_solver::deck::write(&model),
         DeckFormat::Mentat => coil_solver::deck::write_mentat(&model),
     };
-    coil_solver::atomic::write_atomic(&args.output, deck.as_bytes())
-        .map_err(|e| format!("{}: {e}", args.output.display()))?;
+    coil_io::write_file(&args.output, deck.as_bytes()).map_err(|e| e.to_string())?;
     if let Some(path) = &args.write_spec {
         let json = serde_json::to_string_pretty(&spec).map_err(|e| e.to_string())?;
-        coil_solver::atomic::write_atomic(path, json.as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        coil_io::write_file(path, json.as_bytes()).map_err(|e| e.to_string())?;
     }
     Ok(())
 }

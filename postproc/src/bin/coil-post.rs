@@ -23,7 +23,9 @@ use coil_postproc::{output, plot, PostError, Result};
     name = "coil-post",
     version,
     about = "Period, logarithmic decrement, damping ratio, spectra, envelopes and plots of \
-             free-decay records (CSV with a time_s column)"
+             free-decay records (CSV with a time_s column)",
+    after_help = "Files (docs/files.md): records up to 64 MiB; a report with a non-finite number is \
+an error; --out files are written as regular files (an existing symlink, device or FIFO is refused)."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -345,7 +347,18 @@ fn merge(mut base: Value, extra: Value) -> Value {
     base
 }
 
-fn to_value<T: serde::Serialize>(value: &T) -> Result<Value> {
+/// A report piece as JSON; a non-finite number in it (which JSON would print as null and
+/// a table as `inf`) is an error: the input is out of the analysis' range.
+fn to_value<T: serde::Serialize + std::fmt::Debug>(value: &T) -> Result<Value> {
+    if coil_io::non_finite_token(&format!("{value:?}")).is_some() {
+        return Err(PostError::NonFiniteResult {
+            what: std::any::type_name::<T>()
+                .rsplit("::")
+                .next()
+                .unwrap_or("result")
+                .to_string(),
+        });
+    }
     serde_json::to_value(value)
         .map_err(|e| PostError::InvalidOption(format!("cannot serialise the report: {e}")))
 }
@@ -618,7 +631,7 @@ fn run_plot(args: &PlotArgs) -> Result<()> {
 
 /// A part of the signature, or the reason it could not be computed (the other parts still
 /// print).
-fn part<T: serde::Serialize>(result: &Result<T>) -> Result<Value> {
+fn part<T: serde::Serialize + std::fmt::Debug>(result: &Result<T>) -> Result<Value> {
     match result {
         Ok(value) => to_value(value),
         Err(error) => Ok(json!({ "error": error.to_string() })),

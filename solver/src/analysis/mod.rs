@@ -545,9 +545,30 @@ pub struct CaseResult {
 /// immediately before it (see [`transient`]); direct transient cases share one stepper,
 /// refactored only when the scheme or `dt` changes.
 pub fn run(model: &Model) -> Result<Vec<CaseResult>, SolveError> {
+    run_with(model, &transient::RunOptions::default())
+}
+
+/// [`run`] with reporting and limits ([`transient::RunOptions`]).
+pub fn run_with(
+    model: &Model,
+    options: &transient::RunOptions,
+) -> Result<Vec<CaseResult>, SolveError> {
+    if model.nodes.is_empty() {
+        return Err(SolveError::BadInput {
+            what: "the model has no nodes (COORDINATES); expected a structure to solve".into(),
+        });
+    }
+    if model.load_cases.is_empty() {
+        return Err(SolveError::BadInput {
+            what: "the deck has no load case (an analysis after END OPTION); expected at \
+                   least one static, modal or transient case"
+                .into(),
+        });
+    }
     let system = System::new(model)?;
     let mut factor: Option<Cholesky> = None;
     let mut context = transient::Context::default();
+    context.options = options.clone();
     let mut out: Vec<CaseResult> = Vec::with_capacity(model.load_cases.len());
     for case in &model.load_cases {
         let solution = match &case.analysis {
@@ -784,7 +805,15 @@ mod tests {
             steps: 1,
             time: 1.0,
         };
-        assert!(run(&empty).is_ok());
+        // A model without nodes is nonsense, refused (issue 9), not an empty result.
+        let e = run(&empty).unwrap_err().to_string();
+        assert!(e.contains("no nodes"), "{e}");
+        let mut no_case = model.clone();
+        no_case.load_cases.clear();
+        assert!(run(&no_case)
+            .unwrap_err()
+            .to_string()
+            .contains("no load case"));
     }
 
     /// Massless beams with one point mass carry three modes; a fourth is an error that

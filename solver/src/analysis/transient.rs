@@ -106,6 +106,24 @@ pub const DEFAULT_MODAL_MODES: u32 = 20;
 /// Most steps a transient case may take (a guard against a `dt` typo, e.g. 1e-9 s).
 pub const MAX_STEPS: usize = 100_000_000;
 
+/// Most work (steps times free DOFs) a transient case may take without the caller's
+/// explicit consent ([`RunOptions::allow_large`], `coil-solve --allow-large`): 1e10 is
+/// about a minute of direct Newmark on the development machine (the paper's decay,
+/// 2011 DOFs x 20000 steps = 4e7, takes 0.3 s). A `dt` typo (1e-9 s for 20 s) would
+/// otherwise run for hours without a word.
+pub const MAX_WORK: f64 = 1e10;
+
+/// How a run reports and what it may do.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Announce each transient's step count on stderr and show progress past a few
+    /// seconds ([`coil_io::Progress`]).
+    pub progress: bool,
+    /// Refuse a transient above [`MAX_WORK`] unless this is set; `None` means no limit
+    /// (library callers that size their own runs).
+    pub allow_large: Option<bool>,
+}
+
 /// Most values (rows times columns) a history may hold (800 MB in memory).
 pub const MAX_HISTORY_VALUES: usize = 100_000_000;
 
@@ -252,6 +270,8 @@ pub struct TransientSolution {
 /// triangles, the stepper with its factored effective matrix, the initial velocity.
 #[derive(Debug, Default)]
 pub struct Context {
+    /// Reporting and limits of this run.
+    pub options: RunOptions,
     operators: Option<FullOperators>,
     stepper: Option<Stepper>,
     velocity: Option<(Vec<f64>, VelocityField)>,
@@ -379,6 +399,23 @@ pub fn solve(
     let title = case.title.as_str();
     let mut warnings = Vec::new();
     let steps = step_count(title, dt, total_time, &mut warnings)?;
+    let work = steps as f64 * system.dim() as f64;
+    if context.options.allow_large == Some(false) && work > MAX_WORK {
+        return Err(SolveError::BadInput {
+            what: format!(
+                "load case '{title}': {steps} steps x {} DOFs = {work:.2e}, above the limit of \
+                 {MAX_WORK:.0e} (about a minute; docs/files.md); check dt and the total time, or \
+                 pass --allow-large to run it",
+                system.dim()
+            ),
+        });
+    }
+    let progress = coil_io::Progress::new(format!("load case '{title}'"), steps as u64, "steps")
+        .hidden(!context.options.progress);
+    progress.announce(&format!(
+        "load case '{title}': transient of {steps} steps of {dt} s, {} DOFs",
+        system.dim()
+    ));
 
     let loads = LoadPatterns::new(system, case)?;
     loads.check_grid(dt, steps, &mut warnings);
@@ -413,6 +450,7 @@ pub fn solve(
                 &v0,
                 &loads,
                 &mut recorder,
+                &progress,
             )?;
             None
         }
@@ -438,9 +476,11 @@ pub fn solve(
                 &v0,
                 &loads,
                 &mut recorder,
+                &progress,
             )?)
         }
     };
+    progress.finish();
 
     Ok(TransientSolution {
         method,
@@ -931,6 +971,7 @@ fn run_direct(
     v0: &[f64],
     loads: &LoadPatterns,
     recorder: &mut Recorder,
+    progress: &coil_io::Progress,
 ) -> Result<(), SolveError> {
     let scheme = Scheme::from(integrator);
     let fail = |e| integrate_error(system, title, false, e);
@@ -970,6 +1011,9 @@ fn run_direct(
     let mut state: State = stepper.initial_state(0.0, u0, v0, &f0).map_err(fail)?;
     stepper
         .run(&mut state, steps, &mut force, &mut |k, s| {
+            if k % 64 == 0 {
+                progress.set(k as u64);
+            }
             if recorder.wants(k) {
                 recorder.record_free(s.t, &s.u, &s.v, &s.a);
             }
@@ -989,6 +1033,7 @@ fn run_modal(
     v0: &[f64],
     loads: &LoadPatterns,
     recorder: &mut Recorder,
+    progress: &coil_io::Progress,
 ) -> Result<ModalSummary, SolveError> {
     let fail = |e| integrate_error(system, title, true, e);
     let n = system.dim();
@@ -1067,6 +1112,9 @@ fn run_modal(
             }
         },
         &mut |k, t, response| {
+            if k % 64 == 0 {
+                progress.set(k as u64);
+            }
             if recorder.wants(k) {
                 recorder.record_slots(t, response.u, response.v, response.a);
             }

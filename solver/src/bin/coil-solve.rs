@@ -20,7 +20,14 @@ enum Method {
 
 /// Solve a coil deck (static, modal and transient load cases of 3D beam models).
 #[derive(Debug, Parser)]
-#[command(name = "coil-solve", version)]
+#[command(
+    name = "coil-solve",
+    version,
+    after_help = "Files (docs/files.md): --out is locked for the run (a second run into it is refused) and \
+its files appear as a whole set or not at all; existing symlinks, devices and FIFOs there are never \
+replaced. Limits: decks up to 64 MiB; a transient of at most 1e8 steps and 1e10 steps x DOFs \
+unless --allow-large. A transient announces its steps and shows progress past 2 s on stderr."
+)]
 struct Cli {
     /// The input deck (Marc-style, see docs/deck.md).
     deck: PathBuf,
@@ -33,7 +40,11 @@ struct Cli {
     /// Modes of `--method modal` [default: the deck's count, else 20].
     #[arg(long, value_name = "N", requires = "method", value_parser = clap::value_parser!(u32).range(1..))]
     modes: Option<u32>,
-    /// Print nothing on success.
+    /// Run a transient above the work limit (steps x DOFs > 1e10, about a minute;
+    /// docs/files.md).
+    #[arg(long)]
+    allow_large: bool,
+    /// Print nothing on success (no step counts, no progress).
     #[arg(long, short)]
     quiet: bool,
 }
@@ -164,8 +175,16 @@ fn run(cli: &Cli) -> Result<(Model, Vec<CaseResult>), Error> {
         }
         None => {}
     }
-    let cases = analysis::run(&model)?;
-    results::write_all(&cli.out, &model, &cases)?;
+    // The folder is held for the whole run: a second run into it is refused at once.
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let set = coil_io::OutputSet::open(&cli.out, &command)?;
+    let options = transient::RunOptions {
+        progress: !cli.quiet,
+        allow_large: Some(cli.allow_large),
+    };
+    let cases = analysis::run_with(&model, &options)?;
+    results::write_set(&set, &model, &cases)?;
+    set.commit()?;
     Ok((model, cases))
 }
 

@@ -1,7 +1,11 @@
 //! The deck reader's error: where (file, line, column), which card, what is wrong
 //! and what was expected.
 
+use coil_io::confine::sanitise_message;
 use std::fmt;
+
+/// The longest message or expectation of a deck error, characters.
+const MESSAGE_CHARS: usize = 1000;
 
 /// A position in a deck: 1-based line and 1-based column (in characters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -65,12 +69,13 @@ impl DeckError {
         message: impl Into<String>,
         expected: impl Into<String>,
     ) -> Self {
-        let expected = expected.into();
+        // Messages quote deck text: short, sanitised excerpts only (docs/files.md).
+        let expected = sanitise_message(&expected.into(), MESSAGE_CHARS);
         DeckError {
             file: file.to_string(),
             loc: Some(loc),
-            card: card.map(str::to_string),
-            message: message.into(),
+            card: card.map(|c| sanitise_message(c, 80)),
+            message: sanitise_message(&message.into(), MESSAGE_CHARS),
             expected: (!expected.is_empty()).then_some(expected),
         }
     }

@@ -454,7 +454,7 @@ pub(crate) fn is_name(token: &str) -> bool {
 pub(crate) const LIST_WORDS: [&str; 3] = ["TO", "BY", "C"];
 
 /// One item of a node or element list.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub(crate) enum ListItem {
     Id(u32),
     /// `from TO to [BY by]`, inclusive.

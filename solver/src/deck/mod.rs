@@ -77,13 +77,19 @@ pub fn read_file(path: &Path) -> Result<Model, DeckError> {
 /// [`read_file`], also returning the cards read and not needed.
 pub fn read_file_noting(path: &Path) -> Result<(Model, Vec<NotNeeded>), DeckError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
-        DeckError::file_level(
-            &name,
-            format!("cannot read the file: {e}"),
-            "a readable deck file",
-        )
-    })?;
+    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_DECK_BYTES, "a deck")
+        .map_err(|e| match e {
+            coil_io::ConfineError::Io { source, .. } => DeckError::file_level(
+                &name,
+                format!("cannot read the file: {source}"),
+                "a readable deck file",
+            ),
+            other => DeckError::file_level(
+                &name,
+                other.to_string(),
+                "a deck file within the size limit (docs/files.md)",
+            ),
+        })?;
     match String::from_utf8(bytes) {
         Ok(text) => read_str_noting(&text, &name),
         Err(e) => {

@@ -709,7 +709,7 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
 pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
     let dir = OutDir::create(out)?;
     let figs = if plots_too {
-        figures(o, dir.root())?
+        figures(o, &dir.staging_folder()?)?
     } else {
         Vec::new()
     };
@@ -758,5 +758,5 @@ pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
     let json = serde_json::to_string_pretty(&o.diagnosis)
         .map_err(|e| TuneError::Invalid(format!("diagnosis.json: {e}")))?;
     dir.write("diagnosis.json", json.as_bytes())?;
-    Ok(())
+    dir.commit()
 }

@@ -10,6 +10,10 @@
 //! - [`peaks`]: crests to sub-sample accuracy.
 //! - [`decrement`]: the paper's Eqs. 2-3 and an exponential envelope fit.
 //! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
+//! - [`differentiate`]: velocity and acceleration from a position record (low-pass and
+//!   sixth-order central differences, with their closed-form gain).
+//! - [`noise`]: the noise floor of a record whose noise need not be white (Welch spectrum
+//!   outside the signal's lines).
 //! - [`spectrum`]: windowed, zero-padded amplitude spectrum with interpolated peaks.
 //! - [`envelope`]: Hilbert envelope, instantaneous frequency, backbone and damping curves.
 //! - [`signature`]: per-cycle amplitude and frequency, loss per cycle, backbone, envelope
@@ -19,10 +23,12 @@
 //! - [`output`]: temp-file-and-rename writing.
 
 pub mod decrement;
+pub mod differentiate;
 pub mod envelope;
 pub mod error;
 pub mod filter;
 mod fit;
+pub mod noise;
 pub mod output;
 pub mod peaks;
 pub mod plot;

@@ -269,7 +269,8 @@ impl Source {
     }
 }
 
-fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
+/// The header names of a CSV file and the line they are on (comment lines skipped).
+pub fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
     let source = Source::open(path)?;
     let mut reader = source.reader();
     source.header(&mut reader)

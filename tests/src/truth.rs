@@ -211,6 +211,79 @@ pub struct TruthCase {
     /// Points of the loading branch (the unloading branch has one fewer).
     pub static_points: usize,
     pub seed: u64,
+    /// Further hidden effects acting together with `effect` (each kind at most once).
+    pub also: Vec<Effect>,
+    /// How the decay is recorded (sensor and imperfections); the default is the
+    /// accelerometer of the measurement model above.
+    pub recording: Recording,
+}
+
+/// What measures the weight's axial motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sensor {
+    /// AC-coupled acceleration (m/s^2), 16-bit over +-1.2 x peak (`accel_m_s2`).
+    Accelerometer,
+    /// Velocity (m/s, a vibrometer), 16-bit over +-1.2 x peak (`velocity_m_s`).
+    Velocity,
+    /// Position (mm: laser, LVDT, video), quantised in steps of `step_mm`, read as
+    /// `offset_mm + sign * (u - u_eq)` (`displacement_mm`).
+    Position {
+        step_mm: f64,
+        offset_mm: f64,
+        sign: f64,
+    },
+}
+
+impl Sensor {
+    /// The decay.csv column the sensor writes.
+    pub fn column(&self) -> &'static str {
+        match self {
+            Sensor::Accelerometer => "accel_m_s2",
+            Sensor::Velocity => "velocity_m_s",
+            Sensor::Position { .. } => "displacement_mm",
+        }
+    }
+}
+
+/// A hammer blow left at the start of the record: the weight rests for `rest_s`, then a
+/// half-sine force of `duration_s` gives it the case's impulse velocity
+/// (`integral F dt = m_tip v0`, peak `pi m_tip v0 / (2 duration)`), which also rings the
+/// chain's higher modes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impulse {
+    pub rest_s: f64,
+    pub duration_s: f64,
+}
+
+/// The decay record's sensor and imperfections, as real rigs write them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Recording {
+    pub sensor: Sensor,
+    /// The record (signal and noise) passed forward and backward through a
+    /// second-order Butterworth low-pass at this cut-off (Hz), as a recorder's filter
+    /// would: the noise is no longer white.
+    pub band_limit_hz: Option<f64>,
+    /// Time stamps jitter uniformly within +-`jitter_s` about the uniform step; the
+    /// values are taken at the jittered times.
+    pub jitter_s: f64,
+    /// A DC offset and a linear drift over the record, each a fraction of the record's
+    /// peak (of the free decay).
+    pub offset_fraction: f64,
+    pub drift_fraction: f64,
+    pub impulse: Option<Impulse>,
+}
+
+impl Default for Recording {
+    fn default() -> Recording {
+        Recording {
+            sensor: Sensor::Accelerometer,
+            band_limit_hz: None,
+            jitter_s: 0.0,
+            offset_fraction: 0.0,
+            drift_fraction: 0.0,
+            impulse: None,
+        }
+    }
 }
 
 /// The 2x2 compliance of the whole spring (SI: m/N, rad/N = m/(N m), rad/(N m)).
@@ -275,13 +348,50 @@ pub fn wire_mass_kg(spring: &Helix, density_kg_m3: f64) -> f64 {
 }
 
 impl TruthCase {
+    /// Every hidden effect (`effect`, then `also`), `none` left out.
+    pub fn effects(&self) -> Vec<Effect> {
+        std::iter::once(self.effect)
+            .chain(self.also.iter().copied())
+            .filter(|e| *e != Effect::None)
+            .collect()
+    }
+
+    /// Every hidden effect as (spec's effect name, parameter name, value): the causes a
+    /// diagnosis should name (empty for a null case).
+    pub fn causes(&self) -> Vec<(&'static str, &'static str, f64)> {
+        self.effects()
+            .iter()
+            .filter_map(|e| e.parameter().map(|(p, v)| (e.name(), p, v)))
+            .collect()
+    }
+
+    /// Friction force (N) of all effects.
+    pub fn friction(&self) -> f64 {
+        self.effects().iter().map(Effect::friction).sum()
+    }
+
+    /// Drag coefficient (N s^2/m^2) of all effects.
+    pub fn quadratic(&self) -> f64 {
+        self.effects().iter().map(Effect::quadratic).sum()
+    }
+
+    /// Cubic stiffness (N/m^3) of all effects (negative: softening).
+    pub fn cubic(&self) -> f64 {
+        self.effects().iter().map(Effect::cubic).sum()
+    }
+
+    /// The weight's rotary inertia when it turns freely.
+    pub fn rotary_inertia(&self) -> Option<f64> {
+        self.effects().iter().find_map(Effect::rotary_inertia)
+    }
+
     pub fn compliance(&self) -> Compliance {
         Compliance::of(&self.spring, self.youngs_modulus_mpa, self.poisson_ratio)
     }
 
     /// The weight's rotation is free (coupling case) or held by a guide.
     pub fn rotation_free(&self) -> bool {
-        self.effect.rotary_inertia().is_some()
+        self.rotary_inertia().is_some()
     }
 
     /// Linear axial stiffness of the spring with this case's end condition (N/m).
@@ -295,11 +405,13 @@ impl TruthCase {
     }
 
     /// Static compression (m) under the axial force `force_n`: the root of
-    /// `k x + k3 x^3 = force` (Newton from the linear root; the left side is monotonic
-    /// for k3 >= 0, as in every case here).
+    /// `k x + k3 x^3 = force` (Newton from the linear root). The left side is monotonic
+    /// for k3 >= 0; for a softening spring (k3 < 0) it rises up to
+    /// [`TruthCase::softening_limit_m`], and Newton from the linear root (left of the
+    /// root of a concave function) climbs to the root without overshooting it.
     pub fn compression_under(&self, force_n: f64) -> f64 {
         let k = self.linear_stiffness_n_m();
-        let k3 = self.effect.cubic();
+        let k3 = self.cubic();
         let mut x = force_n / k;
         for _ in 0..60 {
             let step = (k * x + k3 * x.powi(3) - force_n) / (k + 3.0 * k3 * x * x);
@@ -309,6 +421,18 @@ impl TruthCase {
             }
         }
         x
+    }
+
+    /// The compression where a softening spring's force `k x + k3 x^3` peaks,
+    /// `sqrt(k / (3 |k3|))` (m): beyond it the spring has no stiffness left (infinite for
+    /// k3 >= 0).
+    pub fn softening_limit_m(&self) -> f64 {
+        let k3 = self.cubic();
+        if k3 >= 0.0 {
+            f64::INFINITY
+        } else {
+            (self.linear_stiffness_n_m() / (3.0 * -k3)).sqrt()
+        }
     }
 
     /// Static compression of the gravity preload (m).
@@ -359,7 +483,7 @@ impl Chain {
         let mut mass = vec![share; n];
         mass[n - 1] = 0.5 * share + case.mass_kg;
         let mut inertia = vec![share * r * r; n];
-        inertia[n - 1] = 0.5 * share * r * r + case.effect.rotary_inertia().unwrap_or(0.0);
+        inertia[n - 1] = 0.5 * share * r * r + case.rotary_inertia().unwrap_or(0.0);
         let mut chain = Chain {
             segments: n,
             segment_stiffness: (scale * kzz, scale * kzt, scale * ktt),
@@ -537,6 +661,9 @@ pub struct Trajectory {
     pub displacement: Vec<f64>,
     /// The weight's rotation at the sample times (rad).
     pub rotation: Vec<f64>,
+    /// The weight's axial velocity at the sample times (m/s; the mean of the leapfrog's
+    /// half-step velocities either side).
+    pub velocity: Vec<f64>,
 }
 
 /// Integrates the case from its gravity equilibrium with the impulse and keeps `samples`
@@ -563,9 +690,9 @@ fn simulate_chain(
     let half = (sub - 1) / 2;
     let (kzz, kzt, ktt) = chain.segment_stiffness;
     let beta = chain.beta;
-    let F = case.effect.friction();
-    let c2 = case.effect.quadratic();
-    let k3 = case.effect.cubic();
+    let F = case.friction();
+    let c2 = case.quadratic();
+    let k3 = case.cubic();
     let weight_force = -case.mass_kg * case.gravity_m_s2;
 
     // Static equilibrium: every segment carries the tip load; with the rotation held the
@@ -582,7 +709,15 @@ fn simulate_chain(
     let mut th: Vec<f64> = (0..=n).map(|i| tip_theta_per_segment * i as f64).collect();
     let mut vu = vec![0.0; n + 1];
     let mut vt = vec![0.0; n + 1];
-    vu[n] = case.impulse_velocity_m_s;
+    // A hammer blow (Recording::impulse) starts from rest; else the impulse is the
+    // initial velocity.
+    let pulse = case.recording.impulse.map(|p| {
+        let peak = PI * chain.mass[n - 1] * case.impulse_velocity_m_s / (2.0 * p.duration_s);
+        (p.rest_s, p.duration_s, peak)
+    });
+    if pulse.is_none() {
+        vu[n] = case.impulse_velocity_m_s;
+    }
     if chain.rotation_free {
         vt[n] = case.rotation_kick_rad_s;
     } else {
@@ -598,7 +733,9 @@ fn simulate_chain(
     let mut accel = vec![0.0; samples];
     let mut displacement = vec![0.0; samples];
     let mut rotation = vec![0.0; samples];
+    let mut velocity = vec![0.0; samples];
     let m_tip = chain.mass[n - 1];
+    let t0 = lead_samples.max(1) as f64 * period;
     for step in 0..=total {
         // Sample bookkeeping at step `step` (time step * dt), before the kick.
         fu.iter_mut().for_each(|f| *f = 0.0);
@@ -614,7 +751,15 @@ fn simulate_chain(
             ft[i - 1] += m;
         }
         let v = vu[n];
-        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs();
+        let hammer = pulse.map_or(0.0, |(rest, duration, peak)| {
+            let t = step as f64 * dt - t0 - rest;
+            if (0.0..duration).contains(&t) {
+                peak * (PI * t / duration).sin()
+            } else {
+                0.0
+            }
+        });
+        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs() + hammer;
         // The weight's kick with friction (explicit stick-slip).
         let (v_new, a_tip) = if F == 0.0 {
             (v + dt * other / m_tip, other / m_tip)
@@ -644,6 +789,7 @@ fn simulate_chain(
             if step % sub == 0 {
                 displacement[slot - lead_samples] = u[n];
                 rotation[slot - lead_samples] = th[n];
+                velocity[slot - lead_samples] = 0.5 * (v + v_new);
             }
         }
         if step == total {
@@ -670,6 +816,7 @@ fn simulate_chain(
         accel,
         displacement,
         rotation,
+        velocity,
     }
 }
 
@@ -725,15 +872,20 @@ impl Rng {
 /// A generated case: both records as written, and what the generation used.
 #[derive(Debug, Clone)]
 pub struct Generated {
-    /// (time_s, accel_m_s2) as measured.
+    /// (time_s, value) as measured, the value in the unit of `column`.
     pub decay: Vec<(f64, f64)>,
+    /// The decay.csv column (`Sensor::column`).
+    pub column: &'static str,
     /// (displacement_mm, force_n) as measured.
     pub static_record: Vec<(f64, f64)>,
     pub trajectory: Trajectory,
-    /// Peak of the AC-coupled acceleration before noise (m/s^2).
+    /// Peak of the recorded quantity's free decay before noise (in the column's unit;
+    /// m/s^2 for the accelerometer).
     pub peak_m_s2: f64,
-    /// The ADC's step (m/s^2).
+    /// The ADC's or the position sensor's step (in the column's unit).
     pub quantisation_m_s2: f64,
+    /// Index of the first sample after the hammer blow and its ringing (0 without one).
+    pub free_decay_start: usize,
 }
 
 /// Gravity used to size the static test when the case has none.
@@ -744,10 +896,45 @@ pub fn generate(case: &TruthCase) -> Generated {
     let mut rng = Rng::new(case.seed);
     let fs = case.sample_rate_hz;
     let lead_s = 0.2 + rng.uniform();
-    let lead_samples = ((lead_s * fs).round() as usize).max(1);
+    let lead_samples = if case.recording.impulse.is_some() {
+        1
+    } else {
+        ((lead_s * fs).round() as usize).max(1)
+    };
     let samples = (case.record_s * fs).round() as usize;
     let trajectory = simulate(case, lead_samples, samples);
 
+    let (decay, peak, lsb, free_decay_start) = if case.recording == Recording::default() {
+        accelerometer_record(case, &trajectory, &mut rng)
+    } else {
+        recorded(case, &trajectory, &mut rng)
+    };
+
+    let static_record = static_points(case)
+        .into_iter()
+        .map(|(x_mm, f_n, x_full, f_full)| {
+            let dx = case.static_noise_fraction * x_full * rng.normal();
+            let df = case.static_noise_fraction * f_full * rng.normal();
+            (x_mm + dx, f_n + df)
+        })
+        .collect();
+    Generated {
+        decay,
+        column: case.recording.sensor.column(),
+        static_record,
+        trajectory,
+        peak_m_s2: peak,
+        quantisation_m_s2: lsb,
+        free_decay_start,
+    }
+}
+
+type Record = (Vec<(f64, f64)>, f64, f64, usize);
+
+/// The plain accelerometer (the measurement model of the module docs).
+fn accelerometer_record(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record {
+    let fs = case.sample_rate_hz;
+    let samples = trajectory.accel.len();
     let mean = trajectory.accel.iter().sum::<f64>() / samples.max(1) as f64;
     let ac: Vec<f64> = trajectory.accel.iter().map(|a| a - mean).collect();
     let peak = ac.iter().fold(0.0f64, |p, a| p.max(a.abs()));
@@ -762,22 +949,125 @@ pub fn generate(case: &TruthCase) -> Generated {
             (i as f64 / fs, code * lsb)
         })
         .collect();
+    (decay, peak, lsb, 0)
+}
 
-    let static_record = static_points(case)
-        .into_iter()
-        .map(|(x_mm, f_n, x_full, f_full)| {
-            let dx = case.static_noise_fraction * x_full * rng.normal();
-            let df = case.static_noise_fraction * f_full * rng.normal();
-            (x_mm + dx, f_n + df)
-        })
+/// Any other recording (`Recording`), in this order: the sensor's quantity at the
+/// (jittered) sample times, AC coupling for the accelerometer and the vibrometer, white
+/// noise of `noise_fraction` of the free decay's peak, the recorder's low-pass on signal
+/// and noise, offset and drift, quantisation (16 bits over +-1.2 x the largest value,
+/// or the position sensor's step).
+fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record {
+    let rec = &case.recording;
+    let fs = case.sample_rate_hz;
+    let x0 = case.equilibrium_compression_m();
+    let clean: Vec<f64> = match rec.sensor {
+        Sensor::Accelerometer => trajectory.accel.clone(),
+        Sensor::Velocity => trajectory.velocity.clone(),
+        Sensor::Position { sign, .. } => trajectory
+            .displacement
+            .iter()
+            .map(|u| sign * 1e3 * (u + x0))
+            .collect(),
+    };
+    let n = clean.len();
+    // Time stamps: uniform plus jitter (all >= 0); values at those times by cubic
+    // Lagrange interpolation of the uniformly sampled truth (error about
+    // 0.2 (w/fs)^4 / 24 of the amplitude: 1e-4 at 16 samples per cycle).
+    let stamps: Vec<f64> = (0..n)
+        .map(|i| i as f64 / fs + rec.jitter_s * (2.0 * rng.uniform() - 1.0))
         .collect();
-    Generated {
-        decay,
-        static_record,
-        trajectory,
-        peak_m_s2: peak,
-        quantisation_m_s2: lsb,
+    let mut values: Vec<f64> = if rec.jitter_s > 0.0 {
+        stamps.iter().map(|t| lagrange4(&clean, t * fs)).collect()
+    } else {
+        clean
+    };
+    let stamps: Vec<f64> = stamps.iter().map(|t| t + rec.jitter_s).collect();
+    if !matches!(rec.sensor, Sensor::Position { .. }) {
+        let mean = values.iter().sum::<f64>() / n.max(1) as f64;
+        values.iter_mut().for_each(|v| *v -= mean);
     }
+    let free_decay_start = rec.impulse.map_or(0, |p| {
+        (((p.rest_s + p.duration_s + 0.1) * fs).ceil() as usize).min(n.saturating_sub(1))
+    });
+    let mean_free = {
+        let tail = &values[free_decay_start..];
+        tail.iter().sum::<f64>() / tail.len().max(1) as f64
+    };
+    let peak = values[free_decay_start..]
+        .iter()
+        .fold(0.0f64, |p, v| p.max((v - mean_free).abs()));
+    for v in values.iter_mut() {
+        *v += case.noise_fraction * peak * rng.normal();
+    }
+    if let Some(fc) = rec.band_limit_hz {
+        values = butterworth_zero_phase(&values, fc, fs);
+    }
+    let duration = n as f64 / fs;
+    for (v, t) in values.iter_mut().zip(&stamps) {
+        *v += peak * (rec.offset_fraction + rec.drift_fraction * t / duration);
+    }
+    if let Sensor::Position { offset_mm, .. } = rec.sensor {
+        values.iter_mut().for_each(|v| *v += offset_mm);
+    }
+    let lsb = match rec.sensor {
+        Sensor::Position { step_mm, .. } => step_mm,
+        _ => 2.0 * 1.2 * values.iter().fold(0.0f64, |p, v| p.max(v.abs())) / 65536.0,
+    };
+    let decay = stamps
+        .iter()
+        .zip(&values)
+        .map(|(&t, &v)| (t, (v / lsb).round() * lsb))
+        .collect();
+    (decay, peak, lsb, free_decay_start)
+}
+
+/// Cubic Lagrange interpolation of uniformly sampled `y` at the fractional index `p`
+/// (the four nearest samples; clamped at the ends).
+fn lagrange4(y: &[f64], p: f64) -> f64 {
+    let n = y.len();
+    if n < 4 {
+        return y[(p.round().max(0.0) as usize).min(n - 1)];
+    }
+    let i = (p.floor().max(1.0) as usize).min(n - 3);
+    let s = p - i as f64;
+    let w = [
+        -s * (s - 1.0) * (s - 2.0) / 6.0,
+        (s + 1.0) * (s - 1.0) * (s - 2.0) / 2.0,
+        -(s + 1.0) * s * (s - 2.0) / 2.0,
+        (s + 1.0) * s * (s - 1.0) / 6.0,
+    ];
+    w[0] * y[i - 1] + w[1] * y[i] + w[2] * y[i + 1] + w[3] * y[i + 2]
+}
+
+/// Second-order Butterworth low-pass (bilinear transform with pre-warping,
+/// `K = tan(pi fc / fs)`), run forward then backward: zero phase, gain
+/// `1 / (1 + (f/fc)^4)` (of the analogue prototype, squared by the two passes).
+/// Each pass starts in the steady state of its first input value.
+pub fn butterworth_zero_phase(x: &[f64], cutoff_hz: f64, sample_rate_hz: f64) -> Vec<f64> {
+    let k = (PI * cutoff_hz / sample_rate_hz).tan();
+    let norm = 1.0 / (1.0 + 2f64.sqrt() * k + k * k);
+    let b0 = k * k * norm;
+    let (b1, b2) = (2.0 * b0, b0);
+    let a1 = 2.0 * (k * k - 1.0) * norm;
+    let a2 = (1.0 - 2f64.sqrt() * k + k * k) * norm;
+    let pass = |input: &mut dyn Iterator<Item = f64>| -> Vec<f64> {
+        let mut out = Vec::with_capacity(x.len());
+        let (mut x1, mut x2, mut y1, mut y2) = (f64::NAN, 0.0, 0.0, 0.0);
+        for v in input {
+            if x1.is_nan() {
+                (x1, x2, y1, y2) = (v, v, v, v);
+            }
+            let y = b0 * v + b1 * x1 + b2 * x2 - a1 * y1 - a2 * y2;
+            (x2, x1, y2, y1) = (x1, v, y1, y);
+            out.push(y);
+        }
+        out
+    };
+    let forward = pass(&mut x.iter().copied());
+    let mut backward = pass(&mut forward.iter().rev().copied());
+    backward.reverse();
+    backward
 }
 
 /// The noise-free static record: (compression mm, force N, compression full scale mm,
@@ -788,11 +1078,14 @@ pub fn static_points(case: &TruthCase) -> Vec<(f64, f64, f64, f64)> {
     } else {
         STATIC_GRAVITY_M_S2
     };
-    let max_force = 1.5 * case.mass_kg * g;
+    // A softening spring is loaded to at most 90 % of the force where it gives way.
+    let limit = case.softening_limit_m();
+    let give_way = case.linear_stiffness_n_m() * limit + case.cubic() * limit.powi(3);
+    let max_force = (1.5 * case.mass_kg * g).min(0.9 * give_way);
     let x_max = case.compression_under(max_force);
     let k = case.linear_stiffness_n_m();
-    let k3 = case.effect.cubic();
-    let friction = case.effect.friction();
+    let k3 = case.cubic();
+    let friction = case.friction();
     let n = case.static_points.max(2) - 1;
     let loading = (0..=n).map(|j| (j, 1.0));
     let unloading = (0..n).rev().map(|j| (j, -1.0));
@@ -843,7 +1136,7 @@ pub fn case_json(case: &TruthCase) -> serde_json::Value {
 /// The hidden truth (`truth.json`).
 pub fn truth_json(case: &TruthCase, generated: &Generated) -> serde_json::Value {
     let mut parameters = serde_json::Map::new();
-    if let Some((name, value)) = case.effect.parameter() {
+    for (_, name, value) in case.causes() {
         parameters.insert(name.to_string(), json!(value));
     }
     let axial = axial_mode(case);
@@ -861,13 +1154,13 @@ pub fn truth_json(case: &TruthCase, generated: &Generated) -> serde_json::Value 
         })
         .collect();
     let x0 = case.equilibrium_compression_m();
-    let tangent = case.linear_stiffness_n_m() + 3.0 * case.effect.cubic() * x0 * x0;
+    let tangent = case.linear_stiffness_n_m() + 3.0 * case.cubic() * x0 * x0;
     let t = &generated.trajectory;
     let period_samples = ((TAU / axial_omega.max(1e-9)) * case.sample_rate_hz).ceil() as usize;
     let start_amplitude = half_range(&t.displacement[..period_samples.min(t.displacement.len())]);
     let end_amplitude =
         half_range(&t.displacement[t.displacement.len().saturating_sub(period_samples)..]);
-    json!({
+    let mut truth = json!({
         "case": case.name,
         "effect": case.effect.name(),
         "parameters": parameters,
@@ -904,7 +1197,39 @@ pub fn truth_json(case: &TruthCase, generated: &Generated) -> serde_json::Value 
             "impulse_velocity_m_s": case.impulse_velocity_m_s,
             "rotation_kick_rad_s": case.rotation_kick_rad_s,
         },
-    })
+    });
+    // Only the extended cases carry these (the shipped files stay as they were).
+    if !case.also.is_empty() || case.recording != Recording::default() {
+        let causes: Vec<serde_json::Value> = case
+            .causes()
+            .iter()
+            .map(|(effect, name, value)| json!({"effect": effect, "parameters": {*name: value}}))
+            .collect();
+        let rec = &case.recording;
+        let sensor = match rec.sensor {
+            Sensor::Position {
+                step_mm,
+                offset_mm,
+                sign,
+            } => json!({"column": "displacement_mm", "step_mm": step_mm,
+                        "offset_mm": offset_mm, "sign": sign}),
+            other => json!({"column": other.column(), "adc_bits": 16}),
+        };
+        truth["causes"] = json!(causes);
+        truth["cubic_backbone_shift"] = json!(backbone_shift(case));
+        truth["recording"] = json!({
+            "sensor": sensor,
+            "band_limit_hz": rec.band_limit_hz,
+            "jitter_s": rec.jitter_s,
+            "offset_fraction_of_peak": rec.offset_fraction,
+            "drift_fraction_of_peak": rec.drift_fraction,
+            "impulse": rec.impulse.map(|p| json!({"rest_s": p.rest_s, "duration_s": p.duration_s})),
+            "free_decay_start_s": generated.free_decay_start as f64 / case.sample_rate_hz,
+            "peak": generated.peak_m_s2,
+            "quantisation": generated.quantisation_m_s2,
+        });
+    }
+    truth
 }
 
 fn half_range(values: &[f64]) -> f64 {
@@ -933,10 +1258,20 @@ fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
 
 /// The text of decay.csv.
 pub fn decay_csv(decay: &[(f64, f64)]) -> String {
+    record_csv("accel_m_s2", decay)
+}
+
+/// The text of a decay record with the given value column (`displacement_mm` written
+/// in plain decimals to 0.1 um, the others as `{:.6e}`).
+pub fn record_csv(column: &str, decay: &[(f64, f64)]) -> String {
     let mut text = String::with_capacity(24 * decay.len() + 32);
-    text.push_str("time_s,accel_m_s2\n");
+    text.push_str(&format!("time_s,{column}\n"));
     for (t, a) in decay {
-        text.push_str(&format!("{t:.6},{a:.6e}\n"));
+        if column == "displacement_mm" {
+            text.push_str(&format!("{t:.6},{a:.4}\n"));
+        } else {
+            text.push_str(&format!("{t:.6},{a:.6e}\n"));
+        }
     }
     text
 }
@@ -964,7 +1299,10 @@ pub fn write_case(dir: &Path, case: &TruthCase) -> io::Result<()> {
         &dir.join("static.csv"),
         &static_csv(&generated.static_record),
     )?;
-    write_atomic(&dir.join("decay.csv"), &decay_csv(&generated.decay))?;
+    write_atomic(
+        &dir.join("decay.csv"),
+        &record_csv(generated.column, &generated.decay),
+    )?;
     write_atomic(
         &dir.join("truth.json"),
         &pretty(&truth_json(case, &generated))?,
@@ -1077,6 +1415,8 @@ fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
         static_noise_fraction: 0.003,
         static_points: 41,
         seed: test.seed,
+        also: Vec::new(),
+        recording: Recording::default(),
     };
     case.impulse_velocity_m_s = test.amplitude_m * TAU / rayleigh_period_s(&case);
     case
@@ -1281,3 +1621,316 @@ pub const SHIPPED: [&str; 5] = [
     "cubic_g2",
     "coupling_g5",
 ];
+
+/// Relative change of the axial frequency at the record's initial amplitude
+/// `A = v0 / w` due to the cubic spring, from the backbone (Nayfeh and Mook, 4.1): about
+/// the preload `x0`, `dw/w = (A/x0)^2 (3 eps/8 - 15 eps^2/4)` with
+/// `eps = k3 x0^2 / k_t`, `k_t = k + 3 k3 x0^2`; without gravity `3 k3 A^2 / (8 k)`.
+/// Negative: softening (the frequency rises as the amplitude falls).
+pub fn backbone_shift(case: &TruthCase) -> f64 {
+    let k3 = case.cubic();
+    let k = case.linear_stiffness_n_m();
+    let x0 = case.equilibrium_compression_m();
+    let k_t = k + 3.0 * k3 * x0 * x0;
+    let w = (k_t / (case.mass_kg + case.spring_mass_kg() / 3.0)).sqrt();
+    let a = case.impulse_velocity_m_s / w;
+    if x0 > 0.0 {
+        let eps = k3 * x0 * x0 / k_t;
+        (a / x0).powi(2) * (3.0 * eps / 8.0 - 15.0 * eps * eps / 4.0)
+    } else {
+        3.0 * k3 * a * a / (8.0 * k)
+    }
+}
+
+/// A cubic spring (either sign) whose backbone shift at the initial amplitude
+/// ([`backbone_shift`]) is `shift`: without gravity `k3 = 8 k shift / (3 A^2)`; with the
+/// preload, `eps` of [`cubic_case`] by bisection on [-0.3, 0.05] (the shift rises with
+/// eps there).
+fn cubic_shift_case(name: &str, rig: Rig, test: Test, gravity_m_s2: f64, shift: f64) -> TruthCase {
+    if gravity_m_s2 == 0.0 {
+        let mut case = linear_case(name, rig, test);
+        case.gravity_m_s2 = 0.0;
+        let k3 = 8.0 * case.linear_stiffness_n_m() * shift / (3.0 * test.amplitude_m.powi(2));
+        case.effect = Effect::CubicStiffness {
+            cubic_stiffness_n_m3: round_to(k3, 4),
+        };
+        return case;
+    }
+    let (mut lo, mut hi) = (-0.3, 0.05);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if backbone_shift(&cubic_case(name, rig, test, gravity_m_s2, mid)) < shift {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    cubic_case(name, rig, test, gravity_m_s2, 0.5 * (lo + hi))
+}
+
+/// `case` with the effect of `other` (built on the same rig and test) acting as well;
+/// the rig's orientation (gravity) is `other`'s, which its effect was sized for.
+fn with(mut case: TruthCase, other: TruthCase) -> TruthCase {
+    case.also.push(other.effect);
+    case.gravity_m_s2 = other.gravity_m_s2;
+    case
+}
+
+/// `case` recorded by `recording`.
+fn recorded_by(mut case: TruthCase, recording: Recording) -> TruthCase {
+    case.recording = recording;
+    case
+}
+
+/// A position sensor with steps of `step_mm` (offset 37.5 mm, sign as mounted).
+fn position(step_mm: f64) -> Recording {
+    Recording {
+        sensor: Sensor::Position {
+            step_mm,
+            offset_mm: 37.5,
+            sign: 1.0,
+        },
+        ..Recording::default()
+    }
+}
+
+/// The issue-14 cases: records as labs write them and effects as real rigs show them.
+/// Softening and hardening at several magnitudes, alone and with each damping effect;
+/// two damping effects together; position sensors quantised to 0.1 and 0.01 mm and a
+/// vibrometer; band-limited noise, jittered time stamps, offset and drift, a hammer
+/// blow left at the start; short records (20-25 cycles at 30 Hz) and long ones (150+
+/// cycles); null cases with each imperfection. Expected causes: [`TruthCase::causes`].
+pub fn extended_cases() -> Vec<TruthCase> {
+    let test = |sample_rate_hz, record_s, noise_fraction, damping_ratio, amplitude_mm, seed| Test {
+        sample_rate_hz,
+        record_s,
+        noise_fraction,
+        damping_ratio,
+        amplitude_m: amplitude_mm * 1e-3,
+        nominal_mass_ratio: if seed % 2 == 0 { 1.1 } else { 0.9 },
+        seed,
+    };
+    let band = |fc| Recording {
+        band_limit_hz: Some(fc),
+        ..Recording::default()
+    };
+    let impulse = Some(Impulse {
+        rest_s: 0.3,
+        duration_s: 0.004,
+    });
+    // Softening and hardening alone.
+    let t = test(1000.0, 25.0, 0.005, 0.0015, 3.0, 601);
+    let soft_g1 = cubic_shift_case("soft_g1_horizontal", RIG_G1, t, 0.0, -0.006);
+    let t = test(500.0, 30.0, 0.005, 0.0015, 4.0, 602);
+    let soft_paper = cubic_shift_case("soft_paper_strong", PAPER_RIG, t, 9.81, -0.018);
+    let t = test(800.0, 25.0, 0.003, 0.0012, 4.0, 603);
+    let soft_g4 = cubic_shift_case("soft_g4_weak", RIG_G4, t, 9.81, -0.004);
+    let t = test(1000.0, 25.0, 0.005, 0.0015, 3.0, 604);
+    let hard_g2 = cubic_shift_case("hard_g2_horizontal", RIG_G2, t, 0.0, 0.01);
+    let t = test(1000.0, 25.0, 0.005, 0.0015, 3.0, 605);
+    let hard_g3 = cubic_shift_case("hard_g3_horizontal_strong", RIG_G3, t, 0.0, 0.02);
+
+    // Each damping effect with softening or hardening.
+    let t = test(1000.0, 25.0, 0.005, 0.001, 3.0, 611);
+    let friction_soft_g1 = with(
+        friction_case("friction_soft_g1", RIG_G1, t, 0.4),
+        cubic_shift_case("", RIG_G1, t, 0.0, -0.01),
+    );
+    let t = test(500.0, 30.0, 0.005, 0.00175, 4.0, 612);
+    let friction_soft_paper = with(
+        friction_case("friction_soft_paper", PAPER_RIG, t, 0.5),
+        cubic_shift_case("", PAPER_RIG, t, 9.81, -0.008),
+    );
+    let t = test(500.0, 25.0, 0.005, 0.0015, 3.0, 613);
+    let quadratic_soft_g3 = with(
+        quadratic_case("quadratic_soft_g3", RIG_G3, t, 1.0),
+        cubic_shift_case("", RIG_G3, t, 0.0, -0.01),
+    );
+    let t = test(200.0, 60.0, 0.005, 0.001, 4.0, 614);
+    let quadratic_soft_paper_long = with(
+        quadratic_case("quadratic_soft_paper_long", PAPER_RIG, t, 1.0),
+        cubic_shift_case("", PAPER_RIG, t, 9.81, -0.012),
+    );
+    let t = test(1000.0, 25.0, 0.005, 0.0012, 3.0, 615);
+    let friction_hard_g2 = with(
+        friction_case("friction_hard_g2", RIG_G2, t, 0.4),
+        cubic_shift_case("", RIG_G2, t, 0.0, 0.01),
+    );
+    let t = test(800.0, 25.0, 0.005, 0.0015, 4.0, 616);
+    let quadratic_hard_g4 = with(
+        quadratic_case("quadratic_hard_g4", RIG_G4, t, 1.0),
+        cubic_shift_case("", RIG_G4, t, 0.0, 0.008),
+    );
+
+    // Two damping effects together (the viscous one strong).
+    let t = test(800.0, 25.0, 0.005, 0.006, 4.0, 621);
+    let viscous_friction_g4 = friction_case("viscous_friction_g4", RIG_G4, t, 0.5);
+    let t = test(1000.0, 20.0, 0.005, 0.006, 2.0, 622);
+    let viscous_quadratic_g2 = quadratic_case("viscous_quadratic_g2", RIG_G2, t, 1.0);
+    let t = test(1000.0, 30.0, 0.005, 0.00175, 3.0, 623);
+    let friction_quadratic_paper = with(
+        friction_case("friction_quadratic_paper", PAPER_RIG, t, 0.4),
+        quadratic_case("", PAPER_RIG, t, 1.0),
+    );
+
+    // Other sensors.
+    let t = test(100.0, 40.0, 0.002, 0.00175, 4.0, 631);
+    let null_position_coarse = recorded_by(
+        linear_case("null_position_0p1mm", PAPER_RIG, t),
+        position(0.1),
+    );
+    let t = test(200.0, 30.0, 0.002, 0.0015, 3.0, 632);
+    let null_position_fine = recorded_by(
+        linear_case("null_position_0p01mm", RIG_G1, t),
+        position(0.01),
+    );
+    let t = test(100.0, 30.0, 0.002, 0.0008, 4.0, 633);
+    let friction_position = recorded_by(
+        friction_case("friction_position_0p01mm", RIG_G4, t, 0.6),
+        position(0.01),
+    );
+    let t = test(100.0, 40.0, 0.002, 0.00175, 5.0, 634);
+    let soft_position = recorded_by(
+        cubic_shift_case("soft_position_0p1mm", PAPER_RIG, t, 9.81, -0.015),
+        position(0.1),
+    );
+    let t = test(500.0, 25.0, 0.005, 0.0015, 3.0, 635);
+    let quadratic_velocity = recorded_by(
+        quadratic_case("quadratic_velocity_g3", RIG_G3, t, 1.0),
+        Recording {
+            sensor: Sensor::Velocity,
+            ..Recording::default()
+        },
+    );
+
+    // Imperfections, on null cases and on effects.
+    let t = test(500.0, 25.0, 0.01, 0.00175, 3.0, 641);
+    let null_band = recorded_by(linear_case("null_bandlimited", PAPER_RIG, t), band(15.0));
+    let t = test(500.0, 20.0, 0.01, 0.001, 3.0, 642);
+    let friction_band = recorded_by(
+        friction_case("friction_bandlimited_g1", RIG_G1, t, 0.4),
+        band(30.0),
+    );
+    let jitter = |mut r: Recording| {
+        r.jitter_s = 0.001;
+        r
+    };
+    let t = test(100.0, 40.0, 0.002, 0.00175, 4.0, 643);
+    let null_jitter = recorded_by(
+        linear_case("null_jitter_position", PAPER_RIG, t),
+        jitter(position(0.01)),
+    );
+    let t = test(100.0, 30.0, 0.005, 0.0015, 3.0, 644);
+    let quadratic_jitter = recorded_by(
+        quadratic_case("quadratic_jitter_g3", RIG_G3, t, 1.0),
+        jitter(Recording::default()),
+    );
+    let drift = |mut r: Recording| {
+        r.offset_fraction = 0.05;
+        r.drift_fraction = 0.2;
+        r
+    };
+    let t = test(100.0, 40.0, 0.002, 0.00175, 4.0, 645);
+    let null_drift = recorded_by(
+        linear_case("null_drift_position", PAPER_RIG, t),
+        drift(position(0.01)),
+    );
+    let t = test(500.0, 25.0, 0.005, 0.0015, 3.0, 646);
+    let null_drift_accel = recorded_by(
+        linear_case("null_drift_accel", RIG_G4, t),
+        drift(Recording::default()),
+    );
+    let t = test(100.0, 40.0, 0.002, 0.00175, 5.0, 647);
+    let soft_drift = recorded_by(
+        cubic_shift_case("soft_drift_position", PAPER_RIG, t, 9.81, -0.012),
+        drift(position(0.01)),
+    );
+    let hammer = |mut r: Recording| {
+        r.impulse = impulse;
+        r
+    };
+    let t = test(1000.0, 25.0, 0.005, 0.00175, 3.0, 648);
+    let null_impulse = recorded_by(
+        linear_case("null_impulse", PAPER_RIG, t),
+        hammer(Recording::default()),
+    );
+    let t = test(200.0, 30.0, 0.002, 0.0015, 3.0, 649);
+    let null_impulse_position = recorded_by(
+        linear_case("null_impulse_position", RIG_G1, t),
+        hammer(position(0.01)),
+    );
+    let t = test(1000.0, 25.0, 0.005, 0.001, 3.0, 650);
+    let friction_impulse = recorded_by(
+        friction_case("friction_impulse_g1", RIG_G1, t, 0.4),
+        hammer(Recording::default()),
+    );
+
+    // Short records (video at 30 Hz, 24 cycles) and long ones (150+ cycles).
+    let t = test(30.0, 5.5, 0.002, 0.00175, 5.0, 661);
+    let null_short = recorded_by(linear_case("null_short_30hz", PAPER_RIG, t), position(0.1));
+    let t = test(30.0, 5.5, 0.002, 0.00175, 8.0, 662);
+    let soft_short = recorded_by(
+        cubic_shift_case("soft_short_30hz", PAPER_RIG, t, 9.81, -0.02),
+        position(0.1),
+    );
+    let t = test(200.0, 60.0, 0.002, 0.001, 3.0, 663);
+    let null_long = recorded_by(linear_case("null_long", PAPER_RIG, t), position(0.01));
+    let t = test(200.0, 50.0, 0.005, 0.0005, 3.0, 664);
+    let friction_long = friction_case("friction_long_g4", RIG_G4, t, 0.5);
+
+    vec![
+        soft_g1,
+        soft_paper,
+        soft_g4,
+        hard_g2,
+        hard_g3,
+        friction_soft_g1,
+        friction_soft_paper,
+        quadratic_soft_g3,
+        quadratic_soft_paper_long,
+        friction_hard_g2,
+        quadratic_hard_g4,
+        viscous_friction_g4,
+        viscous_quadratic_g2,
+        friction_quadratic_paper,
+        null_position_coarse,
+        null_position_fine,
+        friction_position,
+        soft_position,
+        quadratic_velocity,
+        null_band,
+        friction_band,
+        null_jitter,
+        quadratic_jitter,
+        null_drift,
+        null_drift_accel,
+        soft_drift,
+        null_impulse,
+        null_impulse_position,
+        friction_impulse,
+        null_short,
+        soft_short,
+        null_long,
+        friction_long,
+    ]
+}
+
+/// Names of the extended cases in the fast (CI) subset: one per kind of record the
+/// reader conditions (a quantised position sensor, a band-limited record, a hammer blow
+/// at the start, jittered time stamps), all null so that none may name a cause, and a
+/// friction hidden behind a 0.01 mm position sensor.
+pub const FAST: [&str; 5] = [
+    "null_position_0p1mm",
+    "null_bandlimited",
+    "null_impulse",
+    "null_jitter_position",
+    "friction_position_0p01mm",
+];
+
+/// The extended cases named in [`FAST`].
+pub fn fast_cases() -> Vec<TruthCase> {
+    extended_cases()
+        .into_iter()
+        .filter(|c| FAST.contains(&c.name.as_str()))
+        .collect()
+}

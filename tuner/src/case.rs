@@ -122,6 +122,14 @@ pub enum CaseError {
     /// A record file (decay) that the post-processor cannot read.
     #[error(transparent)]
     Record(#[from] coil_postproc::PostError),
+    /// A decay record whose columns or time stamps are wrong.
+    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
+    DecayRecord {
+        path: PathBuf,
+        line: usize,
+        problem: String,
+        expected: String,
+    },
     /// A static record that cannot be read.
     #[error("{}:{line}: {problem}; expected {expected}", path.display())]
     StaticRecord {
@@ -408,6 +416,15 @@ impl MeasuredCase {
             .collect()
     }
 
+    /// Reads every decay record as written (any of the spec's columns, time stamps as
+    /// read: [`read_decay_record`]).
+    pub fn measured_decays(&self) -> Result<Vec<MeasuredDecay>, CaseError> {
+        self.decay_files
+            .iter()
+            .map(|p| read_decay_record(p))
+            .collect()
+    }
+
     /// Reads every decay record (`time_s,accel_m_s2`, uniform time, finite values).
     pub fn decay_records(&self) -> Result<Vec<Signal>, CaseError> {
         self.decay_files
@@ -415,6 +432,167 @@ impl MeasuredCase {
             .map(|p| Ok(coil_postproc::signal::read_signal(p, "accel_m_s2")?))
             .collect()
     }
+}
+
+/// What a decay record measures (the spec's decay.csv columns).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// `accel_m_s2`: acceleration (m/s^2).
+    Acceleration,
+    /// `velocity_m_s`: velocity (m/s).
+    Velocity,
+    /// `displacement_mm`: position (mm in the file, m once read).
+    Displacement,
+}
+
+impl Quantity {
+    /// Every quantity, in the order of the spec's table.
+    pub const ALL: [Quantity; 3] = [
+        Quantity::Acceleration,
+        Quantity::Velocity,
+        Quantity::Displacement,
+    ];
+
+    /// The decay.csv column.
+    pub fn column(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "accel_m_s2",
+            Quantity::Velocity => "velocity_m_s",
+            Quantity::Displacement => "displacement_mm",
+        }
+    }
+
+    /// Factor from the column's unit to SI (mm -> m).
+    pub fn to_si(self) -> f64 {
+        match self {
+            Quantity::Displacement => 1e-3,
+            _ => 1.0,
+        }
+    }
+
+    /// The SI unit.
+    pub fn si_unit(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "m/s^2",
+            Quantity::Velocity => "m/s",
+            Quantity::Displacement => "m",
+        }
+    }
+
+    /// How many times the record must be differentiated to give the acceleration.
+    pub fn derivatives_to_acceleration(self) -> usize {
+        match self {
+            Quantity::Acceleration => 0,
+            Quantity::Velocity => 1,
+            Quantity::Displacement => 2,
+        }
+    }
+}
+
+/// A decay record as written: its one measured column (converted to SI) and its time
+/// stamps exactly as read (increasing, finite; whether they are uniform is for the
+/// diagnosis to judge, `diagnose::data`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredDecay {
+    pub file: PathBuf,
+    pub quantity: Quantity,
+    /// Time stamps (s).
+    pub time_s: Vec<f64>,
+    /// The measured quantity in SI (m/s^2, m/s or m).
+    pub values: Vec<f64>,
+    /// The file's line of each sample (for messages).
+    pub lines: Vec<u64>,
+    /// The printed resolution of the time stamps (s): the decimal grid they were written
+    /// on (median over the cells).
+    pub time_resolution_s: f64,
+}
+
+/// Reads a decay record: `time_s` and exactly one of `accel_m_s2`, `velocity_m_s`,
+/// `displacement_mm` (the spec's decay.csv). Two of them is an error naming both (which
+/// one was meant cannot be guessed); none is an error listing the header. Every cell is
+/// checked (finite number) and the time stamps must increase; their uniformity is
+/// checked by the diagnosis, which resamples small jitter.
+pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
+    use coil_postproc::signal::{read_fields, read_header, TIME_COLUMN};
+    let (header, header_line) = read_header(path)?;
+    let fail = |line: u64, problem: String, expected: &str| CaseError::DecayRecord {
+        path: path.to_path_buf(),
+        line: line as usize,
+        problem,
+        expected: expected.to_string(),
+    };
+    let present: Vec<Quantity> = Quantity::ALL
+        .into_iter()
+        .filter(|q| header.iter().any(|h| h == q.column()))
+        .collect();
+    let quantity = match present.as_slice() {
+        [one] => *one,
+        [] => {
+            return Err(fail(
+                header_line,
+                format!(
+                    "no measured column in the header (columns: {})",
+                    header.join(", ")
+                ),
+                "`time_s` and one of `accel_m_s2`, `velocity_m_s`, `displacement_mm`",
+            ))
+        }
+        several => {
+            let names: Vec<String> = several
+                .iter()
+                .map(|q| format!("`{}`", q.column()))
+                .collect();
+            return Err(fail(
+                header_line,
+                format!(
+                    "the header gives {} at once: which one to fit is ambiguous",
+                    names.join(" and ")
+                ),
+                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside `time_s` (write the other records to their own files)",
+            ));
+        }
+    };
+    let fields = read_fields(path, &[TIME_COLUMN, quantity.column()])?;
+    let mut columns = fields.values.into_iter();
+    let time_s = columns.next().unwrap_or_default();
+    let values: Vec<f64> = columns
+        .next()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|v| v * quantity.to_si())
+        .collect();
+    if time_s.len() < coil_postproc::signal::MIN_SAMPLES {
+        return Err(fail(
+            fields.header_line,
+            format!("{} data rows", time_s.len()),
+            "a free-decay record of many samples",
+        ));
+    }
+    for i in 1..time_s.len() {
+        if time_s[i] <= time_s[i - 1] {
+            return Err(fail(
+                fields.lines[i],
+                format!(
+                    "time_s {} does not increase (the previous row has {})",
+                    time_s[i],
+                    time_s[i - 1]
+                ),
+                "increasing time stamps",
+            ));
+        }
+    }
+    let mut resolution = fields.first_resolution;
+    resolution.sort_by(f64::total_cmp);
+    let time_resolution_s = resolution.get(resolution.len() / 2).copied().unwrap_or(0.0);
+    Ok(MeasuredDecay {
+        file: path.to_path_buf(),
+        quantity,
+        time_s,
+        values,
+        lines: fields.lines,
+        time_resolution_s,
+    })
 }
 
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
@@ -717,6 +895,52 @@ mod tests {
                 other => panic!("{text}: {other:?}"),
             }
         }
+    }
+
+    /// Decay records: one of the three columns (SI once read), two at once refused
+    /// with both names and the header line, none refused with the header listed, time
+    /// stamps that go back refused with their line.
+    #[test]
+    fn decay_record_columns() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("decay.csv");
+        let rows = |header: &str| {
+            let mut s = format!("# rig B\n{header}\n");
+            for i in 0..10 {
+                s.push_str(&format!("{},{}\n", i as f64 * 0.01, 1.5 + i as f64));
+            }
+            s
+        };
+        for (column, quantity, first) in [
+            ("accel_m_s2", Quantity::Acceleration, 1.5),
+            ("velocity_m_s", Quantity::Velocity, 1.5),
+            ("displacement_mm", Quantity::Displacement, 1.5e-3),
+        ] {
+            std::fs::write(&path, rows(&format!("time_s,{column}"))).unwrap();
+            let r = read_decay_record(&path).unwrap();
+            assert_eq!(r.quantity, quantity);
+            assert_eq!(r.values[0], first);
+            assert_eq!(r.lines[0], 3);
+        }
+        std::fs::write(
+            &path,
+            rows("time_s,displacement_mm,accel_m_s2").replace(",1", ",1,2"),
+        )
+        .unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("decay.csv:2:") && e.contains("`accel_m_s2` and `displacement_mm`"),
+            "{e}"
+        );
+        std::fs::write(&path, rows("time_s,accel")).unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("decay.csv:2:") && e.contains("columns: time_s, accel"),
+            "{e}"
+        );
+        std::fs::write(&path, "time_s,accel_m_s2\n0,1\n0.01,2\n0.005,3\n0.02,1\n").unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(e.contains("decay.csv:4:") && e.contains("increase"), "{e}");
     }
 
     /// The paper's case and Table 4 as shipped under `cases/160ect`.

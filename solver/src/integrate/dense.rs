@@ -26,7 +26,8 @@
 //!   several by Gauss-Seidel sweeps over the small Schur matrix `G` (each sweep solves
 //!   law `j` exactly with the others' current forces; `G` is symmetric positive definite
 //!   and every law monotone, so the sweeps converge), to a relative change of
-//!   [`GAUSS_SEIDEL_TOLERANCE`];
+//!   [`point::SWEEP_TOLERANCE`] (the solve shared with the
+//!   Newmark stepper, [`point::solve_step`]);
 //! - corrector `u = u* + beta dt^2 a`, `v = v* + gamma dt a`.
 //!
 //! The scheme is unconditionally stable for the linear part and adds no numerical
@@ -55,12 +56,7 @@ pub const BETA: f64 = 0.25;
 /// Newmark's gamma of the average-acceleration scheme.
 pub const GAMMA: f64 = 0.5;
 
-/// Relative change of the law forces at which the Gauss-Seidel sweeps stop (several
-/// laws only): a few ulp of the forces.
-pub const GAUSS_SEIDEL_TOLERANCE: f64 = 1e-14;
-
-/// Most Gauss-Seidel sweeps in one step.
-pub const MAX_SWEEPS: usize = 200;
+use super::point::{self, MAX_SWEEPS};
 
 /// Errors of the dense stepper.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -71,7 +67,8 @@ pub enum DenseError {
     /// Two laws on one DOF (combine them into one law).
     #[error("two point laws act on DOF {dof}; give one law per DOF")]
     LawTwice { dof: usize },
-    /// A law's implicit solve failed (a non-finite input) at this step.
+    /// A law's implicit solve failed at this step: a non-finite input, or a softening
+    /// spring that lost stability.
     #[error("the point law at DOF {dof} could not be solved at step {step}")]
     LawSolve { step: usize, dof: usize },
     /// The Gauss-Seidel sweeps over several laws did not converge.
@@ -117,6 +114,8 @@ pub struct DenseStepper {
     s_inv_f: Vec<f64>,
     load: Vec<f64>,
     laws: Vec<Law>,
+    /// The laws alone, in the order of `laws` (for [`point::solve_step`]).
+    point_laws: Vec<PointLaw>,
     /// Schur matrix `G = E^T S^-1 E` of the laws (row-major, p x p).
     schur: Vec<f64>,
     // State and scratch.
@@ -270,17 +269,19 @@ impl DenseStepper {
             if dof >= r {
                 return Err(IntegrateError::DofOutOfRange { dof, n_dofs: r }.into());
             }
-            for (name, value) in [
-                ("cubic", law.cubic),
-                ("quadratic", law.quadratic),
-                ("friction", law.friction),
+            // The cubic spring takes either sign (a softening spring is guarded by
+            // the solve); the dashpot and the friction must be non-negative.
+            for (name, value, min) in [
+                ("cubic", law.cubic, f64::NEG_INFINITY),
+                ("quadratic", law.quadratic, 0.0),
+                ("friction", law.friction, 0.0),
             ] {
-                if !(value.is_finite() && value >= 0.0) {
+                if !(value.is_finite() && value >= min) {
                     return Err(IntegrateError::InvalidParameter {
                         scheme: "point law",
                         name,
                         value,
-                        min: 0.0,
+                        min,
                         max: f64::INFINITY,
                     }
                     .into());
@@ -327,6 +328,7 @@ impl DenseStepper {
             },
             s_inv_f: vec![0.0; r],
             load: vec![0.0; r],
+            point_laws: kept.iter().map(|l| l.law).collect(),
             laws: kept,
             schur,
             u: vec![0.0; r],
@@ -416,7 +418,7 @@ impl DenseStepper {
                 size = size.max(hold.abs());
                 f[p] = hold;
             }
-            if change <= GAUSS_SEIDEL_TOLERANCE * size || size == 0.0 {
+            if change <= point::SWEEP_TOLERANCE * size || size == 0.0 {
                 converged = true;
                 break;
             }
@@ -516,62 +518,29 @@ impl DenseStepper {
         let p = self.laws.len();
         let step = self.step_count;
         // Linear end-of-step values at the law DOFs.
-        let lin = |s: &Self, j: usize| {
-            let d = s.laws[j].dof;
-            (s.star[d] + h * s.a[d], s.star[s.r + d] + g * s.a[d])
+        let (star, a, r, data) = (&self.star, &self.a, self.r, &self.laws);
+        let linear = |j: usize| {
+            let d = data[j].dof;
+            (star[d] + h * a[d], star[r + d] + g * a[d])
         };
-        if p == 1 {
-            let (ul, vl) = lin(self, 0);
-            let gjj = self.schur[0];
-            let sol = self.laws[0]
-                .law
-                .solve_from(ul, vl, h * gjj, g * gjj, Some(self.forces[0]))
-                .ok_or(DenseError::LawSolve {
-                    step,
-                    dof: self.laws[0].dof,
-                })?;
-            self.forces[0] = sol.force;
-            self.stuck[0] = sol.stuck;
-        } else {
-            // Gauss-Seidel from the previous step's forces.
-            let mut converged = false;
-            for _ in 0..MAX_SWEEPS {
-                let mut change: f64 = 0.0;
-                let mut size: f64 = 0.0;
-                for j in 0..p {
-                    let (ul, vl) = lin(self, j);
-                    let others: f64 = (0..p)
-                        .filter(|&k| k != j)
-                        .map(|k| self.schur[j * p + k] * self.forces[k])
-                        .sum();
-                    let gjj = self.schur[j * p + j];
-                    let sol = self.laws[j]
-                        .law
-                        .solve_from(
-                            ul - h * others,
-                            vl - g * others,
-                            h * gjj,
-                            g * gjj,
-                            Some(self.forces[j]),
-                        )
-                        .ok_or(DenseError::LawSolve {
-                            step,
-                            dof: self.laws[j].dof,
-                        })?;
-                    change = change.max((sol.force - self.forces[j]).abs());
-                    size = size.max(sol.force.abs());
-                    self.forces[j] = sol.force;
-                    self.stuck[j] = sol.stuck;
-                }
-                if change <= GAUSS_SEIDEL_TOLERANCE * size || size == 0.0 {
-                    converged = true;
-                    break;
-                }
+        point::solve_step(
+            &self.point_laws,
+            linear,
+            &self.schur,
+            h,
+            g,
+            &mut self.forces,
+            &mut self.stuck,
+        )
+        .map_err(|e| match e {
+            point::StepLawError::Unsolvable { law } => DenseError::LawSolve {
+                step,
+                dof: self.laws[law].dof,
+            },
+            point::StepLawError::NotConverged { .. } => {
+                DenseError::SweepsNotConverged { step, laws: p }
             }
-            if !converged {
-                return Err(DenseError::SweepsNotConverged { step, laws: p });
-            }
-        }
+        })?;
         for (law, &f) in self.laws.iter().zip(&self.forces) {
             for (ai, wi) in self.a.iter_mut().zip(&law.w) {
                 *ai -= wi * f;

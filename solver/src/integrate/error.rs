@@ -102,7 +102,7 @@ pub enum IntegrateError {
 
     /// A point law's DOF is out of range or a coefficient is negative or not finite.
     #[error(
-        "point law {index} on DOF {dof}: {reason}; coefficients must be finite and >= 0, \
+        "point law {index} on DOF {dof}: {reason}; coefficients must be finite, the dashpot's and the friction's >= 0, \
          DOFs below the operator size {n_dofs}"
     )]
     InvalidPointLaw {
@@ -111,6 +111,15 @@ pub enum IntegrateError {
         n_dofs: usize,
         reason: &'static str,
     },
+
+    /// A point law's implicit solve failed: a non-finite input, or a softening cubic
+    /// spring that lost stability (its tangent stiffness turned negative within the
+    /// step's reach).
+    #[error(
+        "the point law on DOF {dof} has no stable solution at step {step} (t = {time}): \
+         a non-finite state, or a softening spring driven beyond its stable amplitude"
+    )]
+    PointLawUnsolvable { step: usize, time: f64, dof: usize },
 
     /// The Gauss-Seidel sweeps over several point laws of one step did not converge.
     #[error(

@@ -114,8 +114,10 @@
 //! 3. each law's force solves its scalar inclusion ([`PointLaw::solve`] with
 //!    `h = beta dt^2 H_ii`, `g = gamma dt H_ii` and the other laws' forces held): one
 //!    solve for one law, a nonlinear Gauss-Seidel sweep over the laws repeated until no
-//!    force changes by more than 1e-12 of the largest force (at most
-//!    [`MAX_LAW_SWEEPS`] sweeps, else [`IntegrateError::PointLawsNotConverged`]). `H`
+//!    force changes by more than [`point::SWEEP_TOLERANCE`] of the largest force (at
+//!    most [`point::MAX_SWEEPS`] sweeps, else [`IntegrateError::PointLawsNotConverged`];
+//!    a law with no stable root is [`IntegrateError::PointLawUnsolvable`]). This is
+//!    [`point::solve_step`], the one solve the dense stepper uses too. `H`
 //!    is symmetric positive definite and each scalar law monotone, so the sweeps
 //!    contract when the laws' DOFs are weakly coupled (`|H_ij| << H_ii`, the usual
 //!    case: one law, or laws far apart);
@@ -137,12 +139,12 @@ use super::banded::BandedEngine;
 use super::error::IntegrateError;
 use super::factor::SpdFactor;
 use super::operator::MergedOperators;
-use super::point::PointLaw;
+use super::point::{self, PointLaw};
 use super::sparse::SparseEngine;
 use super::Operators;
 
 /// Most Gauss-Seidel sweeps over several point laws in one step.
-pub const MAX_LAW_SWEEPS: usize = 200;
+pub const MAX_LAW_SWEEPS: usize = point::MAX_SWEEPS;
 
 /// Name of the effective matrix in error messages.
 const EFFECTIVE: &str = "effective matrix S = (1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K";
@@ -490,7 +492,7 @@ impl Stepper {
             let reason = if dof >= n {
                 Some("the DOF is out of range")
             } else if !law.is_valid() {
-                Some("a coefficient is negative or not finite")
+                Some("a coefficient is not finite, or the dashpot or the friction is negative")
             } else {
                 None
             };
@@ -822,45 +824,31 @@ fn correct_for_laws(
     }
     let (hs, gs) = (coefficients.beta * dt * dt, coefficients.gamma * dt);
     laws.was_stuck.copy_from_slice(&laws.stuck);
-    let non_finite = |dof| IntegrateError::NonFiniteState { step, time, dof };
-    let mut sweeps = 0;
-    loop {
-        sweeps += 1;
-        let mut change: f64 = 0.0;
-        let mut scale: f64 = 0.0;
-        for i in 0..l {
-            let d = laws.dofs[i];
-            let row = &laws.schur[i * l..(i + 1) * l];
-            let coupling: f64 = (0..l)
-                .filter(|&j| j != i)
-                .map(|j| row[j] * laws.forces[j])
-                .sum();
-            let h_ii = row[i];
-            let solved = laws.laws[i]
-                .solve(
-                    state.u[d] - hs * coupling,
-                    state.v[d] - gs * coupling,
-                    hs * h_ii,
-                    gs * h_ii,
-                )
-                .ok_or_else(|| non_finite(d))?;
-            change = change.max((solved.force - laws.forces[i]).abs());
-            scale = scale.max(solved.force.abs());
-            laws.forces[i] = solved.force;
-            laws.stuck[i] = solved.stuck;
-        }
-        if l == 1 || change <= 1e-12 * scale {
-            break;
-        }
-        if sweeps >= MAX_LAW_SWEEPS {
-            return Err(IntegrateError::PointLawsNotConverged {
+    let (u, v, dofs) = (&state.u, &state.v, &laws.dofs);
+    point::solve_step(
+        &laws.laws,
+        |j| (u[dofs[j]], v[dofs[j]]),
+        &laws.schur,
+        hs,
+        gs,
+        &mut laws.forces,
+        &mut laws.stuck,
+    )
+    .map_err(|e| match e {
+        point::StepLawError::Unsolvable { law } => IntegrateError::PointLawUnsolvable {
+            step,
+            time,
+            dof: laws.dofs[law],
+        },
+        point::StepLawError::NotConverged { sweeps, change } => {
+            IntegrateError::PointLawsNotConverged {
                 step,
                 time,
                 sweeps,
                 change,
-            });
+            }
         }
-    }
+    })?;
     for (j, &f) in laws.forces.iter().enumerate() {
         if f == 0.0 {
             continue;

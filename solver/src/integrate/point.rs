@@ -7,9 +7,9 @@
 //! ```text
 //! f(u, v) = k3 u^3 + c2 v |v| + F sgn(v)        (F sgn(0) is any value in [-F, F])
 //! ```
-//! `k3 >= 0` is a cubic spring, `c2 >= 0` a velocity-squared dashpot and `F >= 0` a dry
-//! (Coulomb) friction force that sticks while the other forces on the DOF cannot
-//! overcome it. The force enters the balance as `M a + C v + K u + B f = f_ext`, `B`
+//! `k3` is a cubic spring of either sign (`k3 < 0` softens), `c2 >= 0` a
+//! velocity-squared dashpot and `F >= 0` a dry (Coulomb) friction force that sticks
+//! while the other forces on the DOF cannot overcome it. The force enters the balance as `M a + C v + K u + B f = f_ext`, `B`
 //! the unit vector of the DOF. Units are the operator's: in coil's solver units `k3`
 //! is N/mm^3, `c2` N s^2/mm^2, `F` N.
 //!
@@ -22,8 +22,15 @@
 //! `u*`, `v*` are the predictor (the step computed with `f = 0` at its end), `h` the
 //! DOF's entry of the inverse effective matrix scaled to a displacement and
 //! `g = gamma/(beta dt) h` for Newmark. The step's force solves the scalar inclusion
-//! `f in f(u* - h f, v* - g f)`. Its right-hand side is non-increasing in `f` and the
-//! left increasing, so the root is unique ([`PointLaw::solve`]):
+//! `f in f(u* - h f, v* - g f)`. With `k3 >= 0` its right-hand side is non-increasing
+//! in `f` and the left increasing, so the root is unique ([`PointLaw::solve`]). A
+//! softening spring (`k3 < 0`) keeps that monotonicity only while
+//! `1 + 3 k3 h u^2 > 0`, i.e. for `|u| < u_h = 1/sqrt(3 |k3| h)`: the solve is confined
+//! to that interval (the root the step continues from), and when the interval holds no
+//! root the law has lost stability within the step and the solve returns `None`
+//! (callers turn it into an error; never a NaN). The physical limit of a softening
+//! spring in a model, where the total tangent stiffness `k + 3 k3 u^2` vanishes, is the
+//! caller's check (it knows `k`):
 //! * stick test: at `v = 0`, `f0 = v*/g`; if `|f0 - k3 u(f0)^3| <= F` the DOF sticks;
 //! * otherwise it slides with `sgn(v) = sgn(f0 - k3 u(f0)^3)`, and the smooth monotone
 //!   equation on that side is solved by Newton's method safeguarded by bisection.
@@ -35,7 +42,7 @@
 /// A nonlinear restoring force at one DOF: `k3 u^3 + c2 v|v| + F sgn(v)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PointLaw {
-    /// Cubic stiffness `k3 >= 0` (force / length^3).
+    /// Cubic stiffness `k3`, either sign (force / length^3).
     pub cubic: f64,
     /// Velocity-squared damping `c2 >= 0` (force time^2 / length^2).
     pub quadratic: f64,
@@ -58,11 +65,24 @@ impl PointLaw {
         self.cubic == 0.0 && self.quadratic == 0.0 && self.friction == 0.0
     }
 
-    /// True when every coefficient is finite and non-negative.
+    /// True when every coefficient is finite, and the dashpot and the friction are
+    /// non-negative (the cubic spring takes either sign).
     pub fn is_valid(&self) -> bool {
-        [self.cubic, self.quadratic, self.friction]
-            .iter()
-            .all(|c| c.is_finite() && *c >= 0.0)
+        self.cubic.is_finite()
+            && [self.quadratic, self.friction]
+                .iter()
+                .all(|c| c.is_finite() && *c >= 0.0)
+    }
+
+    /// The largest `|u|` (from the reference) at which a softening spring in parallel
+    /// with a linear stiffness `k` keeps a positive tangent stiffness,
+    /// `k + 3 k3 u^2 > 0`: `sqrt(k / (3 |k3|))`; infinite for `k3 >= 0`.
+    pub fn stable_displacement(&self, k: f64) -> f64 {
+        if self.cubic < 0.0 {
+            (k / (3.0 * -self.cubic)).sqrt()
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// The smooth part `k3 u^3 + c2 v|v|`.
@@ -114,6 +134,13 @@ impl PointLaw {
         // phi(f) = f - smooth(u(f), v(f)) - F sigma, increasing in f.
         let smooth_at = |f: f64| self.smooth_force(u_star - h * f, v_star - g * f);
         let f0 = v_star / g;
+        // A softening spring: the interval where phi stays increasing (module docs).
+        let (soft_lo, soft_hi) = if self.cubic < 0.0 && h > 0.0 {
+            let u_h = 1.0 / (3.0 * -self.cubic * h).sqrt();
+            ((u_star - u_h) / h, (u_star + u_h) / h)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
         let (lo, hi, sigma) = if self.friction > 0.0 {
             let excess = f0 - smooth_at(f0);
             if excess.abs() <= self.friction {
@@ -137,6 +164,14 @@ impl PointLaw {
             let v = v_star - g * f;
             1.0 + 3.0 * self.cubic * u * u * h + 2.0 * self.quadratic * v.abs() * g
         };
+        let (lo, hi) = (lo.max(soft_lo), hi.min(soft_hi));
+        if lo >= hi {
+            return None;
+        }
+        if self.cubic < 0.0 && h > 0.0 && (phi(lo) > 0.0 || phi(hi) < 0.0) {
+            // No root where the softening law is monotone: it lost stability.
+            return None;
+        }
         let start = guess
             .filter(|x| x.is_finite())
             .unwrap_or(sigma * self.friction);
@@ -145,6 +180,79 @@ impl PointLaw {
             force,
             stuck: false,
         })
+    }
+}
+
+/// Relative change of the law forces at which the Gauss-Seidel sweeps over several
+/// laws of one step stop: a few hundred ulp of the largest force.
+pub const SWEEP_TOLERANCE: f64 = 1e-13;
+
+/// Most Gauss-Seidel sweeps over several laws in one step.
+pub const MAX_SWEEPS: usize = 200;
+
+/// Why the laws of one step could not be solved ([`solve_step`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepLawError {
+    /// Law `law`'s scalar solve failed: a non-finite input, or a softening spring with
+    /// no stable root (it lost stability within the step).
+    Unsolvable { law: usize },
+    /// The sweeps did not converge; the last change of a force.
+    NotConverged { sweeps: usize, change: f64 },
+}
+
+/// The end-of-step forces of the laws of one step, shared by every stepper (the banded
+/// and sparse Newmark engines and the dense reduced-model stepper): with `linear(j)` the
+/// end-of-step displacement and velocity at law `j`'s DOF when every law force is zero,
+/// `schur` the `p x p` matrix `G = E^T S^-1 E` (row-major; `S` the effective matrix, `E`
+/// the laws' unit columns) and `h`, `g` the scheme's displacement and velocity factors
+/// (`beta dt^2`, `gamma dt`), law `j`'s DOF ends at `u_j - h sum_k G_jk f_k`,
+/// `v_j - g sum_k G_jk f_k`. One law is solved exactly; several by nonlinear
+/// Gauss-Seidel (each law exactly with the others' current forces; `G` is symmetric
+/// positive definite and each law monotone, so the sweeps converge) from `forces` (the
+/// previous step's, a warm start), to a relative change of [`SWEEP_TOLERANCE`] within
+/// [`MAX_SWEEPS`] sweeps, else an error. `forces` and `stuck` are overwritten.
+pub fn solve_step(
+    laws: &[PointLaw],
+    linear: impl Fn(usize) -> (f64, f64),
+    schur: &[f64],
+    h: f64,
+    g: f64,
+    forces: &mut [f64],
+    stuck: &mut [bool],
+) -> Result<(), StepLawError> {
+    let p = laws.len();
+    let mut sweeps = 0;
+    loop {
+        sweeps += 1;
+        let mut change: f64 = 0.0;
+        let mut size: f64 = 0.0;
+        for j in 0..p {
+            let (ul, vl) = linear(j);
+            let others: f64 = (0..p)
+                .filter(|&k| k != j)
+                .map(|k| schur[j * p + k] * forces[k])
+                .sum();
+            let gjj = schur[j * p + j];
+            let sol = laws[j]
+                .solve_from(
+                    ul - h * others,
+                    vl - g * others,
+                    h * gjj,
+                    g * gjj,
+                    Some(forces[j]),
+                )
+                .ok_or(StepLawError::Unsolvable { law: j })?;
+            change = change.max((sol.force - forces[j]).abs());
+            size = size.max(sol.force.abs());
+            forces[j] = sol.force;
+            stuck[j] = sol.stuck;
+        }
+        if p == 1 || change <= SWEEP_TOLERANCE * size || size == 0.0 {
+            return Ok(());
+        }
+        if sweeps >= MAX_SWEEPS {
+            return Err(StepLawError::NotConverged { sweeps, change });
+        }
     }
 }
 
@@ -327,6 +435,72 @@ mod tests {
         assert!(!s.stuck && (s.force - 1.0).abs() < 1e-15);
         let s = law.solve(0.0, -1.5, 0.1, 1.0).unwrap();
         assert!(!s.stuck && (s.force + 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn softening_spring_is_solved_where_stable_and_refused_beyond() {
+        let law = PointLaw {
+            cubic: -2.0,
+            ..Default::default()
+        };
+        // Small h: the monotone interval is wide, the root near the predictor.
+        let (u, v, h, g) = (0.4, 0.3, 0.01, 0.2);
+        let s = law.solve(u, v, h, g).expect("stable");
+        let r = residual(&law, s, u, v, h, g);
+        assert!(r.abs() < 1e-12, "{r}");
+        // Far beyond u_h = 1/sqrt(3 |k3| h) = 4.08 the law has no stable root.
+        assert!(law.solve(50.0, 0.0, h, g).is_none());
+        assert!((law.stable_displacement(6.0) - 1.0).abs() < 1e-15);
+        assert!(PointLaw::default().stable_displacement(1.0).is_infinite());
+        assert!(law.is_valid());
+    }
+
+    #[test]
+    fn several_laws_converge_and_one_law_is_exact() {
+        let laws = [
+            PointLaw {
+                friction: 0.2,
+                ..Default::default()
+            },
+            PointLaw {
+                quadratic: 0.5,
+                cubic: -0.3,
+                ..Default::default()
+            },
+        ];
+        let schur = [1.0, 0.2, 0.2, 0.8];
+        let lin = [(0.1, 1.0), (0.2, -0.7)];
+        let (h, g) = (1e-4, 1e-2);
+        let mut forces = [0.0; 2];
+        let mut stuck = [false; 2];
+        solve_step(&laws, |j| lin[j], &schur, h, g, &mut forces, &mut stuck).unwrap();
+        // Each law satisfies its own equation with the other's force held.
+        for j in 0..2 {
+            let k = 1 - j;
+            let (ul, vl) = lin[j];
+            let gjj = schur[j * 2 + j];
+            let (u, v) = (
+                ul - h * schur[j * 2 + k] * forces[k],
+                vl - g * schur[j * 2 + k] * forces[k],
+            );
+            let s = PointSolve {
+                force: forces[j],
+                stuck: stuck[j],
+            };
+            let r = residual(&laws[j], s, u, v, h * gjj, g * gjj);
+            assert!(r.abs() < 1e-11, "law {j}: {r}");
+        }
+        // A non-finite input is an error naming the law, never a NaN force.
+        let bad = solve_step(
+            &laws[..1],
+            |_| (f64::NAN, 0.0),
+            &[1.0],
+            h,
+            g,
+            &mut [0.0],
+            &mut [false],
+        );
+        assert_eq!(bad, Err(StepLawError::Unsolvable { law: 0 }));
     }
 
     #[test]

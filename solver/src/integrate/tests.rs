@@ -1212,8 +1212,9 @@ fn point_laws_need_average_acceleration_and_valid_coefficients() {
         (2, friction),
         (
             0,
+            // A negative friction force (a softening cubic, k3 < 0, is a valid law).
             PointLaw {
-                cubic: -1.0,
+                friction: -1.0,
                 ..Default::default()
             },
         ),

@@ -1,10 +1,13 @@
 //! The catalogue of effects the diagnosis can name (`docs/measured-case.md`).
 //!
-//! One [`Effect`] per physical cause: its name and parameter (exactly the spec's), how
-//! it extends the reduced FE model ([`EffectKind`], [`Mount`]), and how its signature in
-//! the records gives the evidence and the fit's starting value. Adding an effect is one
-//! more entry in [`CATALOGUE`] plus, if it needs a new kind of force, one more
-//! [`EffectKind`] arm in the model.
+//! One [`Effect`] per physical cause carries everything about it: its name, parameter
+//! and unit (exactly the spec's), how it extends the reduced FE model (the point law it
+//! adds at the weight or the rotary inertia it frees, [`Effect::apply`], and the mount
+//! it needs, [`Mount`]), its static force if it shows in the static record, the
+//! evidence and starting values its signature gives ([`Effect::propose`]) and the check
+//! that a fitted value agrees with that signature ([`Effect::signature`]). Adding an
+//! effect is one more entry in [`CATALOGUE`]: the model, the fit, the choice and the
+//! report iterate over the catalogue and know no effect by name.
 //!
 //! Signatures (weak nonlinearity, first-order harmonic balance / energy balance per
 //! cycle, displacement amplitude `A`, `k = m w^2`):
@@ -19,7 +22,39 @@
 //!   `w1^2 + w2^2 = kz/m + kt/J` and `w1^2 w2^2 = (kz kt - c^2)/(m J)`.
 
 use super::evidence::Signatures;
-use super::model::{EffectKind, Mount};
+use coil_solver::integrate::PointLaw;
+use coil_solver::model::units;
+
+/// How the weight is mounted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mount {
+    /// The paper's model: the weight moves along the axis only.
+    Guided,
+    /// The weight also turns about the axis.
+    FreeRotation,
+}
+
+/// What a set of effects adds to the linear model: a point law at the weight's axial
+/// DOF (solver units) and the weight's rotary inertia (kg m^2, a free rotation).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Extension {
+    pub law: PointLaw,
+    pub rotary_inertia_kg_m2: f64,
+}
+
+/// Whether a fitted value agrees with the effect's own signature in the records.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SignatureCheck {
+    pub passed: bool,
+    /// The signature's strength (standard errors; relative amplitude over its threshold
+    /// for a spectral line) and the limit it must reach.
+    pub value: f64,
+    pub limit: f64,
+    pub text: String,
+}
+
+/// A signature term must stand this many standard errors clear of zero (95 %, two-sided).
+pub const SIGNATURE_Z: f64 = 2.0;
 
 /// The starting point and evidence an effect draws from the records.
 #[derive(Debug, Clone)]
@@ -57,18 +92,36 @@ pub trait Effect: Sync {
     fn name(&self) -> &'static str;
     /// The spec's parameter name (with its unit).
     fn parameter(&self) -> &'static str;
-    /// The force it adds to the model.
-    fn kind(&self) -> EffectKind;
+    /// The parameter's unit, in words for the report.
+    fn unit(&self) -> &'static str;
+    /// True when the parameter takes either sign (fitted as itself, not as a logarithm).
+    fn signed(&self) -> bool {
+        false
+    }
+    /// Adds the effect at magnitude `value` (SI, the spec's unit) to the model.
+    fn apply(&self, value: f64, extension: &mut Extension);
     /// The weight's mounting it needs.
     fn mount(&self) -> Mount {
         Mount::Guided
     }
-    /// Whether the static record is fitted with the decay.
-    fn uses_static(&self) -> bool {
-        false
+    /// Its force in the static record at compression `x_m` (N), when it shows there:
+    /// the static record is then fitted with the decay.
+    fn static_force(&self, _value: f64, _x_m: f64) -> Option<f64> {
+        None
     }
     /// Evidence and starting values.
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal;
+    /// Whether the fitted `value` agrees with the effect's own signature.
+    fn signature(&self, s: &Signatures, b: &BaselineFigures, value: f64) -> SignatureCheck;
+}
+
+fn check(value: f64, limit: f64, text: String) -> SignatureCheck {
+    SignatureCheck {
+        passed: value.is_finite() && value >= limit,
+        value,
+        limit,
+        text,
+    }
 }
 
 fn starts(value: f64, fallback: f64) -> Vec<f64> {
@@ -87,8 +140,32 @@ impl Effect for CoulombFriction {
     fn parameter(&self) -> &'static str {
         "friction_force_n"
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Friction
+    fn unit(&self) -> &'static str {
+        "N"
+    }
+    fn apply(&self, value: f64, e: &mut Extension) {
+        e.law.friction += value;
+    }
+    fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
+        // A constant term in the loss per cycle, or the static record's hysteresis.
+        let loss = s.loss.map_or(f64::NAN, |l| l.a0_m / l.a0_se);
+        let hysteresis = s
+            .statics
+            .map_or(f64::NAN, |st| st.friction_n / st.friction_se);
+        let z = loss.max(hysteresis);
+        check(
+            if z.is_nan() { 0.0 } else { z },
+            SIGNATURE_Z,
+            format!(
+                "constant loss per cycle a0 at {} standard errors{}",
+                show_z(loss),
+                if hysteresis.is_finite() {
+                    format!(", static hysteresis at {hysteresis:.1}")
+                } else {
+                    String::new()
+                }
+            ),
+        )
     }
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
         let from_loss = s
@@ -137,8 +214,23 @@ impl Effect for QuadraticDamping {
     fn parameter(&self) -> &'static str {
         "quadratic_damping_n_s2_m2"
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Quadratic
+    fn unit(&self) -> &'static str {
+        "N s^2/m^2"
+    }
+    fn apply(&self, value: f64, e: &mut Extension) {
+        e.law.quadratic += units::quadratic_damping_from_si(value);
+    }
+    fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
+        // A loss per cycle growing as A^2.
+        let z = s.loss.map_or(f64::NAN, |l| l.a2_per_m / l.a2_se);
+        check(
+            if z.is_nan() { 0.0 } else { z },
+            SIGNATURE_Z,
+            format!(
+                "loss per cycle growing as A^2 (a2) at {} standard errors",
+                show_z(z)
+            ),
+        )
     }
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
         let from_loss = s
@@ -170,11 +262,45 @@ impl Effect for CubicStiffness {
     fn parameter(&self) -> &'static str {
         "cubic_stiffness_n_m3"
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Cubic
+    fn unit(&self) -> &'static str {
+        "N/m^3"
     }
-    fn uses_static(&self) -> bool {
+    fn signed(&self) -> bool {
         true
+    }
+    fn apply(&self, value: f64, e: &mut Extension) {
+        e.law.cubic += units::cubic_stiffness_from_si(value);
+    }
+    fn static_force(&self, value: f64, x_m: f64) -> Option<f64> {
+        Some(value * x_m * x_m * x_m)
+    }
+    fn signature(&self, s: &Signatures, b: &BaselineFigures, value: f64) -> SignatureCheck {
+        // The backbone's slope, of the sign the fitted k3 gives about the preload
+        // (b = 3 k3/(4 k_t) - 7.5 (k3 x_s)^2 / k_t^2), or the static curvature of the
+        // fitted k3's sign.
+        let kt = b.stiffness_n_m + 3.0 * value * b.preload_m * b.preload_m;
+        let predicted = 3.0 * value / (4.0 * kt) - 7.5 * (value * b.preload_m / kt).powi(2);
+        let backbone = s
+            .backbone
+            .map_or(f64::NAN, |bb| bb.b_per_m2 / bb.b_se * predicted.signum());
+        let statics = s
+            .statics
+            .map_or(f64::NAN, |st| st.k3_n_m3 / st.k3_se * value.signum());
+        let z = backbone.max(statics);
+        check(
+            if z.is_nan() { 0.0 } else { z },
+            SIGNATURE_Z,
+            format!(
+                "backbone slope of the fitted k3's sign (predicted b = {predicted:.3e} 1/m^2) at \
+                 {} standard errors{}",
+                show_z(backbone),
+                if statics.is_finite() {
+                    format!(", static curvature of its sign at {statics:.1}")
+                } else {
+                    ", no static record".to_string()
+                }
+            ),
+        )
     }
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
         let mut text = Vec::new();
@@ -207,12 +333,13 @@ impl Effect for CubicStiffness {
             z_score = z_score.max(z);
         }
         let fallback = 0.01 * b.stiffness_n_m / b.amplitude_m.max(b.preload_m).max(1e-6).powi(2);
+        // Either sign: a softening spring (k3 < 0) is as likely as a hardening one.
         let mut starts: Vec<f64> = values
             .into_iter()
-            .filter(|v| v.is_finite() && *v > 0.0)
+            .filter(|v| v.is_finite() && *v != 0.0)
             .collect();
         if starts.is_empty() {
-            starts = vec![fallback, 0.1 * fallback, 10.0 * fallback];
+            starts = vec![fallback, -fallback];
         }
         Proposal {
             evidence: if text.is_empty() {
@@ -234,8 +361,34 @@ impl Effect for AxialTorsionalCoupling {
     fn parameter(&self) -> &'static str {
         "rotary_inertia_kg_m2"
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Rotary
+    fn unit(&self) -> &'static str {
+        "kg m^2"
+    }
+    fn apply(&self, value: f64, e: &mut Extension) {
+        e.rotary_inertia_kg_m2 += value;
+    }
+    fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
+        // A second spectral line, or a beating envelope.
+        let line = s.second_peak.map_or(0.0, |p| p.z_score);
+        let beat = if s.envelope.kind == "beating" {
+            1.0
+        } else {
+            0.0
+        };
+        check(
+            line.max(beat),
+            1.0,
+            format!(
+                "{}; envelope {}",
+                s.second_peak
+                    .map_or("one spectral line".to_string(), |p| format!(
+                        "a second line at {:.4} Hz, {:.1} % of the axial one",
+                        p.frequency_hz,
+                        100.0 * p.relative_amplitude
+                    )),
+                s.envelope.kind
+            ),
+        )
     }
     fn mount(&self) -> Mount {
         Mount::FreeRotation
@@ -297,8 +450,30 @@ impl Effect for AxialTorsionalCoupling {
     }
 }
 
+fn show_z(z: f64) -> String {
+    if z.is_finite() {
+        format!("{z:.1}")
+    } else {
+        "- (no estimate)".into()
+    }
+}
+
+/// Number of entries in [`CATALOGUE`].
+pub const COUNT: usize = 4;
+
+/// What the effects at `values` (indexed as [`CATALOGUE`]) add to the model.
+pub fn extension(values: &[f64; COUNT]) -> Extension {
+    let mut e = Extension::default();
+    for (effect, &v) in CATALOGUE.iter().zip(values) {
+        if v != 0.0 {
+            effect.apply(v, &mut e);
+        }
+    }
+    e
+}
+
 /// Every effect the diagnosis tries, in report order.
-pub static CATALOGUE: &[&dyn Effect] = &[
+pub static CATALOGUE: [&dyn Effect; COUNT] = [
     &CoulombFriction,
     &QuadraticDamping,
     &CubicStiffness,

@@ -12,12 +12,24 @@
 //! - **nonlinear models**: the initial displacement and velocity are fitted together
 //!   with the knobs, starting from the linear model's projected state.
 //!
-//! Residuals are `simulated - measured` acceleration (m/s^2) on the fitted samples,
+//! Records of displacement or velocity carry the sensor's offset and a slow drift: an
+//! offset `c0` and a linear drift `c1 t` are fitted with every model, by the same
+//! linear least squares (two more columns beside the unit responses of a linear model;
+//! projected out of the residual of a nonlinear one), so they cost no search. The fit
+//! compares the measured quantity itself (a displacement with a displacement): no
+//! record is differentiated for the fit.
+//!
+//! Each effect is a knob: a positive one is fitted as its logarithm, one that takes
+//! either sign (the cubic spring) as itself.
+//!
+//! Residuals are `simulated - measured` (the record's quantity, SI) on the fitted samples,
 //! optionally followed by a static block (see [`StaticBlock`]), each block divided by
 //! its noise level so that they weigh by their information.
 
+use super::effects::CATALOGUE;
 use super::lm::{self, LmOptions, Residuals};
 use super::model::{Physical, ReducedSpring};
+use crate::case::Quantity;
 use std::ops::Range;
 
 /// A quantity the fit may move.
@@ -27,8 +39,15 @@ pub enum Knob {
     Mass,
     /// Rayleigh beta on the spring (s).
     Beta,
-    /// The effect's magnitude in its SI unit (`Physical::effect`).
-    Effect,
+    /// A catalogue effect's magnitude in its SI unit (`Physical::effects[i]`).
+    Effect(usize),
+}
+
+impl Knob {
+    /// True when the knob is fitted as itself (either sign), not as a logarithm.
+    fn signed(&self) -> bool {
+        matches!(self, Knob::Effect(i) if CATALOGUE[*i].signed())
+    }
 }
 
 /// A static force-compression block fitted beside the decay (cubic stiffness): the model
@@ -55,6 +74,10 @@ pub struct Problem<'a> {
     pub statics: Option<&'a StaticBlock>,
     /// Initial state to start a nonlinear fit from (model units).
     pub initial_state: Option<Vec<f64>>,
+    /// The record's quantity.
+    pub quantity: Quantity,
+    /// Fit an offset and a linear drift beside the model.
+    pub drift: bool,
 }
 
 /// A finished fit.
@@ -70,6 +93,8 @@ pub struct Fitted {
     pub n_params: usize,
     /// Relative standard errors of the knobs (indicative; see `lm`).
     pub knob_rel_errors: Vec<f64>,
+    /// The knobs fitted.
+    pub knobs: Vec<Knob>,
     pub iterations: usize,
     pub evaluations: usize,
 }
@@ -78,11 +103,11 @@ impl Problem<'_> {
     fn physical(&self, p: &[f64]) -> Physical {
         let mut phys = self.start;
         for (k, v) in self.knobs.iter().zip(p) {
-            let x = v.exp();
+            let x = if k.signed() { *v } else { v.exp() };
             match k {
                 Knob::Mass => phys.mass_kg = x,
                 Knob::Beta => phys.beta_s = x,
-                Knob::Effect => phys.effect = x,
+                Knob::Effect(i) => phys.effects[*i] = x,
             }
         }
         phys
@@ -92,15 +117,28 @@ impl Problem<'_> {
         self.knobs
             .iter()
             .map(|k| {
-                match k {
+                let x = match k {
                     Knob::Mass => self.start.mass_kg,
                     Knob::Beta => self.start.beta_s,
-                    Knob::Effect => self.start.effect,
+                    Knob::Effect(i) => self.start.effects[*i],
+                };
+                if k.signed() {
+                    x
+                } else {
+                    x.max(1e-300).ln()
                 }
-                .max(1e-300)
-                .ln()
             })
             .collect()
+    }
+
+    /// The offset and drift columns over the first `n` samples (none for an
+    /// acceleration record): 1 and the time over the record's length.
+    fn drift_columns(&self, n: usize) -> Vec<Vec<f64>> {
+        if !self.drift {
+            return Vec::new();
+        }
+        let len = self.measured.len().max(1) as f64;
+        vec![vec![1.0; n], (0..n).map(|i| i as f64 / len).collect()]
     }
 
     fn linear(&self) -> bool {
@@ -113,13 +151,16 @@ impl Problem<'_> {
     fn simulate(&self, p: &[f64], n: usize) -> Result<(Vec<f64>, Vec<f64>), String> {
         let k = self.knobs.len();
         let phys = self.physical(&p[..k]);
+        let drift = self.drift_columns(n);
         if self.linear() {
-            let basis = self.model.basis(&phys, self.step_s, n)?;
+            let mut basis = self.model.basis(&phys, self.step_s, n, self.quantity)?;
+            let states = basis.len();
+            basis.extend(drift);
             let columns: Vec<Vec<f64>> = basis
                 .iter()
                 .map(|b| b[self.range.clone()].to_vec())
                 .collect();
-            let c = lm::linear_least_squares(&columns, &self.measured[self.range.clone()])
+            let mut c = lm::linear_least_squares(&columns, &self.measured[self.range.clone()])
                 .ok_or("the initial state is not identifiable from the record")?;
             let mut sim = vec![0.0; n];
             for (b, ci) in basis.iter().zip(&c) {
@@ -127,10 +168,31 @@ impl Problem<'_> {
                     *s += ci * x;
                 }
             }
+            c.truncate(states);
             Ok((sim, c))
         } else {
             let state = p[k..].to_vec();
-            let sim = self.model.simulate(&phys, &state, self.step_s, n)?;
+            let mut sim = self
+                .model
+                .simulate(&phys, &state, self.step_s, n, self.quantity)?;
+            if !drift.is_empty() {
+                let columns: Vec<Vec<f64>> = drift
+                    .iter()
+                    .map(|b| b[self.range.clone()].to_vec())
+                    .collect();
+                let rest: Vec<f64> = self
+                    .range
+                    .clone()
+                    .map(|i| self.measured[i] - sim[i])
+                    .collect();
+                let c = lm::linear_least_squares(&columns, &rest)
+                    .ok_or("the offset and drift are not identifiable from the record")?;
+                for (b, ci) in drift.iter().zip(&c) {
+                    for (s, x) in sim.iter_mut().zip(b) {
+                        *s += ci * x;
+                    }
+                }
+            }
             Ok((sim, state))
         }
     }
@@ -139,9 +201,13 @@ impl Problem<'_> {
         if let Some(s) = self.statics {
             let phys = self.physical(&p[..self.knobs.len()]);
             let k = self.model.stiffness_n_m(&phys);
-            let k3 = phys.cubic_n_m3();
             for (x, f) in s.displacement_m.iter().zip(&s.force_n) {
-                out.push((k * x + k3 * x * x * x - f) / s.sigma_n);
+                let extra: f64 = CATALOGUE
+                    .iter()
+                    .zip(&phys.effects)
+                    .filter_map(|(e, &v)| e.static_force(v, *x))
+                    .sum();
+                out.push((k * x + extra - f) / s.sigma_n);
             }
         }
     }
@@ -164,7 +230,12 @@ impl Residuals for Problem<'_> {
 /// Runs the fit of `problem`.
 pub fn run(problem: &Problem<'_>, max_iterations: usize) -> Result<Fitted, String> {
     let mut start = problem.knob_start();
-    let mut scale = vec![1.0; start.len()];
+    let mut scale: Vec<f64> = problem
+        .knobs
+        .iter()
+        .zip(&start)
+        .map(|(k, x)| if k.signed() { x.abs().max(1e-300) } else { 1.0 })
+        .collect();
     if !problem.linear() {
         let state = match &problem.initial_state {
             Some(s) => s.clone(),
@@ -190,13 +261,23 @@ pub fn run(problem: &Problem<'_>, max_iterations: usize) -> Result<Fitted, Strin
         .clone()
         .map(|i| (simulated[i] - problem.measured[i]).powi(2))
         .sum();
+    // Relative errors: a logarithm's standard error is one already; a signed knob's
+    // is divided by its value.
+    let knob_rel_errors = problem
+        .knobs
+        .iter()
+        .zip(&fit.params)
+        .zip(&fit.std_errors)
+        .map(|((knob, p), se)| if knob.signed() { se / p.abs() } else { *se })
+        .collect();
     Ok(Fitted {
         physical: problem.physical(&fit.params[..k]),
-        n_params: k + initial_state.len(),
+        n_params: k + initial_state.len() + problem.drift_columns(0).len(),
         initial_state,
         simulated,
         rss,
-        knob_rel_errors: fit.std_errors[..k].to_vec(),
+        knob_rel_errors,
+        knobs: problem.knobs.clone(),
         iterations: fit.iterations,
         evaluations: fit.evaluations,
     })

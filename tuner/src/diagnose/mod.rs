@@ -38,16 +38,17 @@ pub mod report;
 pub mod select;
 pub mod signatures;
 
+use crate::case::Quantity;
 use crate::case::{read_case, MeasuredCase};
 use crate::decay::{self, DecayRecord, DecaySettings};
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use crate::loops;
 use data::DecayData;
-use effects::{BaselineFigures, Effect, CATALOGUE};
+use effects::{BaselineFigures, Mount, CATALOGUE};
 use evidence::Signatures;
 use fit::{Fitted, Knob, Problem, StaticBlock};
-use model::{EffectKind, Mount, Physical, ReducedSpring};
+use model::{Physical, ReducedSpring};
 use rayon::prelude::*;
 use report::Diagnosis;
 use std::collections::BTreeMap;
@@ -84,13 +85,38 @@ impl Default for DiagnoseSettings {
     }
 }
 
-/// One fitted model's figures on the full record and on the forecast.
+/// One fitted model's figures on the full record and on the forecasts.
 #[derive(Debug, Clone)]
 pub struct ModelRun {
     pub full: Fitted,
     pub half: Fitted,
     pub residual_rms: f64,
     pub forecast_rms: f64,
+    /// Forecast RMS (relative) of the quarter after each rolling origin
+    /// (`select::ORIGINS`), fitted up to the origin; empty for the baseline.
+    pub rolling: Vec<f64>,
+}
+
+/// One candidate: a set of catalogue effects (one to three), its evidence and its fit.
+#[derive(Debug, Clone)]
+pub struct CandidateRun {
+    /// Catalogue indices, ascending.
+    pub effects: Vec<usize>,
+    pub evidence: String,
+    /// Each effect's signature check at the fitted values (empty if the fit failed).
+    pub signatures: Vec<effects::SignatureCheck>,
+    pub run: std::result::Result<ModelRun, String>,
+}
+
+impl CandidateRun {
+    /// The candidate's name: its effects joined by `+`.
+    pub fn label(&self) -> String {
+        self.effects
+            .iter()
+            .map(|&i| CATALOGUE[i].name())
+            .collect::<Vec<_>>()
+            .join("+")
+    }
 }
 
 /// Everything a diagnosis computed (the report and the figures draw on it).
@@ -101,7 +127,7 @@ pub struct Outcome {
     pub signatures: Signatures,
     pub baseline: ModelRun,
     pub reference: ModelRun,
-    pub candidates: Vec<(String, std::result::Result<ModelRun, String>)>,
+    pub candidates: Vec<CandidateRun>,
     pub diagnosis: Diagnosis,
     /// Measured amplitude spectrum (frequencies Hz, amplitudes m/s^2) for the figure.
     pub spectrum: Option<(Vec<f64>, Vec<f64>)>,
@@ -109,6 +135,8 @@ pub struct Outcome {
     pub modes: usize,
     /// Largest step as a fraction of the axial period.
     pub step_fraction: f64,
+    /// Where the baseline's K came from.
+    pub stiffness_source: report::StiffnessSource,
 }
 
 fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
@@ -121,7 +149,7 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
     let case = read_case(path)?;
-    let mut decays = case.decay_records()?;
+    let mut decays = case.measured_decays()?;
     if decays.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: `records.decay` is missing or empty; expected at least one decay record \
@@ -134,10 +162,11 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         warnings.push(format!(
             "{} decay records; only the first, {}, is diagnosed",
             decays.len(),
-            decays[0].source.display()
+            decays[0].file.display()
         ));
     }
-    let decay = data::check_decay(decays.swap_remove(0))?;
+    let decay = data::condition_decay(decays.swap_remove(0))?;
+    warnings.extend(decay.warnings.iter().cloned());
     let mut static_records = case.static_records()?;
     if static_records.len() > 1 {
         warnings.push(format!(
@@ -241,34 +270,50 @@ fn compute(
     let (base_phys, period_s, zeta) = paper(0..n)?;
     let (half_phys, _, _) = paper(0..half)?;
     let sigma = 1.0;
+    let fit_target = &decay.measured;
+    let quantity = decay.quantity;
+    // A displacement or velocity record carries the sensor's offset and drift.
+    let drift = quantity != Quantity::Acceleration;
     let linear_problem = |start: Physical, range: Range<usize>, knobs: Vec<Knob>| Problem {
         model: &guided,
         start,
         knobs,
-        measured: &measured,
+        measured: fit_target,
         step_s: step,
         range,
         sigma,
         statics: None,
         initial_state: None,
+        quantity,
+        drift,
     };
     let run = |p: &Problem<'_>| {
         fit::run(p, settings.max_iterations).map_err(|m| TuneError::Invalid(format!("fit: {m}")))
     };
     let baseline_full = run(&linear_problem(base_phys, 0..n, vec![]))?;
     let baseline_half = run(&linear_problem(half_phys, 0..half, vec![]))?;
-    let baseline = model_run(baseline_full, baseline_half, &measured, half);
+    let baseline = model_run(baseline_full, baseline_half, fit_target, &[]);
 
     progress(settings, &clock, "reference (linear model by output error)");
     // Continuation over growing windows (first quarter, first half, whole record): the
     // residual of an oscillator is nonlinear in its frequency through the phase it
     // accumulates, so a long window is fitted from a start that already holds the
-    // phase; the first-half fit is the forecast's.
+    // phase; the quarter, half and three-quarter fits give the rolling forecasts.
     let knobs = vec![Knob::Mass, Knob::Beta];
-    let quarter = run(&linear_problem(base_phys, 0..n / 4, knobs.clone()))?;
+    let quarter = run(&linear_problem(base_phys, 0..origin(0, n), knobs.clone()))?;
     let reference_half = run(&linear_problem(quarter.physical, 0..half, knobs.clone()))?;
-    let reference_full = run(&linear_problem(reference_half.physical, 0..n, knobs))?;
-    let reference = model_run(reference_full, reference_half, &measured, half);
+    let reference_full = run(&linear_problem(
+        reference_half.physical,
+        0..n,
+        knobs.clone(),
+    ))?;
+    let three = run(&linear_problem(
+        reference_full.physical,
+        0..origin(2, n),
+        knobs,
+    ))?;
+    let rolling = [quarter, reference_half.clone(), three];
+    let reference = model_run(reference_full, reference_half, fit_target, &rolling);
     let noise = (reference.full.rss / n as f64).sqrt();
 
     progress(settings, &clock, "signatures");
@@ -297,37 +342,89 @@ fn compute(
             force_n: r.force_n.clone(),
             sigma_n: s.cubic_rms_n.max(1e-12),
         });
+    let job = Job {
+        guided: &guided,
+        free: &free,
+        reference: &reference,
+        measured: fit_target,
+        step_s: step,
+        noise,
+        statics: statics_block.as_ref(),
+        static_fit: static_fit.as_ref(),
+        quantity,
+        drift,
+        max_iterations: settings.max_iterations,
+        signatures: &sigs,
+        figures: &figures,
+    };
+    let ctx = select::Context {
+        reference: &reference,
+        measured: fit_target,
+        samples_per_period: 1.0 / (sigs.axial_hz.max(1e-9) * step),
+    };
 
-    // The candidates are independent: they run in parallel (each fit's Jacobian
-    // columns run in parallel too).
-    progress(settings, &clock, "candidates");
-    let candidates: Vec<_> = CATALOGUE
-        .par_iter()
-        .map(|effect| {
-            let proposal = effect.propose(&sigs, &figures);
-            let model = match effect.mount() {
-                Mount::Guided => &guided,
-                Mount::FreeRotation => &free,
-            };
-            let fitted = fit_effect(
-                *effect,
-                &proposal.starts,
-                model,
-                &reference,
-                &measured,
-                step,
-                noise,
-                statics_block.as_ref().filter(|_| effect.uses_static()),
-                static_fit.as_ref(),
-                settings.max_iterations,
-            );
-            (*effect, proposal, fitted)
+    // Every effect alone, in parallel (each fit's Jacobian columns run in parallel too).
+    progress(settings, &clock, "candidates: each effect alone");
+    let mut candidates: Vec<CandidateRun> = (0..effects::COUNT)
+        .into_par_iter()
+        .map(|i| {
+            let proposal = CATALOGUE[i].propose(&sigs, &figures);
+            let seeds: Vec<Physical> = proposal
+                .starts
+                .iter()
+                .map(|&v| {
+                    let mut p = job.base(&[i]);
+                    p.effects[i] = v;
+                    p
+                })
+                .collect();
+            let init = reference.full.initial_state.clone();
+            job.candidate(vec![i], proposal.evidence, &seeds, init)
         })
         .collect();
+    // Combinations of the effects with evidence of their own, up to three: strong
+    // evidence alone (dBIC above the limit), or a gain beside a signature that agrees
+    // (an effect masked alone by another one, drag beside a softening drift). Each
+    // combination starts from its parts' fitted values.
+    let mut gaining: Vec<(usize, f64)> = candidates
+        .iter()
+        .filter_map(|c| {
+            select::score(&ctx, c)
+                .filter(|s| {
+                    s.delta_bic > select::DELTA_BIC
+                        || (s.delta_bic > 0.0 && s.tests.signature.passed)
+                })
+                .map(|s| (c.effects[0], s.delta_bic))
+        })
+        .collect();
+    gaining.sort_by(|a, b| b.1.total_cmp(&a.1));
+    gaining.truncate(MAX_COMBINED);
+    let gaining: Vec<usize> = gaining.into_iter().map(|g| g.0).collect();
+    let mut sets: Vec<Vec<usize>> = Vec::new();
+    for (a, &i) in gaining.iter().enumerate() {
+        for &j in &gaining[a + 1..] {
+            sets.push(sorted(vec![i, j]));
+        }
+    }
+    if !sets.is_empty() {
+        progress(settings, &clock, "candidates: pairs of effects");
+        let pairs: Vec<CandidateRun> = sets
+            .par_iter()
+            .map(|set| job.combined(set, &candidates))
+            .collect();
+        candidates.extend(pairs);
+    }
+    if gaining.len() >= 3 {
+        progress(settings, &clock, "candidates: three effects");
+        let triple = job.combined(&sorted(gaining.clone()), &candidates);
+        candidates.push(triple);
+    }
 
-    let choice = select::choose(&reference, &candidates, &measured);
-    let noise_floor =
-        sigs.noise_rms_m_s2 / (measured.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
+    let choice = select::choose(&ctx, &candidates);
+    // The spectral noise floor of the recorded quantity (valid on band-limited
+    // records, data.rs).
+    let noise_abs = decay.measured_noise.rms;
+    let noise_floor = noise_abs / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     // Plausibility: what the calibration had to do to the nominal values, and a misfit
     // no catalogue effect explains.
     for (what, value, nominal) in [
@@ -346,17 +443,22 @@ fn compute(
             ));
         }
     }
-    if choice.cause.is_none() && reference.residual_rms > 3.0 * noise_floor {
-        warnings.push(format!(
-            "no catalogue effect explains the linear model's misfit, residual_rms {:.4} \
-             against a noise floor of {:.4}: look for an effect outside the catalogue, an \
-             offset or a drift in the record",
-            reference.residual_rms, noise_floor
-        ));
-    }
+    let unexplained = (choice.cause.is_none()
+        && !matches!(
+            reference
+                .residual_rms
+                .partial_cmp(&(UNEXPLAINED_NOISE * noise_floor)),
+            Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+        ))
+    .then(|| report::unexplained(&sigs, &reference, noise_floor, &candidates, &choice));
     for w in &warnings {
         progress(settings, &clock, &format!("warning: {w}"));
     }
+    let k_source = match (&static_fit, case.targets.stiffness_n_mm) {
+        (Some(_), _) => report::StiffnessSource::StaticRecord,
+        (None, Some(_)) => report::StiffnessSource::Target,
+        (None, None) => report::StiffnessSource::Nominal,
+    };
     let diagnosis = report::assemble(
         &report::BaselineInputs {
             state: &state,
@@ -365,12 +467,15 @@ fn compute(
             damping_ratio: zeta,
             stiffness_n_mm: guided.stiffness_n_m(&base_phys) * 1e-3,
             run: &baseline,
+            stiffness_source: k_source,
         },
         &reference,
         &candidates,
         &choice,
         &sigs,
         noise_floor,
+        unexplained,
+        quantity,
         warnings,
         clock.elapsed().as_secs_f64(),
     );
@@ -382,21 +487,48 @@ fn compute(
         spectrum,
         baseline,
         reference,
-        candidates: candidates
-            .into_iter()
-            .map(|(e, _, f)| (e.name().to_string(), f))
-            .collect(),
+        candidates,
         diagnosis,
         modes: settings.modes,
         step_fraction: model::OMEGA_DT / std::f64::consts::TAU,
+        stiffness_source: k_source,
     })
 }
 
-fn model_run(full: Fitted, half: Fitted, measured: &[f64], split: usize) -> ModelRun {
+/// The reference's residual RMS beyond which, with no cause named, the misfit is
+/// reported as unexplained: three times the noise floor.
+pub const UNEXPLAINED_NOISE: f64 = 3.0;
+
+/// Most effects in one combination.
+pub const MAX_COMBINED: usize = 3;
+
+fn sorted(mut v: Vec<usize>) -> Vec<usize> {
+    v.sort_unstable();
+    v
+}
+
+/// The end of the fit window of rolling origin `i` (`select::ORIGINS`).
+fn origin(i: usize, n: usize) -> usize {
+    ((select::ORIGINS[i] * n as f64) as usize).clamp(1, n)
+}
+
+/// A model's figures: residual over the record, the forecast of the second half from
+/// the first, and the rolling forecasts of the quarter after each origin from the fits
+/// up to it (`rolling`, one per origin; none for the baseline).
+fn model_run(full: Fitted, half: Fitted, measured: &[f64], rolling: &[Fitted]) -> ModelRun {
     let n = measured.len();
+    let quarter = n / 4;
     ModelRun {
         residual_rms: fit::relative_rms(&full.simulated, measured, 0..n),
-        forecast_rms: fit::relative_rms(&half.simulated, measured, split..n),
+        forecast_rms: fit::relative_rms(&half.simulated, measured, n / 2..n),
+        rolling: rolling
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let o = origin(i, n);
+                fit::relative_rms(&f.simulated, measured, o..(o + quarter).min(n))
+            })
+            .collect(),
         full,
         half,
     }
@@ -405,97 +537,196 @@ fn model_run(full: Fitted, half: Fitted, measured: &[f64], split: usize) -> Mode
 /// Levenberg-Marquardt iterations of each start's first-quarter fit.
 const SEED_ITERATIONS: usize = 10;
 
-/// Fits one effect from its starting values: the cheapest start (one run each) seeds
-/// the full-record fit, whose result seeds the first-half fit.
-#[allow(clippy::too_many_arguments)]
-fn fit_effect(
-    effect: &dyn Effect,
-    starts: &[f64],
-    model: &ReducedSpring,
-    reference: &ModelRun,
-    measured: &[f64],
-    step: f64,
+/// What every candidate's fit shares.
+struct Job<'a> {
+    guided: &'a ReducedSpring,
+    free: &'a ReducedSpring,
+    reference: &'a ModelRun,
+    measured: &'a [f64],
+    step_s: f64,
     noise: f64,
-    statics: Option<&StaticBlock>,
-    static_fit: Option<&evidence::StaticSummary>,
+    statics: Option<&'a StaticBlock>,
+    static_fit: Option<&'a evidence::StaticSummary>,
+    quantity: Quantity,
+    drift: bool,
     max_iterations: usize,
-) -> std::result::Result<ModelRun, String> {
-    let n = measured.len();
-    let half = n / 2;
-    let mut base = reference.full.physical;
-    base.kind = effect.kind();
-    if let (EffectKind::Cubic, Some(s)) = (effect.kind(), static_fit) {
-        // The cubic fit's linear coefficient is the spring's stiffness at the free
-        // length; the straight line's slope (the baseline's) is a secant.
-        base.k_scale = s.k_n_mm / s.linear_k_n_mm;
+    signatures: &'a Signatures,
+    figures: &'a BaselineFigures,
+}
+
+impl Job<'_> {
+    fn uses_static(set: &[usize]) -> bool {
+        set.iter()
+            .any(|&i| CATALOGUE[i].static_force(1.0, 1.0).is_some())
     }
-    let nonlinear = model.is_nonlinear(&Physical {
-        effect: 1.0,
-        ..base
-    });
-    let initial = if nonlinear {
-        Some(reference.full.initial_state.clone())
-    } else {
-        None
-    };
-    let problem = |start: Physical, range: Range<usize>, init: Option<Vec<f64>>| Problem {
-        model,
-        start,
-        knobs: vec![Knob::Effect, Knob::Mass, Knob::Beta],
-        measured,
-        step_s: step,
-        range,
-        sigma: noise.max(1e-300),
-        statics,
-        initial_state: init,
-    };
-    // Each start is fitted on the first quarter (cheap); the best seeds the first-half
-    // fit (the forecast's), which seeds the whole record's.
-    let mut best: Option<Fitted> = None;
-    let mut last_error = String::from("no starting value");
-    for &s in starts {
-        let start = Physical { effect: s, ..base };
-        // A seed only: a few iterations tell a good start from a bad one.
+
+    /// The reference's parameters, with the stiffness the set's static record gives.
+    fn base(&self, set: &[usize]) -> Physical {
+        let mut base = self.reference.full.physical;
+        if let (true, Some(s)) = (Self::uses_static(set), self.static_fit) {
+            // A cubic static fit's linear coefficient is the spring's stiffness at the
+            // free length; the straight line's slope (the baseline's) is a secant.
+            base.k_scale = s.k_n_mm / s.linear_k_n_mm;
+        }
+        base
+    }
+
+    fn model(&self, set: &[usize]) -> &ReducedSpring {
+        if set
+            .iter()
+            .any(|&i| CATALOGUE[i].mount() == Mount::FreeRotation)
+        {
+            self.free
+        } else {
+            self.guided
+        }
+    }
+
+    /// Fits the set of effects from `seeds` (and a starting initial state for a
+    /// nonlinear model) and checks each effect's signature at the fitted values.
+    fn candidate(
+        &self,
+        set: Vec<usize>,
+        evidence: String,
+        seeds: &[Physical],
+        init: Vec<f64>,
+    ) -> CandidateRun {
+        let run = self.fit(&set, seeds, init);
+        let signatures = run.as_ref().map_or(Vec::new(), |r| {
+            set.iter()
+                .map(|&i| {
+                    CATALOGUE[i].signature(
+                        self.signatures,
+                        self.figures,
+                        r.full.physical.effects[i],
+                    )
+                })
+                .collect()
+        });
+        CandidateRun {
+            effects: set,
+            evidence,
+            signatures,
+            run,
+        }
+    }
+
+    /// A combination, started from its parts' fitted values (the best part's mass,
+    /// beta and initial state).
+    fn combined(&self, set: &[usize], singles: &[CandidateRun]) -> CandidateRun {
+        let mut seed = self.base(set);
+        let mut best: Option<&ModelRun> = None;
+        let mut evidence = Vec::new();
+        for &i in set {
+            let Some(single) = singles.iter().find(|c| c.effects == [i]) else {
+                continue;
+            };
+            evidence.push(format!("{}: {}", CATALOGUE[i].name(), single.evidence));
+            if let Ok(r) = &single.run {
+                seed.effects[i] = r.full.physical.effects[i];
+                if best.is_none_or(|b| r.full.rss < b.full.rss) {
+                    best = Some(r);
+                }
+            }
+        }
+        let model = self.model(set);
+        let states = 2 * if model.mount() == Mount::FreeRotation {
+            2
+        } else {
+            1
+        };
+        // The initial state of a part fitted on the same mount (the coupling's carries
+        // the rotation), else the best part's padded with a rotation at rest.
+        let mut init = set
+            .iter()
+            .filter_map(|&i| singles.iter().find(|c| c.effects == [i]))
+            .filter_map(|c| c.run.as_ref().ok())
+            .map(|r| r.full.initial_state.clone())
+            .find(|s| s.len() == states)
+            .unwrap_or_else(|| {
+                best.map_or(self.reference.full.initial_state.clone(), |b| {
+                    b.full.initial_state.clone()
+                })
+            });
+        init.resize(states, 0.0);
+        if let Some(b) = best {
+            seed.mass_kg = b.full.physical.mass_kg;
+            seed.beta_s = b.full.physical.beta_s;
+        }
+        self.candidate(set.to_vec(), evidence.join("; "), &[seed], init)
+    }
+
+    fn fit(
+        &self,
+        set: &[usize],
+        seeds: &[Physical],
+        init: Vec<f64>,
+    ) -> std::result::Result<ModelRun, String> {
+        let n = self.measured.len();
+        let half = n / 2;
+        let model = self.model(set);
+        let nonlinear = seeds.iter().any(|s| model.is_nonlinear(s));
+        let mut knobs: Vec<Knob> = set.iter().map(|&i| Knob::Effect(i)).collect();
+        knobs.extend([Knob::Mass, Knob::Beta]);
+        let statics = self.statics.filter(|_| Self::uses_static(set));
+        let problem = |start: Physical, range: Range<usize>, init: Option<Vec<f64>>| Problem {
+            model,
+            start,
+            knobs: knobs.clone(),
+            measured: self.measured,
+            step_s: self.step_s,
+            range,
+            sigma: self.noise.max(1e-300),
+            statics,
+            initial_state: init,
+            quantity: self.quantity,
+            drift: self.drift,
+        };
+        let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
+        let first = nonlinear.then_some(init);
+        // Each start is fitted on the first quarter for a few iterations (a seed only:
+        // they tell a good start from a bad one); the best is fitted to convergence
+        // there (the first rolling origin), then on the first half (the forecast's),
+        // the whole record, and the first three quarters (the last rolling origin).
+        let mut best: Option<Fitted> = None;
+        let mut last_error = String::from("no starting value");
+        for &start in seeds {
+            let seed = fit::run(
+                &problem(start, 0..origin(0, n), first.clone()),
+                self.max_iterations.min(SEED_ITERATIONS),
+            );
+            match seed {
+                Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
+                Ok(_) => {}
+                Err(e) => last_error = e,
+            }
+        }
+        let seed = best.ok_or(last_error)?;
         let quarter = fit::run(
-            &problem(start, 0..n / 4, initial.clone()),
-            max_iterations.min(SEED_ITERATIONS),
-        );
-        if let (Ok(f), true) = (&quarter, std::env::var_os("COIL_DIAGNOSE_TRACE").is_some()) {
+            &problem(seed.physical, 0..origin(0, n), state(&seed)),
+            self.max_iterations,
+        )?;
+        let half_fit = fit::run(
+            &problem(quarter.physical, 0..half, state(&quarter)),
+            self.max_iterations,
+        )?;
+        let full = fit::run(
+            &problem(half_fit.physical, 0..n, state(&half_fit)),
+            self.max_iterations,
+        )?;
+        let three = fit::run(
+            &problem(full.physical, 0..origin(2, n), state(&full)),
+            self.max_iterations,
+        )?;
+        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
             eprintln!(
-                "  {}: quarter from {s:.4e}: {} iterations {} runs -> {:.4e}",
-                effect.name(),
-                f.iterations,
-                f.evaluations,
-                f.physical.effect
+                "  {:?}: full {} iterations {} runs, half {} iterations {} runs",
+                set, full.iterations, full.evaluations, half_fit.iterations, half_fit.evaluations
             );
         }
-        match quarter {
-            Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
-            Ok(_) => {}
-            Err(e) => last_error = e,
-        }
+        let rolling = [quarter, half_fit.clone(), three];
+        Ok(model_run(full, half_fit, self.measured, &rolling))
     }
-    let quarter = best.ok_or(last_error)?;
-    let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
-    let half_fit = fit::run(
-        &problem(quarter.physical, 0..half, state(&quarter)),
-        max_iterations,
-    )?;
-    let full = fit::run(
-        &problem(half_fit.physical, 0..n, state(&half_fit)),
-        max_iterations,
-    )?;
-    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-        eprintln!(
-            "  {}: full {} iterations {} runs, half {} iterations {} runs",
-            effect.name(),
-            full.iterations,
-            full.evaluations,
-            half_fit.iterations,
-            half_fit.evaluations
-        );
-    }
-    Ok(model_run(full, half_fit, measured, half))
 }
 
 /// Writes the outcome into `out`: figures, tables, report.md and, last,
@@ -504,9 +735,11 @@ pub fn write(outcome: &Outcome, out: &Path, settings: &DiagnoseSettings) -> Resu
     report::write(outcome, out, settings.plots)
 }
 
-/// Parameters in SI by the spec's names, for the extended model.
-pub fn parameters(effect: &dyn Effect, phys: &Physical) -> BTreeMap<String, f64> {
-    BTreeMap::from([(effect.parameter().to_string(), phys.effect)])
+/// Parameters in SI by the spec's names, of the effects in `set`.
+pub fn parameters(set: &[usize], phys: &Physical) -> BTreeMap<String, f64> {
+    set.iter()
+        .map(|&i| (CATALOGUE[i].parameter().to_string(), phys.effects[i]))
+        .collect()
 }
 
 /// A few lines for the terminal.

@@ -32,36 +32,25 @@
 //! then below 8.4e-6, which the fitted mass absorbs (2x that, relative), far below
 //! the noise of any record.
 
+use super::effects::{self, Extension, Mount, COUNT};
+use crate::case::Quantity;
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{Top, WEIGHT_NODE};
-use coil_solver::integrate::dense::DenseStepper;
-use coil_solver::integrate::PointLaw;
+use coil_solver::integrate::dense::{DenseStepper, Sample};
 use coil_solver::model::units;
 use coil_solver::reduce::{craig_bampton, Reduction};
 
 /// Largest `w dt` of the axial mode.
 pub const OMEGA_DT: f64 = 0.01;
 
-/// How the weight is mounted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mount {
-    Guided,
-    FreeRotation,
-}
-
-/// Which force the effect parameter drives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EffectKind {
-    None,
-    /// Coulomb friction force (N).
-    Friction,
-    /// Velocity-squared damping (N s^2/m^2).
-    Quadratic,
-    /// Cubic stiffness (N/m^3).
-    Cubic,
-    /// The weight's rotary inertia about the axis (kg m^2).
-    Rotary,
+/// A sample's value of the recorded `quantity` (SI).
+fn quantity_of(quantity: Quantity, s: &Sample) -> f64 {
+    units::length_to_si(match quantity {
+        Quantity::Acceleration => s.a,
+        Quantity::Velocity => s.v,
+        Quantity::Displacement => s.u,
+    })
 }
 
 /// The fitted physical parameters (SI).
@@ -72,9 +61,9 @@ pub struct Physical {
     pub beta_s: f64,
     /// Stiffness scale against the calibrated E.
     pub k_scale: f64,
-    pub kind: EffectKind,
-    /// The effect's magnitude in its SI unit.
-    pub effect: f64,
+    /// Each catalogue effect's magnitude in its SI unit (0: absent), indexed as
+    /// `effects::CATALOGUE`.
+    pub effects: [f64; COUNT],
     pub gravity_m_s2: f64,
 }
 
@@ -85,39 +74,14 @@ impl Physical {
             mass_kg,
             beta_s,
             k_scale: 1.0,
-            kind: EffectKind::None,
-            effect: 0.0,
+            effects: [0.0; COUNT],
             gravity_m_s2,
         }
     }
 
-    /// The cubic stiffness (N/m^3), zero unless the effect is cubic.
-    pub fn cubic_n_m3(&self) -> f64 {
-        if self.kind == EffectKind::Cubic {
-            self.effect
-        } else {
-            0.0
-        }
-    }
-
-    /// The point law at the weight in solver units.
-    pub fn law(&self) -> PointLaw {
-        let x = self.effect;
-        match self.kind {
-            EffectKind::Friction => PointLaw {
-                friction: x,
-                ..PointLaw::default()
-            },
-            EffectKind::Quadratic => PointLaw {
-                quadratic: units::quadratic_damping_from_si(x),
-                ..PointLaw::default()
-            },
-            EffectKind::Cubic => PointLaw {
-                cubic: units::cubic_stiffness_from_si(x),
-                ..PointLaw::default()
-            },
-            EffectKind::None | EffectKind::Rotary => PointLaw::default(),
-        }
+    /// What the effects add to the model.
+    pub fn extension(&self) -> Extension {
+        effects::extension(&self.effects)
     }
 }
 
@@ -159,18 +123,18 @@ impl ReducedSpring {
 
     /// True when the parameters put a nonlinear force on the weight.
     pub fn is_nonlinear(&self, p: &Physical) -> bool {
-        !p.law().is_zero()
+        !p.extension().law.is_zero()
     }
 
-    fn extra_mass(&self, p: &Physical) -> Vec<f64> {
+    /// The mount the model was built with.
+    pub fn mount(&self) -> Mount {
+        self.mount
+    }
+
+    fn extra_mass(&self, p: &Physical, e: &Extension) -> Vec<f64> {
         let mut extra = vec![units::mass_from_si(p.mass_kg - self.meshed_mass_kg)];
         if self.mount == Mount::FreeRotation {
-            let j = if p.kind == EffectKind::Rotary {
-                p.effect
-            } else {
-                0.0
-            };
-            extra.push(units::inertia_from_si(j));
+            extra.push(units::inertia_from_si(e.rotary_inertia_kg_m2));
         }
         extra
     }
@@ -197,18 +161,24 @@ impl ReducedSpring {
         p: &Physical,
         step_s: f64,
     ) -> std::result::Result<(DenseStepper, usize), String> {
-        if !(p.mass_kg > 0.0 && p.beta_s >= 0.0 && p.effect >= 0.0 && p.k_scale > 0.0) {
+        let e = p.extension();
+        if !(p.mass_kg > 0.0
+            && p.beta_s >= 0.0
+            && p.k_scale > 0.0
+            && e.law.is_valid()
+            && e.rotary_inertia_kg_m2 >= 0.0)
+        {
             return Err(format!("parameters out of range: {p:?}"));
         }
         let ops = self
             .reduction
-            .operators(p.k_scale, &self.extra_mass(p), 0.0, p.beta_s)
+            .operators(p.k_scale, &self.extra_mass(p, &e), 0.0, p.beta_s)
             .map_err(|e| e.to_string())?;
         let omega = (self.stiffness_n_m(p) / p.mass_kg).sqrt();
         let substeps = ((omega * step_s / OMEGA_DT).ceil() as usize).max(1);
         let dt = step_s / substeps as f64;
-        let law = p.law();
-        let laws: Vec<(usize, PointLaw)> = if law.is_zero() {
+        let law = e.law;
+        let laws = if law.is_zero() {
             vec![]
         } else {
             vec![(0, law)]
@@ -218,23 +188,49 @@ impl ReducedSpring {
         Ok((stepper, substeps))
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
+        p: &Physical,
         stepper: &mut DenseStepper,
         substeps: usize,
         u0: &[f64],
         v0: &[f64],
         n: usize,
+        quantity: Quantity,
     ) -> std::result::Result<Vec<f64>, String> {
-        let samples = stepper
-            .simulate(u0, v0, n, substeps, 0)
-            .map_err(|e| e.to_string())?;
+        let samples = stepper.simulate(u0, v0, n, substeps, 0).map_err(|e| {
+            let cubic = p.extension().law.cubic;
+            if cubic < 0.0 {
+                format!(
+                    "{e}: the softening spring (k3 = {:.4e} N/m^3) lost stability",
+                    cubic * 1e9
+                )
+            } else {
+                e.to_string()
+            }
+        })?;
+        // A softening spring is stable while its tangent stiffness k + 3 k3 x^2 stays
+        // positive, x the compression from the free length: a motion beyond that is
+        // an error naming the limit, not a NaN or a spring that snaps through.
+        let law = p.extension().law;
+        let k = self.reduction.k[(0, 0)] * p.k_scale;
+        let limit_mm = law.stable_displacement(k);
+        if let Some(s) = samples.iter().find(|s| s.u.abs() >= limit_mm) {
+            return Err(format!(
+                "the softening spring (k3 = {:.4e} N/m^3) loses stability at {:.4} mm from \
+                 the free length (k + 3 k3 x^2 = 0); the motion reaches {:.4} mm",
+                law.cubic * 1e9,
+                limit_mm,
+                s.u.abs()
+            ));
+        }
         // A weight held by friction reads a = 0 (the stepper zeroes a held DOF's
         // acceleration from its second held step).
-        Ok(samples.iter().map(|s| units::length_to_si(s.a)).collect())
+        Ok(samples.iter().map(|s| quantity_of(quantity, s)).collect())
     }
 
-    /// The weight's axial acceleration (m/s^2) at `n` samples `step_s` apart for unit
+    /// The weight's axial `quantity` (SI) at `n` samples `step_s` apart for unit
     /// initial states about the equilibrium: per boundary DOF, 1 mm (or 1 rad) of
     /// displacement, then 1 mm/s (or 1 rad/s) of velocity. The response of a linear
     /// model to the state `x` is `sum x_k basis_k`.
@@ -243,6 +239,7 @@ impl ReducedSpring {
         p: &Physical,
         step_s: f64,
         n: usize,
+        quantity: Quantity,
     ) -> std::result::Result<Vec<Vec<f64>>, String> {
         let (mut stepper, substeps) = self.stepper(p, step_s)?;
         let r = stepper.dim();
@@ -257,14 +254,14 @@ impl ReducedSpring {
                 } else {
                     u[b] = 1.0;
                 }
-                out.push(self.run(&mut stepper, substeps, &u, &v, n)?);
+                out.push(self.run(p, &mut stepper, substeps, &u, &v, n, quantity)?);
             }
         }
         // Order: u_b0, v_b0, u_b1, v_b1 ... ; report it as [u, v] pairs per DOF.
         Ok(out)
     }
 
-    /// The weight's axial acceleration (m/s^2) for the initial state
+    /// The weight's axial `quantity` (SI) for the initial state
     /// `[u_0 (mm), v_0 (mm/s), ...]` about the static equilibrium.
     pub fn simulate(
         &self,
@@ -272,6 +269,7 @@ impl ReducedSpring {
         state: &[f64],
         step_s: f64,
         n: usize,
+        quantity: Quantity,
     ) -> std::result::Result<Vec<f64>, String> {
         let (mut stepper, substeps) = self.stepper(p, step_s)?;
         let r = stepper.dim();
@@ -285,7 +283,7 @@ impl ReducedSpring {
         }
         let mut u = vec![0.0; r];
         let mut v = vec![0.0; r];
-        if p.kind == EffectKind::Cubic && p.gravity_m_s2 != 0.0 {
+        if p.extension().law.cubic != 0.0 && p.gravity_m_s2 != 0.0 {
             let mut f = vec![0.0; r];
             // Gravity pulls the weight toward the base (-z): m g in N.
             f[0] = -p.mass_kg * p.gravity_m_s2;
@@ -296,6 +294,6 @@ impl ReducedSpring {
             u[b] += state[2 * b];
             v[b] = state[2 * b + 1];
         }
-        self.run(&mut stepper, substeps, &u, &v, n)
+        self.run(p, &mut stepper, substeps, &u, &v, n, quantity)
     }
 }

@@ -2,12 +2,13 @@
 //! `report.md` with its figures and tables, written through temporary files with
 //! `diagnosis.json` last: a failed run leaves no diagnosis behind.
 
-use super::effects::{Effect, Proposal};
+use super::effects::CATALOGUE;
 use super::evidence::Signatures;
 use super::model::Physical;
 use super::plots::{self, Panel, Series};
-use super::select::Choice;
-use super::{ModelRun, Outcome};
+use super::select::{Choice, Tests};
+use super::{CandidateRun, ModelRun, Outcome};
+use crate::case::Quantity;
 use crate::error::{Result, TuneError};
 use crate::fe::SpringState;
 use crate::output::{csv, OutDir};
@@ -41,30 +42,52 @@ pub struct Reference {
 /// The chosen extension.
 #[derive(Debug, Clone, Serialize)]
 pub struct Extended {
+    /// The candidate's name: its effects joined by `+` (one effect: its name).
     pub effect: String,
+    pub effects: Vec<String>,
+    /// Every kept effect's parameters (SI, the spec's names) and standard errors.
     pub parameters: BTreeMap<String, f64>,
+    pub parameters_se: BTreeMap<String, f64>,
     pub residual_rms: f64,
     pub forecast_rms: f64,
     pub mass_kg: f64,
     pub rayleigh_beta: f64,
-    /// Relative standard error of the effect's parameter: the fit's, inflated by
+    /// The largest relative standard error of its parameters: the fit's, inflated by
     /// `sqrt(N / N_eff)` for the residuals' correlation (indicative; the mesh and the
     /// model's form bias it more, see docs/diagnose.md).
     pub parameter_relative_error: f64,
 }
 
-/// One tried effect.
+/// One effect the extended model keeps (spec: "Several effects at once").
+#[derive(Debug, Clone, Serialize)]
+pub struct Cause {
+    pub effect: String,
+    pub parameters: BTreeMap<String, f64>,
+    pub parameters_se: BTreeMap<String, f64>,
+    /// Its part of the explained misfit (drop-one increase of the residual sum of
+    /// squares, normalised over the kept effects).
+    pub share: f64,
+}
+
+/// One tried candidate: an effect, or up to three together.
 #[derive(Debug, Clone, Serialize)]
 pub struct Candidate {
+    /// Its effects joined by `+`.
     pub effect: String,
+    pub effects: Vec<String>,
     pub residual_rms: Option<f64>,
     pub evidence: String,
     pub forecast_rms: Option<f64>,
+    /// Forecast RMS of the quarter after each rolling origin (`select::ORIGINS`).
+    pub rolling_forecast_rms: Vec<f64>,
     pub parameters: BTreeMap<String, f64>,
-    pub signature_z: f64,
+    pub parameters_se: BTreeMap<String, f64>,
     pub delta_bic: Option<f64>,
     pub effective_samples: Option<f64>,
+    /// True when every test held (`tests`).
     pub significant: bool,
+    /// Each test with its number, its limit and whether it held.
+    pub tests: Option<Tests>,
     /// The fitted weight's mass (kg) and Rayleigh beta (s).
     pub mass_kg: Option<f64>,
     pub rayleigh_beta: Option<f64>,
@@ -89,7 +112,15 @@ pub struct Gain {
 /// The whole `diagnosis.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Diagnosis {
+    /// The dominant cause (the first of `causes`), or `none`.
     pub cause: String,
+    /// Every effect the extended model keeps, by share, largest first.
+    pub causes: Vec<Cause>,
+    /// When the linear model misses beyond the noise and no candidate passes: what
+    /// the records show, in words with numbers.
+    pub unexplained: Option<String>,
+    /// The quantity the decay record measures; the fit and `residual_rms` compare it.
+    pub quantity: Quantity,
     pub baseline: Baseline,
     pub extended: Option<Extended>,
     pub candidates: Vec<Candidate>,
@@ -114,6 +145,39 @@ pub struct BaselineInputs<'a> {
     pub damping_ratio: f64,
     pub stiffness_n_mm: f64,
     pub run: &'a ModelRun,
+    pub stiffness_source: StiffnessSource,
+}
+
+/// Where the baseline's K came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StiffnessSource {
+    /// The static record's straight line.
+    StaticRecord,
+    /// The case's `targets.stiffness_n_mm`.
+    Target,
+    /// No static record and no target: the nominal E on the FE model (the weight's
+    /// mass is then tuned to the period).
+    Nominal,
+}
+
+/// Parameters and standard errors of the effects in `set` of a fitted run.
+fn with_errors(
+    set: &[usize],
+    physical: &Physical,
+    rel_se: &[f64],
+) -> (BTreeMap<String, f64>, BTreeMap<String, f64>) {
+    let values = super::parameters(set, physical);
+    let errors = set
+        .iter()
+        .zip(rel_se)
+        .map(|(&i, r)| {
+            (
+                CATALOGUE[i].parameter().to_string(),
+                r * physical.effects[i].abs(),
+            )
+        })
+        .collect();
+    (values, errors)
 }
 
 /// Builds the report's data.
@@ -121,10 +185,12 @@ pub struct BaselineInputs<'a> {
 pub fn assemble(
     base: &BaselineInputs<'_>,
     reference: &ModelRun,
-    candidates: &[(&dyn Effect, Proposal, std::result::Result<ModelRun, String>)],
+    candidates: &[CandidateRun],
     choice: &Choice,
     signatures: &Signatures,
     noise_floor_rms: f64,
+    unexplained: Option<String>,
+    quantity: Quantity,
     warnings: Vec<String>,
     runtime_s: f64,
 ) -> Diagnosis {
@@ -139,53 +205,80 @@ pub fn assemble(
         residual_rms: base.run.residual_rms,
         forecast_rms: base.run.forecast_rms,
     };
+    let names = |set: &[usize]| -> Vec<String> {
+        set.iter()
+            .map(|&i| CATALOGUE[i].name().to_string())
+            .collect()
+    };
     let list: Vec<Candidate> = candidates
         .iter()
         .zip(&choice.scores)
-        .map(|((effect, proposal, run), score)| {
-            let ok = run.as_ref().ok();
+        .map(|(c, score)| {
+            let ok = c.run.as_ref().ok();
+            let (parameters, parameters_se) = match (ok, score) {
+                (Some(r), Some(s)) => with_errors(&c.effects, &r.full.physical, &s.rel_se),
+                (Some(r), None) => (
+                    super::parameters(&c.effects, &r.full.physical),
+                    BTreeMap::new(),
+                ),
+                _ => (BTreeMap::new(), BTreeMap::new()),
+            };
             Candidate {
-                effect: effect.name().to_string(),
+                effect: c.label(),
+                effects: names(&c.effects),
                 residual_rms: ok.map(|r| r.residual_rms),
-                evidence: proposal.evidence.clone(),
+                evidence: c.evidence.clone(),
                 forecast_rms: ok.map(|r| r.forecast_rms),
-                parameters: ok
-                    .map(|r| super::parameters(*effect, &r.full.physical))
-                    .unwrap_or_default(),
-                signature_z: proposal.z_score,
-                delta_bic: score.map(|s| s.delta_bic),
-                effective_samples: score.map(|s| s.n_eff),
-                significant: score.is_some_and(|s| s.significant),
+                rolling_forecast_rms: ok.map(|r| r.rolling.clone()).unwrap_or_default(),
+                parameters,
+                parameters_se,
+                delta_bic: score.as_ref().map(|s| s.delta_bic),
+                effective_samples: score.as_ref().map(|s| s.n_eff),
+                significant: score.as_ref().is_some_and(|s| s.tests.passed()),
+                tests: score.as_ref().map(|s| s.tests.clone()),
                 mass_kg: ok.map(|r| r.full.physical.mass_kg),
                 rayleigh_beta: ok.map(|r| r.full.physical.beta_s),
                 initial_state: ok.map(|r| r.full.initial_state.clone()).unwrap_or_default(),
-                fit_error: run.as_ref().err().cloned(),
+                fit_error: c.run.as_ref().err().cloned(),
             }
         })
         .collect();
-    // The fit's standard error assumes independent residuals; a fitted decay's are
-    // correlated, so it is inflated by sqrt(N / N_eff) (the AR(1) variance inflation
-    // that `select` uses for the BIC).
     let chosen = choice.cause.and_then(|i| {
-        let (effect, _, run) = &candidates[i];
-        let n = run.as_ref().map_or(1.0, |r| r.full.simulated.len() as f64);
-        let inflate = choice.scores[i].map_or(1.0, |s| (n / s.n_eff).sqrt());
-        run.as_ref().ok().map(|r| (*effect, r, inflate))
+        let c = &candidates[i];
+        let score = choice.scores[i].as_ref()?;
+        c.run.as_ref().ok().map(|r| (c, r, score))
     });
-    let extended = chosen.map(|(effect, run, inflate)| Extended {
-        effect: effect.name().to_string(),
-        parameters: super::parameters(effect, &run.full.physical),
-        residual_rms: run.residual_rms,
-        forecast_rms: run.forecast_rms,
-        mass_kg: run.full.physical.mass_kg,
-        rayleigh_beta: run.full.physical.beta_s,
-        parameter_relative_error: inflate
-            * run
-                .full
-                .knob_rel_errors
-                .first()
-                .copied()
-                .unwrap_or(f64::NAN),
+    let extended = chosen.map(|(c, run, score)| {
+        let (parameters, parameters_se) =
+            with_errors(&c.effects, &run.full.physical, &score.rel_se);
+        Extended {
+            effect: c.label(),
+            effects: names(&c.effects),
+            parameters,
+            parameters_se,
+            residual_rms: run.residual_rms,
+            forecast_rms: run.forecast_rms,
+            mass_kg: run.full.physical.mass_kg,
+            rayleigh_beta: run.full.physical.beta_s,
+            parameter_relative_error: score.rel_se.iter().fold(0.0, |m: f64, x| m.max(*x)),
+        }
+    });
+    let causes: Vec<Cause> = chosen.map_or(Vec::new(), |(c, run, score)| {
+        choice
+            .shares
+            .iter()
+            .map(|&(e, share)| {
+                let k = c.effects.iter().position(|&x| x == e).unwrap_or(0);
+                let (parameters, parameters_se) =
+                    with_errors(&[e], &run.full.physical, &score.rel_se[k..=k]);
+                Cause {
+                    effect: CATALOGUE[e].name().to_string(),
+                    parameters,
+                    parameters_se,
+                    share,
+                }
+            })
+            .collect()
     });
     let floor = noise_floor_rms;
     // Without an extension the model stays the baseline: every ratio is 1.
@@ -204,9 +297,10 @@ pub fn assemble(
         },
     );
     Diagnosis {
-        cause: extended
-            .as_ref()
-            .map_or("none".into(), |e| e.effect.clone()),
+        cause: causes.first().map_or("none".into(), |c| c.effect.clone()),
+        causes,
+        unexplained,
+        quantity,
         baseline,
         extended,
         candidates: list,
@@ -222,6 +316,87 @@ pub fn assemble(
         warnings,
         runtime_s,
     }
+}
+
+/// What the records show when the linear model misses beyond the noise and no
+/// candidate passes, in plain words with the numbers and their uncertainty.
+pub fn unexplained(
+    s: &Signatures,
+    reference: &ModelRun,
+    noise_floor_rms: f64,
+    candidates: &[CandidateRun],
+    choice: &Choice,
+) -> String {
+    let mut parts = vec![format!(
+        "the linear model misses the record by a residual RMS of {:.4}, against a noise floor \
+         of {:.4}, and no catalogue effect or combination passes every test",
+        reference.residual_rms, noise_floor_rms
+    )];
+    if let Some(bb) = &s.backbone {
+        // Frequency change over the record's amplitude range, from the backbone.
+        let (a_hi, a_lo) = s
+            .per_cycle
+            .iter()
+            .fold((0.0_f64, f64::INFINITY), |(h, l), c| {
+                (h.max(c.amplitude_m), l.min(c.amplitude_m))
+            });
+        let change = 0.5 * bb.b_per_m2 * (a_lo * a_lo - a_hi * a_hi) * 100.0;
+        parts.push(format!(
+            "the frequency {} as the amplitude falls from {:.3} to {:.3} mm ({:+.2} % from the \
+             backbone f^2 = f0^2 (1 + b A^2), b = {:.3e} +- {:.1e} 1/m^2: {})",
+            if change > 0.0 { "rises" } else { "falls" },
+            1e3 * a_hi,
+            1e3 * a_lo,
+            change,
+            bb.b_per_m2,
+            bb.b_se,
+            if bb.b_per_m2 < 0.0 {
+                "a softening trend"
+            } else {
+                "a hardening trend"
+            }
+        ));
+    }
+    if let Some(l) = &s.loss {
+        parts.push(format!(
+            "the loss per cycle dA = a0 + a1 A + a2 A^2 has a0 = {:.3e} +- {:.1e} m (constant, \
+             dry friction), a1 = {:.3e} +- {:.1e} (viscous), a2 = {:.3e} +- {:.1e} 1/m (growing \
+             with amplitude, drag)",
+            l.a0_m, l.a0_se, l.a1, l.a1_se, l.a2_per_m, l.a2_se
+        ));
+    }
+    parts.push(match &s.second_peak {
+        Some(p) => format!(
+            "a second spectral line at {:.4} Hz, {:.1} % of the axial one",
+            p.frequency_hz,
+            100.0 * p.relative_amplitude
+        ),
+        None => format!("one spectral line at {:.4} Hz", s.axial_hz),
+    });
+    if let Some(st) = &s.statics {
+        parts.push(format!(
+            "the static record bends with k3 = {:.3e} +- {:.1e} N/m^3 and shows a hysteresis \
+             half-width of {:.3e} +- {:.1e} N",
+            st.k3_n_m3, st.k3_se, st.friction_n, st.friction_se
+        ));
+    }
+    // The closest candidate and what stopped it.
+    if let Some((c, sc)) = candidates
+        .iter()
+        .zip(&choice.scores)
+        .filter_map(|(c, s)| s.as_ref().map(|s| (c, s)))
+        .max_by(|a, b| a.1.delta_bic.total_cmp(&b.1.delta_bic))
+    {
+        parts.push(format!(
+            "the closest candidate, {} (dBIC {:.1}), fails: {}",
+            c.label(),
+            sc.delta_bic,
+            sc.tests.failed().join(", ")
+        ));
+    }
+    let mut text = parts.join("; ");
+    text.push('.');
+    text
 }
 
 fn f(x: f64) -> String {
@@ -258,12 +433,25 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
     ));
     m.push_str(&format!("**Cause: `{}`**", d.cause));
     if let (Some(e), g) = (&d.extended, &d.gain) {
+        if d.causes.len() > 1 {
+            m.push_str(&format!(
+                " (several effects together: {})",
+                d.causes
+                    .iter()
+                    .map(|c| format!(
+                        "`{}` {:.0} % of the explained misfit",
+                        c.effect,
+                        100.0 * c.share
+                    ))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
         for (name, value) in &e.parameters {
             m.push_str(&format!(
-                " with `{name}` = {} (relative standard error {:.2e}, inflated for the \
-                 residuals' correlation)",
+                ", `{name}` = {} +- {} (standard error inflated for the residuals' correlation)",
                 f(*value),
-                e.parameter_relative_error
+                e.parameters_se.get(name).map_or("-".into(), |x| f(*x))
             ));
         }
         m.push_str(&format!(
@@ -281,9 +469,11 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         ));
     } else {
         m.push_str(
-            ": no extension of the catalogue explains the records significantly better \
-                    than the linear model.\n\n",
+            ": no effect or combination of the catalogue passes every test (section 3).\n\n",
         );
+    }
+    if let Some(u) = &d.unexplained {
+        m.push_str(&format!("**Unexplained:** {u}\n\n"));
     }
     if !d.warnings.is_empty() {
         m.push_str("**Check:**\n\n");
@@ -293,8 +483,19 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         m.push('\n');
     }
     m.push_str("## 1. Baseline: the paper's model\n\n");
+    m.push_str(match o.stiffness_source {
+        StiffnessSource::StaticRecord => {
+            "K from the static record (the line F = k x +- F_f through both branches), E by loop 1. "
+        }
+        StiffnessSource::Target => "K from the case's target `stiffness_n_mm` (no static record), E by loop 1. ",
+        StiffnessSource::Nominal => {
+            "There is no static record and no target K: E stays nominal, so K is the FE \
+             model's at the nominal E, and the weight's mass is tuned to the period (mass and \
+             frequency fix the dynamic stiffness; only their ratio is measured). "
+        }
+    });
     m.push_str(
-        "K from the static record (the line F = k x +- F_f through both branches), E by loop 1, T and \
+        "T and \
                 zeta by the logarithmic decrement (every 10th crest), the weight's mass by loop 2, \
                 damping stiffness-proportional (alpha = 0, beta = 2 zeta / w: one decay identifies \
                 one combination of alpha and beta). The decay is simulated on the reduced FE model \
@@ -371,19 +572,39 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         m.push_str(&format!("![{caption}]({file})\n\n"));
     }
     m.push_str("## 3. Candidates\n\n");
-    m.push_str("Each effect starts from its signature and is fitted by output error (Levenberg-Marquardt) \
-                with the weight's mass, beta and the initial state on the reduced FE model with the \
-                effect's element at the weight; the forecast refits on the first half.\n\n");
-    m.push_str("| effect | parameter | residual_rms | forecast_rms | dBIC | N_eff | significant | evidence |\n|---|---|---|---|---|---|---|---|\n");
+    m.push_str(&format!(
+        "Each effect starts from its signature and is fitted by output error (Levenberg-Marquardt) \
+         with the weight's mass, beta and the initial state{} on the reduced FE model with the \
+         effect's element at the weight; effects that gain on their own are then combined (up to \
+         three). A candidate is named only if it passes four tests against the linear model \
+         (docs/diagnose.md): significance (dBIC > {} on the effective number of residuals from \
+         their autocorrelation, residual below {} of the linear model's), forecasts from rolling \
+         origins (below {} of the linear model's on at least {} of 3), identified parameters \
+         (relative standard error at most {:.2}) and its own signature in the records; a \
+         combination must also need every part.\n\n",
+        if d.quantity == Quantity::Acceleration { "" } else { ", the sensor's offset and drift" },
+        super::select::DELTA_BIC,
+        super::select::RESIDUAL_RATIO,
+        super::select::FORECAST_RATIO,
+        super::select::FORECASTS_NEEDED,
+        super::select::REL_SE_LIMIT
+    ));
+    m.push_str("| candidate | parameters (+- standard error) | residual_rms | forecast_rms | dBIC | N_eff | named |\n|---|---|---|---|---|---|---|\n");
     for c in &d.candidates {
         let p = c
             .parameters
             .iter()
-            .map(|(k, v)| format!("{k} = {}", f(*v)))
+            .map(|(k, v)| {
+                format!(
+                    "{k} = {} +- {}",
+                    f(*v),
+                    c.parameters_se.get(k).map_or("-".into(), |x| f(*x))
+                )
+            })
             .collect::<Vec<_>>()
             .join(", ");
         m.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} |\n",
             c.effect,
             if p.is_empty() {
                 c.fit_error.clone().unwrap_or_default()
@@ -396,17 +617,36 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
             c.effective_samples
                 .map_or_else(|| "-".to_string(), |n| format!("{n:.0}")),
             if c.significant { "yes" } else { "no" },
-            c.evidence
         ));
     }
-    m.push_str(&format!(
-        "\nChoice: BIC on the effective number of independent residuals against the output-error \
-         linear model, dBIC > {}, residual below {} and forecast below {} of the linear model's \
-         (docs/diagnose.md).\n\n",
-        super::select::DELTA_BIC,
-        super::select::RESIDUAL_RATIO,
-        super::select::FORECAST_RATIO
-    ));
+    m.push_str("\nThe tests of every candidate (held / failed, with the numbers):\n\n");
+    for c in &d.candidates {
+        m.push_str(&format!("- **{}** — evidence: {}\n", c.effect, c.evidence));
+        match &c.tests {
+            Some(t) => {
+                for (name, test) in [
+                    ("significance", Some(&t.significance)),
+                    ("forecasts", Some(&t.forecasts)),
+                    ("identified", Some(&t.identified)),
+                    ("signature", Some(&t.signature)),
+                    ("every part needed", t.every_part_needed.as_ref()),
+                ] {
+                    if let Some(test) = test {
+                        m.push_str(&format!(
+                            "  - {name}: {} — {}\n",
+                            if test.passed { "held" } else { "FAILED" },
+                            test.text
+                        ));
+                    }
+                }
+            }
+            None => m.push_str(&format!(
+                "  - the fit failed: {}\n",
+                c.fit_error.clone().unwrap_or_default()
+            )),
+        }
+    }
+    m.push('\n');
     m.push_str(&format!(
         "## 4. Numerical honesty\n\nThe reduced model keeps the weight's DOFs and {} fixed-interface \
          modes; it is integrated by average acceleration at a step of at most {:.2e} of the axial \
@@ -426,14 +666,15 @@ fn sampled(time: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 
 fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>> {
     let t = &o.decay.signal.time_s;
-    let meas = &o.decay.signal.values;
+    let meas = &o.decay.measured;
+    let unit = o.diagnosis.quantity.si_unit();
     let mut list = Vec::new();
     let chosen = o
         .diagnosis
         .extended
         .as_ref()
-        .and_then(|e| o.candidates.iter().find(|(n, _)| *n == e.effect))
-        .and_then(|(_, r)| r.as_ref().ok());
+        .and_then(|e| o.candidates.iter().find(|c| c.label() == e.effect))
+        .and_then(|c| c.run.as_ref().ok());
     let mut fit_series = vec![
         Series {
             label: "measured".into(),
@@ -486,21 +727,21 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
         &dir.join("decay_fit.png"),
         vec![
             Panel {
-                title: "weight acceleration: measured and simulated".into(),
+                title: "the weight's recorded quantity: measured and simulated".into(),
                 x: "time (s)".into(),
-                y: "m/s^2".into(),
+                y: unit.into(),
                 series: fit_series,
             },
             Panel {
                 title: "the last four cycles".into(),
                 x: "time (s)".into(),
-                y: "m/s^2".into(),
+                y: unit.into(),
                 series: zoom,
             },
             Panel {
                 title: "residual".into(),
                 x: "time (s)".into(),
-                y: "m/s^2".into(),
+                y: unit.into(),
                 series: res_series,
             },
         ],
@@ -718,12 +959,19 @@ pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
         .diagnosis
         .extended
         .as_ref()
-        .and_then(|e| o.candidates.iter().find(|(n, _)| *n == e.effect))
-        .and_then(|(_, r)| r.as_ref().ok());
+        .and_then(|e| o.candidates.iter().find(|c| c.label() == e.effect))
+        .and_then(|c| c.run.as_ref().ok());
+    // Column unit suffix: m/s^2 -> m_s2, m/s -> m_s, m -> m.
+    let suffix = o
+        .diagnosis
+        .quantity
+        .si_unit()
+        .replace("/s^2", "_s2")
+        .replace("/s", "_s");
     let rows = (0..t.len()).map(|i| {
         vec![
             format!("{}", t[i]),
-            format!("{}", o.decay.signal.values[i]),
+            format!("{}", o.decay.measured[i]),
             format!("{}", o.baseline.full.simulated[i]),
             format!("{}", o.reference.full.simulated[i]),
             chosen.map_or(String::new(), |r| format!("{}", r.full.simulated[i])),
@@ -734,10 +982,10 @@ pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
         csv(
             &[
                 "time_s",
-                "measured_m_s2",
-                "baseline_m_s2",
-                "linear_output_error_m_s2",
-                "extended_m_s2",
+                &format!("measured_{suffix}"),
+                &format!("baseline_{suffix}"),
+                &format!("linear_output_error_{suffix}"),
+                &format!("extended_{suffix}"),
             ],
             rows,
         )

@@ -144,6 +144,9 @@ pub struct SpringSpec {
     pub beta: f64,
     /// Transient: record every k-th step.
     pub output_every: u32,
+    /// Transient: also record the displacement of every node every k-th step (0 = not),
+    /// so that coil-solve writes the moving model as a ParaView series (`.pvd`).
+    pub snapshot_every: u32,
     /// Transient: how the initial velocity is spread over the spring.
     pub initial_velocity_field: VelocityField,
     /// Transient: the time integration scheme or modal superposition.
@@ -195,6 +198,7 @@ impl Default for SpringSpec {
             alpha: 0.0,
             beta: 0.0,
             output_every: 1,
+            snapshot_every: 0,
             initial_velocity_field: VelocityField::QuasiStatic,
             transient_method: TransientScheme::Newmark,
             hht_alpha: -0.05,
@@ -591,6 +595,14 @@ impl SpringSpec {
                             ],
                             every: self.output_every,
                         });
+                        if self.snapshot_every > 0 {
+                            outputs.push(OutputRequest {
+                                nodes: (1..=self.element_count() as u32 + 2).collect(),
+                                dofs: vec![1, 2, 3],
+                                quantities: vec![Quantity::Displacement],
+                                every: self.snapshot_every,
+                            });
+                        }
                     }
                     load_cases.push(LoadCase {
                         title: "free decay".into(),

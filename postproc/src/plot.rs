@@ -8,7 +8,8 @@
 //! [`crate::output`]).
 //!
 //! Time histories are normalised to (-1, 1) by their largest magnitude, as in the paper's
-//! Fig. 10 ("The acceleration courses were normalized to the range (-1, 1)"). Long records are
+//! Fig. 10 ("The acceleration courses were normalized to the range (-1, 1)"), or drawn in
+//! their physical unit ([`Scale::Physical`], `coil-post plot --physical`). Long records are
 //! reduced to the minimum and maximum of each of [`MAX_POINTS`]`/2` buckets before drawing:
 //! the picture is the same and an SVG stays small.
 
@@ -90,9 +91,35 @@ pub fn unit_of(column: &str) -> &'static str {
         .map_or("signal unit", |(_, unit)| unit)
 }
 
+/// How a time history's values are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    /// Divided by the trace's largest magnitude, as the paper's Fig. 10.
+    Normalised,
+    /// In the unit of the column.
+    Physical,
+}
+
 /// Normalised time histories: one panel per trace, or all in one panel when `overlay`.
 pub fn time_histories(traces: &[Trace<'_>], overlay: bool, path: &Path) -> Result<()> {
-    render(path, &TimeFigure { traces, overlay })
+    time_histories_scaled(traces, overlay, Scale::Normalised, path)
+}
+
+/// [`time_histories`], normalised or in physical units.
+pub fn time_histories_scaled(
+    traces: &[Trace<'_>],
+    overlay: bool,
+    scale: Scale,
+    path: &Path,
+) -> Result<()> {
+    render(
+        path,
+        &TimeFigure {
+            traces,
+            overlay,
+            scale,
+        },
+    )
 }
 
 /// Amplitude spectra (normalised to their largest peak, log scale) up to `max_frequency_hz`.
@@ -114,6 +141,7 @@ pub fn envelopes(traces: &[EnvelopeTrace<'_>], path: &Path) -> Result<()> {
 struct TimeFigure<'a> {
     traces: &'a [Trace<'a>],
     overlay: bool,
+    scale: Scale,
 }
 
 struct SpectrumFigure<'a> {
@@ -247,6 +275,24 @@ fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> (f64, f64) {
     (low - pad, high + pad)
 }
 
+/// A tick label with three significant digits (scientific below 0.01), no "-0".
+fn tick_physical(value: &f64) -> String {
+    let v = *value;
+    if v.abs() < 1e-12 {
+        "0".to_string()
+    } else if v.abs() < 0.01 || v.abs() >= 1e5 {
+        format!("{v:.1e}")
+    } else {
+        let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+        let text = format!("{v:.digits$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        }
+    }
+}
+
 /// A tick label with one decimal and no "-0.0".
 fn tick(value: &f64) -> String {
     if value.abs() < 1e-9 {
@@ -283,9 +329,14 @@ impl Figure for TimeFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let traces = self.traces;
         root.fill(&WHITE).map_err(text)?;
+        let physical = self.scale == Scale::Physical;
         let root = root
             .titled(
-                "Time history, normalised to (-1, 1) by its largest magnitude",
+                if physical {
+                    "Time history"
+                } else {
+                    "Time history, normalised to (-1, 1) by its largest magnitude"
+                },
                 (FONT, 26),
             )
             .map_err(text)?;
@@ -305,38 +356,63 @@ impl Figure for TimeFigure<'_> {
         };
         let panels = root.split_evenly((groups.len().max(1), 1));
         for (area, group) in panels.iter().zip(&groups) {
+            let (y0, y1) = if physical {
+                padded_range(
+                    group.iter().flat_map(|&i| traces[i].values.iter().copied()),
+                    0.05,
+                )
+            } else {
+                (-1.1, 1.1)
+            };
+            let y_desc = if physical {
+                let units: Vec<&str> = group.iter().map(|&i| traces[i].unit).collect();
+                format!("{} [{}]", quantity_of(units[0]), units[0])
+            } else {
+                "x / max|x| [-]".to_string()
+            };
             let mut chart = ChartBuilder::on(area)
                 .margin(12)
                 .margin_right(36)
                 .x_label_area_size(55)
-                .y_label_area_size(80)
-                .build_cartesian_2d(t0..t1, -1.1..1.1)
+                .y_label_area_size(90)
+                .build_cartesian_2d(t0..t1, y0..y1)
                 .map_err(text)?;
             chart
                 .configure_mesh()
                 .x_desc("time [s]")
-                .y_desc("x / max|x| [-]")
+                .y_desc(y_desc)
                 .axis_desc_style((FONT, 20))
                 .label_style((FONT, 17))
-                .y_label_formatter(&tick)
+                .y_label_formatter(if physical { &tick_physical } else { &tick })
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
                 .map_err(text)?;
             for &index in group {
                 let trace = &traces[index];
-                let scale = largest_magnitude(trace.values);
-                let normalised: Vec<f64> = trace.values.iter().map(|v| v / scale).collect();
+                let scale = if physical {
+                    1.0
+                } else {
+                    largest_magnitude(trace.values)
+                };
+                let scaled: Vec<f64> = trace.values.iter().map(|v| v / scale).collect();
                 let color = PALETTE[index % PALETTE.len()];
+                let label = if physical {
+                    trace.label.to_string()
+                } else {
+                    format!(
+                        "{} (max |x| = {} {})",
+                        trace.label,
+                        tick_physical(&scale),
+                        trace.unit
+                    )
+                };
                 chart
                     .draw_series(LineSeries::new(
-                        decimate(trace.time_s, &normalised),
+                        decimate(trace.time_s, &scaled),
                         color.stroke_width(1),
                     ))
                     .map_err(text)?
-                    .label(format!(
-                        "{} (max |x| = {:.5} {})",
-                        trace.label, scale, trace.unit
-                    ))
+                    .label(label)
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
                     });
@@ -344,6 +420,17 @@ impl Figure for TimeFigure<'_> {
             legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         }
         Ok(())
+    }
+}
+
+/// The quantity a unit measures, for an axis label.
+fn quantity_of(unit: &str) -> &'static str {
+    match unit {
+        "m/s^2" | "mm/s^2" | "rad/s^2" => "acceleration",
+        "m/s" | "mm/s" | "rad/s" => "velocity",
+        "m" | "mm" | "rad" => "displacement",
+        "N" => "force",
+        _ => "value",
     }
 }
 

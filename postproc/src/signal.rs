@@ -5,7 +5,7 @@
 //! Any comma-separated file whose first line is a header naming the columns, one of them
 //! `time_s` (seconds), the others signals in whatever unit their name gives (for example
 //! `node12_uz_accel_m_s2` from `coil-solve`, or `accel_m_s2` in a measured `decay.csv`, see
-//! `shared/spec/measured-case.md`). Cells may be padded with spaces; lines starting with `#`
+//! `docs/measured-case.md`). Cells may be padded with spaces; lines starting with `#`
 //! are comments; blank lines are skipped. Every cell of `time_s` and of each requested column
 //! must be a finite number.
 //!

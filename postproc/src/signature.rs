@@ -7,7 +7,7 @@
 //!
 //! # Units and signs
 //! The input is the axial acceleration of the weight in m/s^2 (`decay.csv`, see
-//! `shared/spec/measured-case.md`); every displacement amplitude here is in metres (SI), so
+//! `docs/measured-case.md`); every displacement amplitude here is in metres (SI), so
 //! that the conversions below take `k` in N/m and `m` in kg. Times in s, frequencies in Hz.
 //!
 //! # Cycles ([`cycles`])

@@ -1,7 +1,7 @@
 //! The static force-compression record: stiffness, cubic stiffness and friction.
 //!
 //! # Input
-//! `static.csv` (`shared/spec/measured-case.md`): `displacement_mm` is the compression from
+//! `static.csv` (`docs/measured-case.md`): `displacement_mm` is the compression from
 //! the free length (positive = shorter), `force_n` the axial force, in the order measured
 //! (usually loading, then unloading); both carry noise.
 //!

@@ -21,6 +21,7 @@ pub mod model;
 pub mod reduce;
 pub mod results;
 pub mod vtk;
+pub mod wire;
 
 pub use error::Error;
 pub use model::Model;

@@ -1,13 +1,24 @@
 //! Result files of a run: `DIR/results.json`, `DIR/model.vtu`, one `.vtu` per static
-//! displaced shape and per mode shape, and one history CSV per transient load case.
+//! displaced shape (with section forces and wire stresses as cell data) and per mode
+//! shape, a `.pvd` series of each modal case's shapes (frequency in Hz as the series
+//! value, so ParaView steps through the modes), and one history CSV per transient load
+//! case; when that history records every node's displacement (a `HISTORY OUTPUT` of the
+//! whole model at a stride), also a `.pvd` series of the moving model ([`transient_series`]).
 //!
 //! # results.json
 //! ```json
 //! {"title": "...", "load_cases": [
 //!   {"name": "...", "kind": "static", "stiffness_n_mm": 3.86,
 //!    "reference_node": {"node": 338, "ux_mm": 0, "uy_mm": 0, "uz_mm": -2.59, "rx_rad": 0, ...},
-//!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu"},
+//!    "loaded_dofs": [...], "reactions": [...], "shape_file": "case1_static.vtu",
+//!    "wire_stress": {"max_shear_stress_mpa": 25.3, "torsion_stress_mpa": 23.9,
+//!                    "direct_shear_stress_mpa": 1.41, "element": 36, "at_mm": [...], ...},
+//!    "spring": {"spring_index": 8.0, "solid_length_mm": 45.0, "coil_contact_load_n": 162.0,
+//!               "nominal_stress_mpa": 22.6, "wahl_stress_mpa": 26.8, ...},
+//!    "warnings": [], "section_forces": [{"element": 1, "axial_force_n": [n1, n2],
+//!               "torque_n_mm": [...], "shear_stress_mpa": 23.9, ...}, ...]},
 //!   {"name": "...", "kind": "modal", "total_mass_kg": 5.4,
+//!    "series_file": "case2_modes.pvd",
 //!    "modes": [{"mode": 1, "frequency_hz": 4.34, "period_s": 0.2304, "omega_rad_s": 27.3,
 //!               "axial_effective_mass_kg": 5.2, "effective_mass_x_kg": ..., ...}]},
 //!   {"name": "...", "kind": "transient", "method": "newmark", "dt_s": 0.001,
@@ -33,6 +44,10 @@
 //! axis of coil's models. `stiffness_n_mm` is `null` when no single loaded DOF
 //! identifies the reference node (see [`crate::analysis::static_analysis`]).
 //!
+//! Section forces, wire stresses and the spring summary (index, solid length, handbook
+//! stresses with Wahl's and Bergsträsser's factors, the load at which adjacent coils
+//! touch, a warning when the load case passes it) are defined in [`crate::wire`].
+//!
 //! Every file is written to a temporary file in the same directory and renamed, so a
 //! failed run never leaves half a file.
 
@@ -41,7 +56,7 @@ use crate::analysis::{CaseResult, CaseSolution, ModalSolution, StaticSolution};
 use crate::dof::dof_name;
 use crate::error::Error;
 use crate::model::{units, Integrator, Model, NodeId, TransientMethod, DOFS_PER_NODE};
-use crate::vtk;
+use crate::{vtk, wire};
 use coil_io::OutputSet;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -109,6 +124,75 @@ pub struct StaticEntry {
     /// Equilibrium check of the solve, `|T^T (K u - f)| / |T^T f|`.
     pub relative_residual: f64,
     pub shape_file: String,
+    /// The largest wire stress and where it sits (solid circular wires only).
+    #[serde(default)]
+    pub wire_stress: Option<WireStressEntry>,
+    /// Spring index, solid length, handbook stresses and the coil contact load, when
+    /// the wire is one helix about global z (see [`crate::wire`]).
+    #[serde(default)]
+    pub spring: Option<SpringEntry>,
+    #[serde(default)]
+    pub warnings: Vec<String>,
+    /// Section forces and stresses of every beam element.
+    #[serde(default)]
+    pub section_forces: Vec<SectionForceEntry>,
+}
+
+/// The element with the largest combined shear stress (MPa) and its stresses.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WireStressEntry {
+    /// Torsion plus direct shear, the largest along the wire.
+    pub max_shear_stress_mpa: f64,
+    pub torsion_stress_mpa: f64,
+    pub direct_shear_stress_mpa: f64,
+    pub bending_stress_mpa: f64,
+    pub axial_stress_mpa: f64,
+    pub element: u32,
+    /// Midpoint of that element (mm).
+    pub at_mm: [f64; 3],
+}
+
+/// What a spring engineer reads off a static case (see [`crate::wire`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpringEntry {
+    pub coils: f64,
+    pub mean_diameter_mm: f64,
+    pub wire_diameter_mm: f64,
+    pub pitch_mm: f64,
+    /// C = D / d.
+    pub spring_index: f64,
+    /// `(n + 1) d` of the modelled helix.
+    pub solid_length_mm: f64,
+    /// Axial force the wire carries (N).
+    pub axial_force_n: f64,
+    /// `8 F D / (pi d^3)`.
+    pub nominal_stress_mpa: f64,
+    pub wahl_factor: f64,
+    pub wahl_stress_mpa: f64,
+    pub bergstraesser_factor: f64,
+    pub bergstraesser_stress_mpa: f64,
+    /// The axial force at which adjacent coils first touch (N); `null` when the load
+    /// case opens the coils.
+    pub coil_contact_load_n: Option<f64>,
+    /// The node where they touch first (the lower of the two coils).
+    pub coil_contact_node: Option<NodeId>,
+}
+
+/// Section resultants of one beam at its two ends `[node 1, node 2]` in the element's
+/// local axes (see [`crate::wire`]), and its wire stresses (MPa).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SectionForceEntry {
+    pub element: u32,
+    pub axial_force_n: [f64; 2],
+    pub shear_force_y_n: [f64; 2],
+    pub shear_force_z_n: [f64; 2],
+    pub torque_n_mm: [f64; 2],
+    pub moment_y_n_mm: [f64; 2],
+    pub moment_z_n_mm: [f64; 2],
+    pub torsion_stress_mpa: Option<f64>,
+    pub direct_shear_stress_mpa: Option<f64>,
+    pub shear_stress_mpa: Option<f64>,
+    pub bending_stress_mpa: Option<f64>,
 }
 
 /// One mode.
@@ -137,6 +221,9 @@ pub struct ModalEntry {
     /// `max |phi_i^T M phi_j - delta_ij|` of the mass-normalised modes.
     pub orthonormality_error: f64,
     pub modes: Vec<ModeEntry>,
+    /// ParaView collection of the mode shapes, frequency (Hz) as the series value.
+    #[serde(default)]
+    pub series_file: String,
 }
 
 /// One mode of a modal superposition.
@@ -190,6 +277,11 @@ pub struct TransientEntry {
     pub initial_velocity_field: String,
     pub modal: Option<ModalSummaryEntry>,
     pub warnings: Vec<String>,
+    /// ParaView collection of the whole model's displaced shape over time (time in s as
+    /// the series value), written when the history records the displacement of every
+    /// node along x, y and z (see [`transient_series`]).
+    #[serde(default)]
+    pub series_file: Option<String>,
 }
 
 /// Stages `text` as `name` in `set` unless it holds a non-finite number.
@@ -202,6 +294,19 @@ fn stage(set: &OutputSet, name: &str, text: &str) -> Result<(), Error> {
     }
     set.write(Path::new(name), text.as_bytes())?;
     Ok(())
+}
+
+/// Stages a `.vtu`: an ASCII one is checked like any text ([`stage`]); a binary one
+/// (appended raw data) is written as it is (the VTK writer writes no non-finite number:
+/// see [`crate::vtk`]).
+fn stage_vtu(set: &OutputSet, name: &str, bytes: &[u8]) -> Result<(), Error> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => stage(set, name, text),
+        Err(_) => {
+            set.write(Path::new(name), bytes)?;
+            Ok(())
+        }
+    }
 }
 
 fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDisplacement> {
@@ -218,8 +323,126 @@ fn node_displacement(model: &Model, u: &[f64], node: NodeId) -> Option<NodeDispl
     })
 }
 
-fn static_entry(model: &Model, name: &str, s: &StaticSolution, shape_file: String) -> StaticEntry {
+/// The spring summary, the wire's stress peak and their warnings for a static case.
+fn spring_results(
+    model: &Model,
+    s: &StaticSolution,
+    forces: &[wire::ElementForces],
+) -> (Option<WireStressEntry>, Option<SpringEntry>, Vec<String>) {
+    let mut warnings = Vec::new();
+    let stress = wire::peak(model, forces).map(|p| WireStressEntry {
+        max_shear_stress_mpa: p.stress.shear_mpa,
+        torsion_stress_mpa: p.stress.torsion_mpa,
+        direct_shear_stress_mpa: p.stress.direct_shear_mpa,
+        bending_stress_mpa: p.stress.bending_mpa,
+        axial_stress_mpa: p.stress.axial_mpa,
+        element: p.element,
+        at_mm: p.xyz,
+    });
+    let spring = wire::Helix::of(model).map(|helix| {
+        let force = forces
+            .get(forces.len() / 2)
+            .map_or(0.0, |f| f.force_global_n[2].abs());
+        let (d_mean, d) = (helix.mean_diameter_mm, helix.wire_diameter_mm);
+        let c = helix.index();
+        let nominal = wire::nominal_stress_mpa(force, d_mean, d);
+        let contact = helix
+            .contact_factor(model, &s.displacement)
+            .filter(|_| force > 0.0);
+        if let Some((factor, node)) = contact {
+            if factor < 1.0 {
+                warnings.push(format!(
+                    "the axial load {force:.4} N passes the load at which adjacent coils touch \
+                     ({:.4} N, first at node {}): beyond it the coils are solid and this linear \
+                     model does not apply",
+                    factor * force,
+                    model.nodes[node].id
+                ));
+            }
+        }
+        SpringEntry {
+            coils: helix.coils,
+            mean_diameter_mm: d_mean,
+            wire_diameter_mm: d,
+            pitch_mm: helix.pitch_mm,
+            spring_index: c,
+            solid_length_mm: helix.solid_length_mm(),
+            axial_force_n: force,
+            nominal_stress_mpa: nominal,
+            wahl_factor: wire::wahl_factor(c),
+            wahl_stress_mpa: wire::wahl_factor(c) * nominal,
+            bergstraesser_factor: wire::bergstraesser_factor(c),
+            bergstraesser_stress_mpa: wire::bergstraesser_factor(c) * nominal,
+            coil_contact_load_n: contact.map(|(factor, _)| factor * force),
+            coil_contact_node: contact.map(|(_, node)| model.nodes[node].id),
+        }
+    });
+    (stress, spring, warnings)
+}
+
+fn section_force_entry(f: &wire::ElementForces) -> SectionForceEntry {
+    let pair = |c: usize| [f.ends[0][c], f.ends[1][c]];
+    SectionForceEntry {
+        element: f.element,
+        axial_force_n: pair(0),
+        shear_force_y_n: pair(1),
+        shear_force_z_n: pair(2),
+        torque_n_mm: pair(3),
+        moment_y_n_mm: pair(4),
+        moment_z_n_mm: pair(5),
+        torsion_stress_mpa: f.stress.map(|s| s.torsion_mpa),
+        direct_shear_stress_mpa: f.stress.map(|s| s.direct_shear_mpa),
+        shear_stress_mpa: f.stress.map(|s| s.shear_mpa),
+        bending_stress_mpa: f.stress.map(|s| s.bending_mpa),
+    }
+}
+
+/// The section forces and stresses as VTU cell arrays, in `model.elements` order.
+pub fn cell_fields(model: &Model, forces: &[wire::ElementForces]) -> Vec<vtk::CellField> {
+    type Getter = fn(&wire::ElementForces) -> f64;
+    let fields: [(&str, Getter); 8] = [
+        ("axial_force_n", |f| f.ends[1][0]),
+        ("shear_force_n", |f| f.shear_force_n()),
+        ("torque_n_mm", |f| f.ends[1][3]),
+        ("bending_moment_n_mm", |f| f.bending_moment_n_mm()),
+        ("torsion_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.torsion_mpa)
+        }),
+        ("direct_shear_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.direct_shear_mpa)
+        }),
+        ("shear_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.shear_mpa)
+        }),
+        ("bending_stress_mpa", |f| {
+            f.stress.map_or(0.0, |s| s.bending_mpa)
+        }),
+    ];
+    let by_id: std::collections::HashMap<u32, &wire::ElementForces> =
+        forces.iter().map(|f| (f.element, f)).collect();
+    fields
+        .iter()
+        .map(|(name, get)| vtk::CellField {
+            name: (*name).to_string(),
+            components: 1,
+            values: model
+                .elements
+                .iter()
+                .map(|e| by_id.get(&e.id).map_or(0.0, |f| get(f)))
+                .collect(),
+        })
+        .collect()
+}
+
+fn static_entry(
+    model: &Model,
+    name: &str,
+    s: &StaticSolution,
+    forces: &[wire::ElementForces],
+    shape_file: String,
+) -> StaticEntry {
     let translational = |dof: u8| dof <= 3;
+    let (wire_stress, spring, warnings) = spring_results(model, s, forces);
     StaticEntry {
         name: name.to_string(),
         stiffness_n_mm: s.stiffness_n_mm,
@@ -260,10 +483,19 @@ fn static_entry(model: &Model, name: &str, s: &StaticSolution, shape_file: Strin
             .fold(0.0, f64::max),
         relative_residual: s.relative_residual,
         shape_file,
+        wire_stress,
+        spring,
+        warnings,
+        section_forces: forces.iter().map(section_force_entry).collect(),
     }
 }
 
-fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> String) -> ModalEntry {
+fn modal_entry(
+    name: &str,
+    m: &ModalSolution,
+    shape_file: impl Fn(usize) -> String,
+    series_file: String,
+) -> ModalEntry {
     let kg = units::mass_to_si;
     ModalEntry {
         name: name.to_string(),
@@ -286,6 +518,7 @@ fn modal_entry(name: &str, m: &ModalSolution, shape_file: impl Fn(usize) -> Stri
                 shape_file: shape_file(k + 1),
             })
             .collect(),
+        series_file,
     }
 }
 
@@ -337,7 +570,66 @@ fn transient_entry(name: &str, t: &TransientSolution, history_file: String) -> T
         initial_velocity_field: t.velocity_field.name().to_string(),
         modal: t.modal.as_ref().map(modal_summary_entry),
         warnings: t.warnings.clone(),
+        series_file: None,
     }
+}
+
+/// Most snapshots a transient series holds; a longer history is thinned evenly.
+pub const MAX_SNAPSHOTS: usize = 1000;
+
+/// The whole model's displaced shapes of a transient, one full DOF vector (mm, rad) per
+/// kept sample with its time (s), when the history holds `node{ID}_{ux,uy,uz}_disp_m`
+/// of every node (a `HISTORY OUTPUT` of DISP, DOFs 1 to 3, on all nodes, at the stride
+/// wanted: the "whole model" request). Rotations are taken when recorded (DOFs 4 to 6),
+/// else left zero. `None` when some node's translation is not recorded. The samples are
+/// those of the whole-model request's own stride (the history holds every sample any
+/// request asked for), thinned further to at most [`MAX_SNAPSHOTS`].
+pub fn transient_series(model: &Model, t: &TransientSolution) -> Option<Vec<(f64, Vec<f64>)>> {
+    let history = &t.history;
+    let rows = history.time_s.len();
+    if rows == 0 || model.nodes.is_empty() {
+        return None;
+    }
+    let mut columns: Vec<(usize, f64, &[f64])> = Vec::with_capacity(6 * model.nodes.len());
+    for (i, node) in model.nodes.iter().enumerate() {
+        for (dof, name) in ["ux", "uy", "uz", "rx", "ry", "rz"].iter().enumerate() {
+            let (suffix, scale) = if dof < 3 {
+                ("disp_m", units::MM_PER_M)
+            } else {
+                ("disp_rad", 1.0)
+            };
+            match history.column(&format!("node{}_{name}_{suffix}", node.id)) {
+                Some(values) => columns.push((i * DOFS_PER_NODE + dof, scale, values)),
+                None if dof < 3 => return None,
+                None => {}
+            }
+        }
+    }
+    let all_nodes = model
+        .outputs
+        .iter()
+        .filter(|o| {
+            o.quantities.contains(&crate::model::Quantity::Displacement)
+                && [1, 2, 3].iter().all(|d| o.dofs.contains(d))
+                && o.nodes.len() >= model.nodes.len()
+        })
+        .map(|o| o.every as usize)
+        .max()
+        .unwrap_or(1);
+    let request = (all_nodes / t.output_every.max(1)).max(1);
+    let stride = request.max(rows.div_ceil(MAX_SNAPSHOTS)).max(1);
+    Some(
+        (0..rows)
+            .step_by(stride)
+            .map(|r| {
+                let mut u = vec![0.0; model.dof_count()];
+                for &(slot, scale, values) in &columns {
+                    u[slot] = values[r] * scale;
+                }
+                (history.time_s[r], u)
+            })
+            .collect(),
+    )
 }
 
 /// The history file of load case `case_number` (1-based): `history.csv` for the first
@@ -366,7 +658,7 @@ pub fn write_set(
     model: &Model,
     cases: &[CaseResult],
 ) -> Result<ResultsFile, Error> {
-    stage(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
+    stage_vtu(set, "model.vtu", &vtk::unstructured_grid(model, None))?;
     let mut entries = Vec::with_capacity(cases.len());
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -374,30 +666,59 @@ pub fn write_set(
         match &case.solution {
             CaseSolution::Static(s) => {
                 let file = format!("case{c}_static.vtu");
-                stage(
+                let forces = wire::element_forces(model, &s.displacement);
+                stage_vtu(
                     set,
                     &file,
-                    &vtk::unstructured_grid(model, Some(&s.displacement)),
+                    &vtk::grid(model, Some(&s.displacement), &cell_fields(model, &forces)),
                 )?;
-                entries.push(CaseEntry::Static(static_entry(model, &case.title, s, file)));
+                entries.push(CaseEntry::Static(static_entry(
+                    model,
+                    &case.title,
+                    s,
+                    &forces,
+                    file,
+                )));
             }
             CaseSolution::Modal(m) => {
                 let width = m.modes.len().to_string().len();
                 let name = |k: usize| format!("case{c}_mode{k:0width$}.vtu");
+                let mut series = Vec::with_capacity(m.modes.len());
                 for (k, mode) in m.modes.iter().enumerate() {
-                    stage(
+                    stage_vtu(
                         set,
                         &name(k + 1),
                         &vtk::unstructured_grid(model, Some(&mode.shape)),
                     )?;
+                    series.push((mode.frequency_hz, name(k + 1)));
                 }
-                entries.push(CaseEntry::Modal(modal_entry(&case.title, m, name)));
+                let series_file = format!("case{c}_modes.pvd");
+                stage(set, &series_file, &vtk::collection(&series))?;
+                entries.push(CaseEntry::Modal(modal_entry(
+                    &case.title,
+                    m,
+                    name,
+                    series_file,
+                )));
             }
             CaseSolution::Transient(t) => {
                 let file = history_file_name(first_transient, c);
                 first_transient = false;
                 stage(set, &file, &t.history.to_csv())?;
-                entries.push(CaseEntry::Transient(transient_entry(&case.title, t, file)));
+                let mut entry = transient_entry(&case.title, t, file);
+                if let Some(series) = transient_series(model, t) {
+                    let width = series.len().to_string().len();
+                    let mut listed = Vec::with_capacity(series.len());
+                    for (k, (time, u)) in series.iter().enumerate() {
+                        let name = format!("case{c}_t{k:0width$}.vtu");
+                        stage_vtu(set, &name, &vtk::unstructured_grid(model, Some(u)))?;
+                        listed.push((*time, name));
+                    }
+                    let series_file = format!("case{c}_transient.pvd");
+                    stage(set, &series_file, &vtk::collection(&listed))?;
+                    entry.series_file = Some(series_file);
+                }
+                entries.push(CaseEntry::Transient(entry));
             }
         }
     }

@@ -3,7 +3,7 @@
 //!
 //! A diagnosis is read from its `diagnosis.json` value (the spec's fields), so the
 //! scoring does not depend on the engine's Rust types: the named causes are `causes[*]
-//! .effect` when the report has several (`shared/spec/measured-case.md`, "Several
+//! .effect` when the report has several (`docs/measured-case.md`, "Several
 //! effects at once"), else `cause` (nothing for `none`); parameters come from
 //! `extended.parameters`, which holds those of every effect kept.
 //!

@@ -1,5 +1,5 @@
 //! An independent truth model that writes measured-style cases
-//! (`shared/spec/measured-case.md`) with a hidden physical effect, so that tests can check
+//! (`docs/measured-case.md`) with a hidden physical effect, so that tests can check
 //! that `coil-tune diagnose` finds it. Nothing here uses coil's FE solver, mesher, tuner or
 //! post-processor: the stiffness is a closed form and the integrator is written here, so
 //! agreement between diagnose and this truth is evidence, not a tautology.

@@ -1,5 +1,5 @@
 //! An independent truth model for the damping-law tests (issue 10): it writes measured
-//! cases (shared/spec/measured-case.md) whose decay records come from a damping law the
+//! cases (docs/measured-case.md) whose decay records come from a damping law the
 //! test knows and `coil-tune damping` must find. It shares no code with coil's solver or
 //! tuner (only `truth.rs`'s Jacobi eigensolver).
 //!

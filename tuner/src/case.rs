@@ -1,4 +1,4 @@
-//! Reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//! Reading a measured case (`docs/measured-case.md`) and a variants file.
 //!
 //! A case is a folder holding `case.json` and the record files it names; [`read_case`]
 //! takes the folder or the `case.json` path. Field names and units are exactly the
@@ -102,7 +102,7 @@ pub enum DecayMode {
     Surge,
 }
 
-/// A `records.decay` entry's own description (shared/spec/measured-case.md, "Several
+/// A `records.decay` entry's own description (docs/measured-case.md, "Several
 /// decay records").
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DecayInfo {
@@ -260,7 +260,7 @@ pub fn read_case(path: &Path) -> Result<MeasuredCase, CaseError> {
     let file = case_file(path);
     let (_, node) = read_json(&file)?;
     let top = root(&file, &node);
-    let doc = top.object("a measured case (see shared/spec/measured-case.md)")?;
+    let doc = top.object("a measured case (see docs/measured-case.md)")?;
     let folder = file.parent().map(Path::to_path_buf).unwrap_or_default();
 
     let name = doc.string("name", "the case's name (a non-empty string)")?;

@@ -234,7 +234,7 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
     },
-    /// Diagnose a measured case (shared/spec/measured-case.md): fit the paper's model,
+    /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
     /// show what it misses, name the cause, extend the model and measure the gain.
     /// Writes DIR/diagnosis.json, report.md, figures and tables (docs/diagnose.md).
     Diagnose {
@@ -259,7 +259,7 @@ pub enum Command {
     /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
     /// records of a case at once (records at several masses, a surge record), chooses by
     /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
-    /// (shared/spec/measured-case.md) and DIR/report.md (docs/damping.md).
+    /// (docs/measured-case.md) and DIR/report.md (docs/damping.md).
     Damping {
         /// The case folder (or its case.json).
         case: PathBuf,
@@ -343,7 +343,7 @@ pub fn run(cli: Cli) -> Result<()> {
             out.write("sweep.json", json.as_bytes())?;
             out.commit()?;
             say!(
-                "material: E = {} MPa, mass = {} kg, alpha = {}, beta = {}",
+                "material: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
                 state.youngs_modulus_mpa,
                 state.mass_kg,
                 state.alpha,
@@ -539,7 +539,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             if let Some(s) = result.state {
                 say!(
-                    "final: E = {} MPa, mass = {} kg, alpha = {} 1/s, beta = {} s",
+                    "final: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
                     s.youngs_modulus_mpa,
                     s.mass_kg,
                     s.alpha,

@@ -1,5 +1,5 @@
 //! Which damping law? (issue 10) `coil-tune damping CASE --out DIR`: fits the three damping
-//! laws of shared/spec/measured-case.md to all decay records of a case at once, chooses by
+//! laws of docs/measured-case.md to all decay records of a case at once, chooses by
 //! an information criterion and held-out prediction, and says when the records cannot
 //! decide.
 //!

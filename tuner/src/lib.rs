@@ -1,6 +1,6 @@
 //! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
 //!
-//! - [`case`]: reading a measured case (`shared/spec/measured-case.md`) and a variants file.
+//! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
 

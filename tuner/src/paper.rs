@@ -244,7 +244,7 @@ fn reference_decay(
         .collect();
     Ok((
         format!(
-            "experiment's figures: T = {} s, zeta = {} (damped oscillation)",
+            "experiment: a damped oscillation with its T = {} s and zeta = {} (the record is not published)",
             targets.period_s, zeta
         ),
         DecayRecord {
@@ -343,7 +343,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
     let mesh = mesh_study(&case, targets.stiffness_n_mm, paper_e, settings)?;
     let mesh_study_s = mesh_start.elapsed().as_secs_f64();
 
-    // Fig. 10: normalised histories, model against the reference.
+    // Fig. 10: the reference, the simulation over it and the residual.
     let (reference_label, reference) = reference_decay(
         &case,
         &targets,
@@ -360,28 +360,20 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
             "modal superposition"
         }
     );
-    coil_postproc::plot::time_histories(
-        &[
-            coil_postproc::plot::Trace {
-                label: &reference_label,
-                unit: "m/s^2",
-                time_s: &reference.time_s,
-                values: &reference.accel_m_s2,
-            },
-            coil_postproc::plot::Trace {
-                label: &model_label,
-                unit: "m/s^2",
-                time_s: &validated_record.time_s,
-                values: &validated_record.accel_m_s2,
-            },
-        ],
-        true,
+    crate::plots::decay_figure(
+        &crate::plots::DecayTrace {
+            label: &reference_label,
+            time_s: &reference.time_s,
+            accel_m_s2: &reference.accel_m_s2,
+        },
+        &crate::plots::DecayTrace {
+            label: &model_label,
+            time_s: &validated_record.time_s,
+            accel_m_s2: &validated_record.accel_m_s2,
+        },
+        targets.period_s,
         &out.staged("fig10_decay.png")?,
-    )
-    .map_err(|source| TuneError::Post {
-        context: "Fig. 10".into(),
-        source,
-    })?;
+    )?;
 
     let paper = case.paper.clone().unwrap_or_default();
     let table3 = Table3 {

@@ -1,10 +1,11 @@
 //! The tuner's figures (PNG or SVG by extension), the analogues of the paper's:
-//! - Fig. 7: the calibration loops, parameter and relative error per iteration
-//!   ([`loops_figure`]);
+//! - Fig. 7: the calibration loops, the quantity (K, T) against its target, the parameter
+//!   (E, m) and the relative error per iteration ([`loops_figure`]);
 //! - Figs. 8 and 9: zeta over an (alpha, beta) grid as a heat map with the best point,
 //!   the paper's point and the target valley ([`heat_map`]);
 //! - the valley of (alpha, beta) pairs that give the target zeta ([`valley_figure`]);
-//! - Fig. 10 (normalised decay histories) is drawn by `coil_postproc::plot`.
+//! - Fig. 10: the reference decay (a measured record, or the experiment's T and zeta),
+//!   the simulation laid over it and the residual, in m/s^2 ([`decay_figure`]).
 //!
 //! The figures implement `coil_postproc::plot::Figure` and are written by its renderer:
 //! the same embedded font (DejaVu Sans), size and atomic output as the post-processor's
@@ -108,86 +109,183 @@ struct LoopsFigure<'a> {
 /// The floor of |relative error| on the log axis (an exact hit would be log(0)).
 const ERROR_FLOOR: f64 = 1e-16;
 
+/// Plain name and unit of a quantity or parameter name as coil writes them.
+pub(crate) fn plain_name(name: &str) -> (&str, &str) {
+    match name {
+        "stiffness_n_mm" => ("stiffness K", "N/mm"),
+        "period_s" => ("period T", "s"),
+        "damping_ratio" => ("damping ratio zeta", "-"),
+        "youngs_modulus_mpa" => ("Young's modulus E", "MPa"),
+        "mass_kg" => ("mass of the weight m", "kg"),
+        "alpha" | "rayleigh_alpha" => ("Rayleigh alpha", "1/s"),
+        "beta" | "rayleigh_beta" => ("Rayleigh beta", "s"),
+        other => (other, "-"),
+    }
+}
+
+/// A panel of values against iteration 1..=n.
+fn iteration_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: String,
+    y_desc: String,
+    n: f64,
+    (lo, hi): (f64, f64),
+) -> std::result::Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    String,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(100)
+        .build_cartesian_2d(0.5..n + 0.5, lo..hi)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("iteration")
+        .y_desc(y_desc)
+        .x_label_formatter(&whole)
+        .y_label_formatter(&short)
+        .axis_desc_style((FONT, 18))
+        .label_style((FONT, 16))
+        .draw()
+        .map_err(e)?;
+    Ok(chart)
+}
+
 impl Figure for LoopsFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         root.fill(&WHITE).map_err(e)?;
-        let rows = root.split_evenly((self.loops.len().max(1), 2));
+        let root = root
+            .titled(
+                "Calibration loops (the paper's Fig. 6): each run of the model, in order",
+                (FONT, 26),
+            )
+            .map_err(e)?;
+        let rows = root.split_evenly((self.loops.len().max(1), 3));
         for (k, report) in self.loops.iter().enumerate() {
             let n = report.iterations.len() as f64;
-            let (lo, hi) = range_of(report.iterations.iter().map(|i| i.parameter));
-            let mut left = ChartBuilder::on(&rows[2 * k])
-                .caption(
-                    format!("{}: {} per iteration", report.quantity, report.parameter),
-                    (FONT, 24),
-                )
-                .margin(15)
-                .x_label_area_size(45)
-                .y_label_area_size(110)
-                .build_cartesian_2d(0.5..n + 0.5, lo..hi)
+            let (quantity, quantity_unit) = plain_name(&report.quantity);
+            let (parameter, parameter_unit) = plain_name(&report.parameter);
+            let symbol = |name: &str| name.rsplit(' ').next().unwrap_or(name).to_string();
+
+            // The quantity the loop drives to its target (K, T), with the target.
+            let results: Vec<(f64, f64)> = report
+                .iterations
+                .iter()
+                .map(|i| (i.iteration as f64, i.result))
+                .collect();
+            let (lo, hi) = range_of(
+                results
+                    .iter()
+                    .map(|p| p.1)
+                    .chain(std::iter::once(report.target)),
+            );
+            let mut first = iteration_chart(
+                &rows[3 * k],
+                format!("Loop {}: {quantity} against its target", k + 1),
+                format!("{} [{quantity_unit}]", symbol(quantity)),
+                n,
+                (lo, hi),
+            )?;
+            first
+                .draw_series(LineSeries::new(
+                    [(0.5, report.target), (n + 0.5, report.target)],
+                    RED.stroke_width(2),
+                ))
+                .map_err(e)?
+                .label(format!("target {} {quantity_unit}", short(&report.target)))
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED.stroke_width(2)));
+            first
+                .draw_series(LineSeries::new(results.clone(), BLUE.stroke_width(2)))
+                .map_err(e)?
+                .label(format!("{} of the run", symbol(quantity)))
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+            first
+                .draw_series(results.iter().map(|&p| Circle::new(p, 6, BLUE.filled())))
                 .map_err(e)?;
-            left.configure_mesh()
-                .x_desc("iteration")
-                .y_desc(report.parameter.as_str())
-                .x_label_formatter(&whole)
-                .y_label_formatter(&short)
-                .label_style((FONT, 16))
+            first
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font((FONT, 16))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
                 .draw()
                 .map_err(e)?;
+
+            // The parameter the loop adjusts (E, m).
             let points: Vec<(f64, f64)> = report
                 .iterations
                 .iter()
                 .map(|i| (i.iteration as f64, i.parameter))
                 .collect();
-            left.draw_series(LineSeries::new(points.clone(), BLUE.stroke_width(2)))
+            let (lo, hi) = range_of(points.iter().map(|p| p.1));
+            let mut second = iteration_chart(
+                &rows[3 * k + 1],
+                format!("{parameter} of each run"),
+                format!("{} [{parameter_unit}]", symbol(parameter)),
+                n,
+                (lo, hi),
+            )?;
+            second
+                .draw_series(LineSeries::new(points.clone(), GREEN.stroke_width(2)))
                 .map_err(e)?;
-            left.draw_series(points.iter().map(|&p| Circle::new(p, 6, BLUE.filled())))
+            second
+                .draw_series(points.iter().map(|&p| Circle::new(p, 6, GREEN.filled())))
                 .map_err(e)?;
 
+            // How far from the target, on a log scale, against the tolerance.
             let errors: Vec<(f64, f64)> = report
                 .iterations
                 .iter()
                 .map(|i| (i.iteration as f64, i.relative_error.abs().max(ERROR_FLOOR)))
                 .collect();
             let top = errors.iter().fold(report.tolerance, |m, p| m.max(p.1)) * 10.0;
-            let mut right = ChartBuilder::on(&rows[2 * k + 1])
+            let bottom = errors
+                .iter()
+                .fold(report.tolerance, |m, p| m.min(p.1))
+                .max(ERROR_FLOOR)
+                / 10.0;
+            let mut third = ChartBuilder::on(&rows[3 * k + 2])
                 .caption(
-                    format!(
-                        "|relative error| of {} (target {}, tolerance {:.0e})",
-                        report.quantity,
-                        short(&report.target),
-                        report.tolerance
-                    ),
-                    (FONT, 24),
+                    format!("Relative error of {}", symbol(quantity)),
+                    (FONT, 22),
                 )
                 .margin(15)
                 .x_label_area_size(45)
                 .y_label_area_size(90)
-                .build_cartesian_2d(0.5..n + 0.5, (ERROR_FLOOR..top).log_scale())
+                .build_cartesian_2d(0.5..n + 0.5, (bottom..top).log_scale())
                 .map_err(e)?;
-            right
+            third
                 .configure_mesh()
                 .x_desc("iteration")
-                .y_desc("|relative error|")
+                .y_desc("|relative error| [-]")
                 .x_label_formatter(&whole)
                 .y_label_formatter(&|y| format!("{y:.0e}"))
+                .axis_desc_style((FONT, 18))
                 .label_style((FONT, 16))
                 .draw()
                 .map_err(e)?;
-            right
+            third
                 .draw_series(LineSeries::new(
                     [(0.5, report.tolerance), (n + 0.5, report.tolerance)],
                     RED.stroke_width(1),
                 ))
                 .map_err(e)?
-                .label("tolerance")
+                .label(format!("tolerance {:.0e}", report.tolerance))
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
-            right
+            third
                 .draw_series(LineSeries::new(errors.clone(), BLUE.stroke_width(2)))
                 .map_err(e)?;
-            right
+            third
                 .draw_series(errors.iter().map(|&p| Circle::new(p, 6, BLUE.filled())))
                 .map_err(e)?;
-            right
+            third
                 .configure_series_labels()
                 .label_font((FONT, 16))
                 .background_style(WHITE.mix(0.8))
@@ -199,7 +297,277 @@ impl Figure for LoopsFigure<'_> {
     }
 }
 
-/// Fig. 7 analogue: each loop's parameter and |relative error| per iteration.
+/// One decay record to compare (acceleration of the weight, m/s^2).
+#[derive(Debug, Clone, Copy)]
+pub struct DecayTrace<'a> {
+    pub label: &'a str,
+    pub time_s: &'a [f64],
+    pub accel_m_s2: &'a [f64],
+}
+
+/// How the simulation was laid over the reference for the residual.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alignment {
+    /// The simulation is read at `t + shift_s`.
+    pub shift_s: f64,
+    /// And scaled by `gain` (least squares).
+    pub gain: f64,
+    /// RMS of the residual over RMS of the reference.
+    pub relative_rms: f64,
+}
+
+/// Linear interpolation of `(time, values)` at `t` (None outside the record).
+fn sample(time: &[f64], values: &[f64], t: f64) -> Option<f64> {
+    let (first, last) = (*time.first()?, *time.last()?);
+    if !(first..=last).contains(&t) {
+        return None;
+    }
+    let i = time.partition_point(|&x| x <= t).clamp(1, time.len() - 1);
+    let (t0, t1) = (time[i - 1], time[i]);
+    let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
+    Some(values[i - 1] + s * (values[i] - values[i - 1]))
+}
+
+/// Lays `model` over `reference`: a measured record starts some unknown time after the
+/// impulse (its phase is unknown) and its amplitude depends on the impulse, so the
+/// simulation is shifted by the `shift` in `[0, period)` (steps of the reference's
+/// sampling) and scaled by the `gain` that minimise the residual. A reference built on
+/// the simulation's own time base needs neither (shift 0, gain 1 to rounding).
+/// Returns the alignment and the residual `reference - gain * model(t + shift)` at the
+/// reference's times that the shifted simulation covers.
+pub fn align(
+    reference: &DecayTrace<'_>,
+    model: &DecayTrace<'_>,
+    period_s: f64,
+) -> (Alignment, Vec<(f64, f64)>) {
+    let step = if reference.time_s.len() > 1 {
+        (reference.time_s[reference.time_s.len() - 1] - reference.time_s[0])
+            / (reference.time_s.len() - 1) as f64
+    } else {
+        period_s
+    };
+    let shifts = if step > 0.0 && period_s.is_finite() && period_s > 0.0 {
+        (period_s / step).ceil().min(10_000.0) as usize
+    } else {
+        1
+    };
+    let fit = |shift: f64| {
+        let (mut rm, mut mm) = (0.0, 0.0);
+        for (&t, &r) in reference.time_s.iter().zip(reference.accel_m_s2) {
+            if let Some(m) = sample(model.time_s, model.accel_m_s2, t + shift) {
+                rm += r * m;
+                mm += m * m;
+            }
+        }
+        let gain = if mm > 0.0 { rm / mm } else { 0.0 };
+        // The residual's energy is sum r^2 - gain * rm; a larger gain * rm is better.
+        (gain * rm, gain)
+    };
+    let (mut best_shift, mut best) = (0.0, fit(0.0));
+    // A reference on the simulation's own time base (shift 0) is kept unless another
+    // shift is clearly better.
+    for k in 1..shifts {
+        let shift = k as f64 * step;
+        let candidate = fit(shift);
+        if candidate.0 > best.0 * (1.0 + 1e-9) {
+            best = candidate;
+            best_shift = shift;
+        }
+    }
+    let gain = best.1;
+    let mut residual = Vec::with_capacity(reference.time_s.len());
+    let (mut rr, mut ee) = (0.0, 0.0);
+    for (&t, &r) in reference.time_s.iter().zip(reference.accel_m_s2) {
+        if let Some(m) = sample(model.time_s, model.accel_m_s2, t + best_shift) {
+            let d = r - gain * m;
+            residual.push((t, d));
+            rr += r * r;
+            ee += d * d;
+        }
+    }
+    let relative_rms = if rr > 0.0 { (ee / rr).sqrt() } else { f64::NAN };
+    (
+        Alignment {
+            shift_s: best_shift,
+            gain,
+            relative_rms,
+        },
+        residual,
+    )
+}
+
+struct DecayFigure<'a> {
+    reference: DecayTrace<'a>,
+    model: DecayTrace<'a>,
+    alignment: Alignment,
+    residual: &'a [(f64, f64)],
+}
+
+/// At most this many points per drawn line (min and max per bucket keep the envelope).
+const MAX_DRAWN: usize = 4000;
+
+fn thin(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    if points.len() <= MAX_DRAWN {
+        return points;
+    }
+    let bucket = points.len().div_ceil(MAX_DRAWN / 2);
+    let mut out = Vec::with_capacity(MAX_DRAWN + 2);
+    for chunk in points.chunks(bucket) {
+        let lo = chunk.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let hi = chunk.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+        if let (Some(&lo), Some(&hi)) = (lo, hi) {
+            if lo.0 <= hi.0 {
+                out.extend([lo, hi]);
+            } else {
+                out.extend([hi, lo]);
+            }
+        }
+    }
+    out
+}
+
+impl Figure for DecayFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(e)?;
+        let root = root
+            .titled(
+                "Free decay of the weight: reference, simulation and residual",
+                (FONT, 26),
+            )
+            .map_err(e)?;
+        let (top, bottom) = root.split_vertically((SIZE.1 as f64 * 0.6) as u32);
+        let (r, m, a) = (&self.reference, &self.model, &self.alignment);
+        let (t0, t1) = range_of(r.time_s.iter().copied());
+        let model_points: Vec<(f64, f64)> = m
+            .time_s
+            .iter()
+            .zip(m.accel_m_s2)
+            .map(|(&t, &v)| (t - a.shift_s, a.gain * v))
+            .filter(|p| (t0..=t1).contains(&p.0))
+            .collect();
+        let (y0, y1) = range_of(
+            r.accel_m_s2
+                .iter()
+                .copied()
+                .chain(model_points.iter().map(|p| p.1)),
+        );
+        let mut chart = ChartBuilder::on(&top)
+            .margin(12)
+            .margin_right(36)
+            .x_label_area_size(45)
+            .y_label_area_size(90)
+            .build_cartesian_2d(t0..t1, y0..y1)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .x_desc("time [s]")
+            .y_desc("acceleration [m/s^2]")
+            .y_label_formatter(&short)
+            .axis_desc_style((FONT, 18))
+            .label_style((FONT, 16))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(e)?;
+        let grey = RGBColor(90, 90, 90);
+        let reference: Vec<(f64, f64)> = r
+            .time_s
+            .iter()
+            .zip(r.accel_m_s2)
+            .map(|(&t, &v)| (t, v))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(thin(reference), grey.stroke_width(4)))
+            .map_err(e)?
+            .label(r.label)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(4)));
+        let shifted = if a.shift_s != 0.0 || (a.gain - 1.0).abs() > 1e-6 {
+            format!(
+                " (read at t + {} s, times {})",
+                short(&a.shift_s),
+                short(&a.gain)
+            )
+        } else {
+            String::new()
+        };
+        chart
+            .draw_series(LineSeries::new(thin(model_points), RED.stroke_width(1)))
+            .map_err(e)?
+            .label(format!("{}{shifted}", m.label))
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 24, y)], RED.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FONT, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(e)?;
+
+        let (z0, z1) = range_of(self.residual.iter().map(|p| p.1));
+        let span = z0.abs().max(z1.abs()).max(1e-12);
+        let mut lower = ChartBuilder::on(&bottom)
+            .margin(12)
+            .margin_right(36)
+            .x_label_area_size(50)
+            .y_label_area_size(90)
+            .build_cartesian_2d(t0..t1, -span..span)
+            .map_err(e)?;
+        lower
+            .configure_mesh()
+            .x_desc("time [s]")
+            .y_desc("residual [m/s^2]")
+            .y_label_formatter(&short)
+            .axis_desc_style((FONT, 18))
+            .label_style((FONT, 16))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(e)?;
+        lower
+            .draw_series(LineSeries::new(
+                thin(self.residual.to_vec()),
+                BLUE.stroke_width(1),
+            ))
+            .map_err(e)?
+            .label(format!(
+                "reference - simulation: RMS {:.2} % of the reference's RMS",
+                100.0 * a.relative_rms
+            ))
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 24, y)], BLUE.stroke_width(2)));
+        lower
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FONT, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(e)?;
+        Ok(())
+    }
+}
+
+/// Fig. 10 analogue: the reference record (measured, or the experiment's figures),
+/// the simulation laid over it ([`align`]) in m/s^2, and the residual below.
+pub fn decay_figure(
+    reference: &DecayTrace<'_>,
+    model: &DecayTrace<'_>,
+    period_s: f64,
+    path: &Path,
+) -> Result<Alignment> {
+    let (alignment, residual) = align(reference, model, period_s);
+    render(
+        path,
+        &DecayFigure {
+            reference: *reference,
+            model: *model,
+            alignment,
+            residual: &residual,
+        },
+    )?;
+    Ok(alignment)
+}
+
+/// Fig. 7 analogue: each loop's quantity (K, T) against its target, its parameter (E,
+/// m) and |relative error| per iteration.
 pub fn loops_figure(loops: &[&LoopReport], path: &Path) -> Result<()> {
     render(path, &LoopsFigure { loops })
 }
@@ -652,5 +1020,38 @@ mod tests {
             .collect();
         names.sort();
         assert_eq!(names, ["fig7.png", "fig8.png", "fig8.svg", "valley.png"]);
+    }
+
+    #[test]
+    fn a_shifted_scaled_record_is_aligned_and_leaves_no_residual() {
+        // Model: a decaying cosine sampled at 1 ms; reference: the same read 0.05 s later
+        // at half the amplitude, on a 2 ms grid (a measured record cut after the impulse).
+        let period = 0.23;
+        let w = std::f64::consts::TAU / period;
+        let wave = |t: f64| (-0.05 * t).exp() * (w * t).cos();
+        let model_t: Vec<f64> = (0..6000).map(|k| k as f64 * 1e-3).collect();
+        let model_a: Vec<f64> = model_t.iter().map(|&t| wave(t)).collect();
+        let ref_t: Vec<f64> = (0..2000).map(|k| k as f64 * 2e-3).collect();
+        let ref_a: Vec<f64> = ref_t.iter().map(|&t| 0.5 * wave(t + 0.05)).collect();
+        let reference = DecayTrace {
+            label: "measured",
+            time_s: &ref_t,
+            accel_m_s2: &ref_a,
+        };
+        let model = DecayTrace {
+            label: "coil",
+            time_s: &model_t,
+            accel_m_s2: &model_a,
+        };
+        let (a, residual) = align(&reference, &model, period);
+        assert!((a.shift_s - 0.05).abs() < 1e-9, "{a:?}");
+        assert!((a.gain - 0.5).abs() < 1e-4, "{a:?}");
+        // Linear interpolation of a 1 ms model: error ~ (w dt)^2 / 8 = 9e-5 relative.
+        assert!(a.relative_rms < 3e-4, "{a:?}");
+        assert_eq!(residual.len(), ref_t.len());
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("fig10.png");
+        decay_figure(&reference, &model, period, &path).unwrap();
+        assert!(path.is_file());
     }
 }

@@ -1122,7 +1122,7 @@ impl Session<'_> {
             Step::Print => {
                 let s = *self.state()?;
                 say(&format!(
-                    "state: n = {}, D = {} mm, d = {} mm, h = {} mm, E = {} MPa, nu = {}, rho = {} kg/m^3, mass = {} kg, alpha = {} 1/s, beta = {} s; {} elements per coil, method {}",
+                    "state: n = {}, D = {} mm, d = {} mm, h = {} mm, E = {:.1} MPa, nu = {}, rho = {} kg/m^3, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s; {} elements per coil, method {}",
                     s.spring.active_coils,
                     s.spring.mean_diameter_mm,
                     s.spring.wire_diameter_mm,

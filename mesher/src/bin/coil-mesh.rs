@@ -139,6 +139,10 @@ struct Args {
     /// Transient: record every k-th step [default: 1].
     #[arg(long, value_name = "K")]
     output_every: Option<u32>,
+    /// Transient: record every node's displacement every k-th step as well, for a
+    /// ParaView series of the moving spring (`caseN_transient.pvd`) [default: 0, none].
+    #[arg(long, value_name = "K")]
+    snapshot_every: Option<u32>,
     /// Transient: the weight's velocity extended along the spring by the quasi-static
     /// shape, or given to the weight alone (a velocity jump) [default: quasi-static].
     #[arg(long, value_enum)]
@@ -191,6 +195,7 @@ fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
         alpha <- alpha,
         beta <- beta,
         output_every <- output_every,
+        snapshot_every <- snapshot_every,
         hht_alpha <- hht_alpha,
         rho_inf <- rho_inf,
         transient_modes <- transient_modes,

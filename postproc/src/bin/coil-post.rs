@@ -256,6 +256,10 @@ struct PlotArgs {
     /// Highest frequency of a spectrum plot, Hz.
     #[arg(long, value_name = "HZ")]
     fmax: Option<f64>,
+    /// Time histories in the column's unit (m/s^2, mm, ...) instead of normalised to
+    /// (-1, 1) by the largest magnitude.
+    #[arg(long)]
+    physical: bool,
     /// Offset removed from time histories before normalising.
     #[arg(long, value_enum, default_value = "none")]
     detrend: DetrendArg,
@@ -565,7 +569,12 @@ fn run_plot(args: &PlotArgs) -> Result<()> {
                     values,
                 })
                 .collect();
-            plot::time_histories(&traces, args.overlay, &args.out)
+            let scale = if args.physical {
+                plot::Scale::Physical
+            } else {
+                plot::Scale::Normalised
+            };
+            plot::time_histories_scaled(&traces, args.overlay, scale, &args.out)
         }
         Kind::Spectrum => {
             let computed = signals

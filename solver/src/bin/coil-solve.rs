@@ -6,7 +6,7 @@
 use clap::{Parser, ValueEnum};
 use coil_solver::analysis::transient::{self, override_method, MethodOverride};
 use coil_solver::analysis::{self, CaseResult, CaseSolution};
-use coil_solver::{deck, results, Error};
+use coil_solver::{deck, results, wire, Error, Model};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -49,7 +49,7 @@ struct Cli {
     quiet: bool,
 }
 
-fn summary(cases: &[CaseResult]) -> String {
+fn summary(model: &Model, cases: &[CaseResult]) -> String {
     let mut out = String::new();
     let mut first_transient = true;
     for (index, case) in cases.iter().enumerate() {
@@ -60,6 +60,50 @@ fn summary(cases: &[CaseResult]) -> String {
                     |k| format!("{k:.6} N/mm"),
                 );
                 out.push_str(&format!("static '{}': stiffness {k}\n", case.title));
+                let forces = wire::element_forces(model, &s.displacement);
+                if let Some(p) = wire::peak(model, &forces) {
+                    out.push_str(&format!(
+                        "  wire stress: torsion + direct shear {:.2} MPa (torsion {:.2}, direct \
+                         shear {:.2}, bending {:.2}) at element {}\n",
+                        p.stress.shear_mpa,
+                        p.stress.torsion_mpa,
+                        p.stress.direct_shear_mpa,
+                        p.stress.bending_mpa,
+                        p.element
+                    ));
+                }
+                if let Some(helix) = wire::Helix::of(model) {
+                    let c = helix.index();
+                    let force = forces
+                        .get(forces.len() / 2)
+                        .map_or(0.0, |f| f.force_global_n[2].abs());
+                    let nominal = wire::nominal_stress_mpa(
+                        force,
+                        helix.mean_diameter_mm,
+                        helix.wire_diameter_mm,
+                    );
+                    out.push_str(&format!(
+                        "  spring index C = {c:.3}, solid length {:.2} mm; handbook stress at \
+                         {force:.3} N: nominal {nominal:.2} MPa, Wahl {:.2} MPa, Bergstraesser {:.2} MPa\n",
+                        helix.solid_length_mm(),
+                        wire::wahl_factor(c) * nominal,
+                        wire::bergstraesser_factor(c) * nominal,
+                    ));
+                    if let Some((factor, node)) = helix.contact_factor(model, &s.displacement) {
+                        out.push_str(&format!(
+                            "  adjacent coils touch at {:.2} N (node {})\n",
+                            factor * force,
+                            model.nodes[node].id
+                        ));
+                        if factor < 1.0 {
+                            out.push_str(&format!(
+                                "  warning: the load passes it: beyond {:.2} N the coils are solid \
+                                 and this linear model does not apply\n",
+                                factor * force
+                            ));
+                        }
+                    }
+                }
             }
             CaseSolution::Modal(m) => {
                 out.push_str(&format!(
@@ -115,7 +159,7 @@ fn summary(cases: &[CaseResult]) -> String {
     out
 }
 
-fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
+fn run(cli: &Cli) -> Result<(Model, Vec<CaseResult>), Error> {
     let (mut model, not_needed) = deck::read_file_noting(&cli.deck)?;
     if !not_needed.is_empty() {
         let cards: Vec<String> = not_needed
@@ -141,7 +185,7 @@ fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
     let cases = analysis::run_with(&model, &options)?;
     results::write_set(&set, &model, &cases)?;
     set.commit()?;
-    Ok(cases)
+    Ok((model, cases))
 }
 
 fn main() -> ExitCode {
@@ -151,13 +195,13 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     match run(&cli) {
-        Ok(cases) => {
+        Ok((model, cases)) => {
             if !cli.quiet {
                 // The results are already on disk; a closed stdout (`| head`) is not an
                 // error worth a panic or a failure exit.
                 use std::io::Write;
                 let mut out = std::io::stdout().lock();
-                let _ = write!(out, "{}", summary(&cases)).and_then(|()| {
+                let _ = write!(out, "{}", summary(&model, &cases)).and_then(|()| {
                     writeln!(out, "results in {}", cli.out.join("results.json").display())
                 });
             }

@@ -1,4 +1,4 @@
-//! The catalogue of effects the diagnosis can name (`shared/spec/measured-case.md`).
+//! The catalogue of effects the diagnosis can name (`docs/measured-case.md`).
 //!
 //! One [`Effect`] per physical cause carries everything about it: its name, parameter
 //! and unit (exactly the spec's), how it extends the reduced FE model (the point law it

@@ -1,5 +1,5 @@
 //! `coil-tune diagnose`: from measured records to what the paper's model gets wrong,
-//! its physical cause, the extended model and the gain (`shared/spec/measured-case.md`,
+//! its physical cause, the extended model and the gain (`docs/measured-case.md`,
 //! docs/diagnose.md).
 //!
 //! # Steps

@@ -34,7 +34,8 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
-/// Panels stacked vertically.
+/// Panels stacked vertically; three or more in two columns, so each keeps room for its
+/// ticks.
 pub struct Panels(pub Vec<Panel>);
 
 fn e<T: std::fmt::Display>(x: T) -> String {
@@ -64,7 +65,12 @@ pub fn decimate(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 impl Figure for Panels {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         root.fill(&WHITE).map_err(e)?;
-        let areas = root.split_evenly((self.0.len().max(1), 1));
+        let n = self.0.len().max(1);
+        let areas = if n > 2 {
+            root.split_evenly((n.div_ceil(2), 2))
+        } else {
+            root.split_evenly((n, 1))
+        };
         for (panel, area) in self.0.iter().zip(&areas) {
             let (x0, x1) = range(
                 panel
@@ -91,6 +97,9 @@ impl Figure for Panels {
                 .y_desc(panel.y.as_str())
                 .x_label_formatter(&short)
                 .y_label_formatter(&short)
+                .x_labels(8)
+                .y_labels(6)
+                .axis_desc_style((FONT, 17))
                 .label_style((FONT, 15))
                 .draw()
                 .map_err(e)?;
@@ -101,7 +110,11 @@ impl Figure for Panels {
                 };
                 if s.markers {
                     chart
-                        .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+                        .draw_series(
+                            s.points.iter().map(|&p| {
+                                Circle::new(p, if k == 0 { 3 } else { 5 }, colour.filled())
+                            }),
+                        )
                         .map_err(e)?
                         .label(s.label.as_str())
                         .legend(legend);

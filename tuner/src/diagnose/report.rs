@@ -1,4 +1,4 @@
-//! `diagnosis.json` (field names and units exactly as `shared/spec/measured-case.md`),
+//! `diagnosis.json` (field names and units exactly as `docs/measured-case.md`),
 //! `report.md` with its figures and tables, written through temporary files with
 //! `diagnosis.json` last: a failed run leaves no diagnosis behind.
 
@@ -614,7 +614,8 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
             opt(c.residual_rms),
             opt(c.forecast_rms),
             opt(c.delta_bic),
-            opt(c.effective_samples),
+            c.effective_samples
+                .map_or_else(|| "-".to_string(), |n| format!("{n:.0}")),
             if c.significant { "yes" } else { "no" },
         ));
     }
@@ -786,8 +787,8 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 Panel {
                     title: "per-cycle amplitude of the band-passed axial mode (envelope shape)"
                         .into(),
-                    x: "time (s)".into(),
-                    y: "displacement amplitude (mm)".into(),
+                    x: "time [s]".into(),
+                    y: "displacement amplitude [mm]".into(),
                     series: vec![Series {
                         label: "per cycle".into(),
                         points: amp,
@@ -796,8 +797,8 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 },
                 Panel {
                     title: "backbone: frequency against amplitude".into(),
-                    x: "amplitude (mm)".into(),
-                    y: "frequency (Hz)".into(),
+                    x: "amplitude [mm]".into(),
+                    y: "frequency [Hz]".into(),
                     series: vec![Series {
                         label: "per cycle".into(),
                         points: freq,
@@ -806,8 +807,8 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 },
                 Panel {
                     title: "damping curve: amplitude loss per cycle".into(),
-                    x: "amplitude (mm)".into(),
-                    y: "loss per cycle (mm)".into(),
+                    x: "amplitude [mm]".into(),
+                    y: "loss per cycle [mm]".into(),
                     series: vec![Series {
                         label: "per cycle".into(),
                         points: loss,
@@ -816,8 +817,8 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 },
                 Panel {
                     title: "decrement against amplitude (delta / 2 pi per cycle)".into(),
-                    x: "amplitude (mm)".into(),
-                    y: "zeta per cycle".into(),
+                    x: "amplitude [mm]".into(),
+                    y: "zeta per cycle [-]".into(),
                     series: vec![Series {
                         label: "per cycle".into(),
                         points: zeta,
@@ -847,17 +848,33 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
                 .zip(&record.force_n)
                 .map(|(x, f)| (*x, f - k * x - offset))
                 .collect();
+            // Loading runs to the largest compression, unloading after it (the order the
+            // record was measured in): two colours show the hysteresis loop.
+            let turn = points
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+                .map_or(points.len(), |(i, _)| i + 1);
+            let (loading, unloading) = points.split_at(turn.min(points.len()));
+            let mut series = vec![Series {
+                label: "loading (to the largest compression)".into(),
+                points: loading.to_vec(),
+                markers: true,
+            }];
+            if !unloading.is_empty() {
+                series.push(Series {
+                    label: "unloading".into(),
+                    points: unloading.to_vec(),
+                    markers: true,
+                });
+            }
             plots::draw(
                 &dir.join("static.png"),
                 vec![Panel {
-                    title: "static record minus the straight line: curvature and hysteresis".into(),
-                    x: "compression (mm)".into(),
-                    y: "force residual (N)".into(),
-                    series: vec![Series {
-                        label: "loading and unloading".into(),
-                        points,
-                        markers: true,
-                    }],
+                    title: "Static record minus its straight line: curvature and hysteresis".into(),
+                    x: "compression [mm]".into(),
+                    y: "force - k x [N]".into(),
+                    series,
                 }],
             )?;
             list.push(("static.png", "static residual: curvature and hysteresis"));
@@ -872,17 +889,52 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
             .filter(|(fr, _)| **fr <= 3.0 * o.signatures.axial_hz)
             .map(|(fr, a)| (*fr, (a / peak).max(1e-6).log10()))
             .collect();
+        // Label the lines that stand 1.5 decades above the median level (the noise
+        // floor), away from the drift at 0 Hz: the axial line and any second line.
+        let mut level: Vec<f64> = points.iter().map(|p| p.1).collect();
+        level.sort_by(f64::total_cmp);
+        let floor = level.get(level.len() / 2).copied().unwrap_or(-6.0);
+        let mut peaks: Vec<(f64, f64)> = points
+            .windows(3)
+            .filter(|w| {
+                w[1].1 >= w[0].1
+                    && w[1].1 > w[2].1
+                    && w[1].1 > floor + 1.5
+                    && w[1].0 > 0.25 * o.signatures.axial_hz
+            })
+            .map(|w| w[1])
+            .collect();
+        peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let mut kept: Vec<(f64, f64)> = Vec::new();
+        for p in peaks {
+            if kept.len() < 3
+                && kept
+                    .iter()
+                    .all(|q| (q.0 - p.0).abs() > 0.03 * o.signatures.axial_hz)
+            {
+                kept.push(p);
+            }
+        }
+        let mut series = vec![Series {
+            label: "measured".into(),
+            points,
+            markers: false,
+        }];
+        series.extend(kept.iter().map(|&(f, a)| Series {
+            label: format!(
+                "line at {f:.3} Hz ({:.0} % of the largest)",
+                100.0 * 10f64.powf(a)
+            ),
+            points: vec![(f, a)],
+            markers: true,
+        }));
         plots::draw(
             &dir.join("spectrum.png"),
             vec![Panel {
-                title: "amplitude spectrum (log10, relative to the axial line)".into(),
-                x: "frequency (Hz)".into(),
-                y: "log10 amplitude".into(),
-                series: vec![Series {
-                    label: "measured".into(),
-                    points,
-                    markers: false,
-                }],
+                title: "Amplitude spectrum of the decay, relative to the axial line".into(),
+                x: "frequency [Hz]".into(),
+                y: "log10 amplitude [-]".into(),
+                series,
             }],
         )?;
         list.push((

@@ -132,6 +132,9 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    // COIL_BENCH_KEEP=<folder> keeps the cases and their diagnoses there.
+    let keep = std::env::var_os("COIL_BENCH_KEEP").map(PathBuf::from);
+    let work: &Path = keep.as_deref().unwrap_or(tmp.path());
     println!("binary: {}", exe.display());
     println!(
         "{:<26} {:<45} {:<45} {:>10} {:>10} {:>8}",
@@ -150,7 +153,7 @@ fn main() -> ExitCode {
         standard_cases()
     };
     for case in cases {
-        match bench(&exe, tmp.path(), &case) {
+        match bench(&exe, work, &case) {
             Ok(r) => {
                 let mark = if r.cause == r.truth { ' ' } else { '*' };
                 println!(

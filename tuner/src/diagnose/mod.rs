@@ -379,17 +379,15 @@ fn compute(
         })
         .collect();
     // Combinations of the effects with evidence of their own, up to three: strong
-    // evidence alone (dBIC above the limit), or a gain beside a signature that agrees
-    // (an effect masked alone by another one, drag beside a softening drift). Each
-    // combination starts from its parts' fitted values.
+    // evidence alone (dBIC above the limit), or a signature that agrees (an effect
+    // masked alone by another one: friction or drag beside a softening drift, whose
+    // phase error swamps their gain when fitted alone). Each combination starts from
+    // its parts' fitted values.
     let mut gaining: Vec<(usize, f64)> = candidates
         .iter()
         .filter_map(|c| {
             select::score(&ctx, c)
-                .filter(|s| {
-                    s.delta_bic > select::DELTA_BIC
-                        || (s.delta_bic > 0.0 && s.tests.signature.passed)
-                })
+                .filter(|s| s.delta_bic > select::DELTA_BIC || s.tests.signature.passed)
                 .map(|s| (c.effects[0], s.delta_bic))
         })
         .collect();

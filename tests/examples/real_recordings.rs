@@ -84,23 +84,18 @@ fn main() {
             println!("  -- {} (named: {})", c.effect, c.significant);
             match &c.tests {
                 Some(t) => {
-                    for (test, v) in [
-                        ("significance", Some(&t.significance)),
-                        ("forecasts", Some(&t.forecasts)),
-                        ("identified", Some(&t.identified)),
-                        ("signature", Some(&t.signature)),
-                        ("every part needed", t.every_part_needed.as_ref()),
-                    ] {
-                        if let Some(v) = v {
-                            println!(
-                                "     {test}: {} — {}",
-                                if v.passed { "held" } else { "FAILED" },
-                                v.text
-                            );
-                        }
+                    for (test, v) in t.each() {
+                        println!(
+                            "     {test}: {} — {}",
+                            if v.passed { "held" } else { "FAILED" },
+                            v.text
+                        );
                     }
                 }
-                None => println!("     fit failed: {}", c.fit_error.clone().unwrap_or_default()),
+                None => println!(
+                    "     fit failed: {}",
+                    c.fit_error.clone().unwrap_or_default()
+                ),
             }
         }
         for c in &d.causes {
@@ -141,7 +136,11 @@ fn main() {
                         c.tests.as_ref().map(|t| t.failed()).unwrap_or_default()
                     );
                 }
-                verdicts.push((name.to_string(), d.cause.clone(), half.diagnosis.cause.clone()));
+                verdicts.push((
+                    name.to_string(),
+                    d.cause.clone(),
+                    half.diagnosis.cause.clone(),
+                ));
             }
             Err(e) => println!("first half: diagnose failed: {e}"),
         }

@@ -232,7 +232,10 @@ impl Effect for QuadraticDamping {
         check(
             if z.is_nan() { 0.0 } else { z },
             SIGNATURE_Z,
-            format!("loss per cycle growing as A^2 (a2) at {} standard errors", show_z(z)),
+            format!(
+                "loss per cycle growing as A^2 (a2) at {} standard errors",
+                show_z(z)
+            ),
         )
     }
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal {
@@ -378,17 +381,22 @@ impl Effect for AxialTorsionalCoupling {
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A second spectral line, or a beating envelope.
         let line = s.second_peak.map_or(0.0, |p| p.z_score);
-        let beat = if s.envelope.kind == "beating" { 1.0 } else { 0.0 };
+        let beat = if s.envelope.kind == "beating" {
+            1.0
+        } else {
+            0.0
+        };
         check(
             line.max(beat),
             1.0,
             format!(
                 "{}; envelope {}",
-                s.second_peak.map_or("one spectral line".to_string(), |p| format!(
-                    "a second line at {:.4} Hz, {:.1} % of the axial one",
-                    p.frequency_hz,
-                    100.0 * p.relative_amplitude
-                )),
+                s.second_peak
+                    .map_or("one spectral line".to_string(), |p| format!(
+                        "a second line at {:.4} Hz, {:.1} % of the axial one",
+                        p.frequency_hz,
+                        100.0 * p.relative_amplitude
+                    )),
                 s.envelope.kind
             ),
         )

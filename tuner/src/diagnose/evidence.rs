@@ -151,7 +151,12 @@ pub const CLIP_SIGMAS: f64 = 3.5;
 pub fn robust_backbone(cycles: &[CycleSummary]) -> Option<(f64, f64)> {
     let rows: Vec<(Vec<f64>, f64)> = cycles
         .iter()
-        .map(|c| (vec![1.0, c.amplitude_m * c.amplitude_m], c.frequency_hz.powi(2)))
+        .map(|c| {
+            (
+                vec![1.0, c.amplitude_m * c.amplitude_m],
+                c.frequency_hz.powi(2),
+            )
+        })
         .collect();
     let (c, se) = robust_fit(&rows)?;
     (c[0] > 0.0).then(|| (c[1] / c[0], se[1] / c[0]))

@@ -38,6 +38,7 @@ pub mod report;
 pub mod select;
 pub mod signatures;
 
+use crate::case::Quantity;
 use crate::case::{read_case, MeasuredCase};
 use crate::decay::{self, DecayRecord, DecaySettings};
 use crate::error::{Result, TuneError};
@@ -47,7 +48,6 @@ use data::DecayData;
 use effects::{BaselineFigures, Mount, CATALOGUE};
 use evidence::Signatures;
 use fit::{Fitted, Knob, Problem, StaticBlock};
-use crate::case::Quantity;
 use model::{Physical, ReducedSpring};
 use rayon::prelude::*;
 use report::Diagnosis;
@@ -302,7 +302,11 @@ fn compute(
     let knobs = vec![Knob::Mass, Knob::Beta];
     let quarter = run(&linear_problem(base_phys, 0..origin(0, n), knobs.clone()))?;
     let reference_half = run(&linear_problem(quarter.physical, 0..half, knobs.clone()))?;
-    let reference_full = run(&linear_problem(reference_half.physical, 0..n, knobs.clone()))?;
+    let reference_full = run(&linear_problem(
+        reference_half.physical,
+        0..n,
+        knobs.clone(),
+    ))?;
     let three = run(&linear_problem(
         reference_full.physical,
         0..origin(2, n),
@@ -418,8 +422,7 @@ fn compute(
     // The spectral noise floor of the recorded quantity (valid on band-limited
     // records, data.rs).
     let noise_abs = decay.measured_noise.rms;
-    let noise_floor = noise_abs
-        / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
+    let noise_floor = noise_abs / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     // Plausibility: what the calibration had to do to the nominal values, and a misfit
     // no catalogue effect explains.
     for (what, value, nominal) in [
@@ -440,15 +443,7 @@ fn compute(
     }
     let unexplained = (choice.cause.is_none()
         && !(reference.residual_rms <= UNEXPLAINED_NOISE * noise_floor))
-        .then(|| {
-            report::unexplained(
-                &sigs,
-                &reference,
-                noise_floor,
-                &candidates,
-                &choice,
-            )
-        });
+        .then(|| report::unexplained(&sigs, &reference, noise_floor, &candidates, &choice));
     for w in &warnings {
         progress(settings, &clock, &format!("warning: {w}"));
     }
@@ -628,7 +623,11 @@ impl Job<'_> {
             }
         }
         let model = self.model(set);
-        let states = 2 * if model.mount() == Mount::FreeRotation { 2 } else { 1 };
+        let states = 2 * if model.mount() == Mount::FreeRotation {
+            2
+        } else {
+            1
+        };
         // The initial state of a part fitted on the same mount (the coupling's carries
         // the rotation), else the best part's padded with a rotation at rest.
         let mut init = set

@@ -5,10 +5,10 @@
 use super::effects::CATALOGUE;
 use super::evidence::Signatures;
 use super::model::Physical;
-use crate::case::Quantity;
 use super::plots::{self, Panel, Series};
 use super::select::{Choice, Tests};
 use super::{CandidateRun, ModelRun, Outcome};
+use crate::case::Quantity;
 use crate::error::{Result, TuneError};
 use crate::fe::SpringState;
 use crate::output::{csv, OutDir};
@@ -206,7 +206,9 @@ pub fn assemble(
         forecast_rms: base.run.forecast_rms,
     };
     let names = |set: &[usize]| -> Vec<String> {
-        set.iter().map(|&i| CATALOGUE[i].name().to_string()).collect()
+        set.iter()
+            .map(|&i| CATALOGUE[i].name().to_string())
+            .collect()
     };
     let list: Vec<Candidate> = candidates
         .iter()
@@ -215,7 +217,10 @@ pub fn assemble(
             let ok = c.run.as_ref().ok();
             let (parameters, parameters_se) = match (ok, score) {
                 (Some(r), Some(s)) => with_errors(&c.effects, &r.full.physical, &s.rel_se),
-                (Some(r), None) => (super::parameters(&c.effects, &r.full.physical), BTreeMap::new()),
+                (Some(r), None) => (
+                    super::parameters(&c.effects, &r.full.physical),
+                    BTreeMap::new(),
+                ),
                 _ => (BTreeMap::new(), BTreeMap::new()),
             };
             Candidate {
@@ -244,7 +249,8 @@ pub fn assemble(
         c.run.as_ref().ok().map(|r| (c, r, score))
     });
     let extended = chosen.map(|(c, run, score)| {
-        let (parameters, parameters_se) = with_errors(&c.effects, &run.full.physical, &score.rel_se);
+        let (parameters, parameters_se) =
+            with_errors(&c.effects, &run.full.physical, &score.rel_se);
         Extended {
             effect: c.label(),
             effects: names(&c.effects),
@@ -291,9 +297,7 @@ pub fn assemble(
         },
     );
     Diagnosis {
-        cause: causes
-            .first()
-            .map_or("none".into(), |c| c.effect.clone()),
+        cause: causes.first().map_or("none".into(), |c| c.effect.clone()),
         causes,
         unexplained,
         quantity,
@@ -330,9 +334,12 @@ pub fn unexplained(
     )];
     if let Some(bb) = &s.backbone {
         // Frequency change over the record's amplitude range, from the backbone.
-        let (a_hi, a_lo) = s.per_cycle.iter().fold((0.0_f64, f64::INFINITY), |(h, l), c| {
-            (h.max(c.amplitude_m), l.min(c.amplitude_m))
-        });
+        let (a_hi, a_lo) = s
+            .per_cycle
+            .iter()
+            .fold((0.0_f64, f64::INFINITY), |(h, l), c| {
+                (h.max(c.amplitude_m), l.min(c.amplitude_m))
+            });
         let change = 0.5 * bb.b_per_m2 * (a_lo * a_lo - a_hi * a_hi) * 100.0;
         parts.push(format!(
             "the frequency {} as the amplitude falls from {:.3} to {:.3} mm ({:+.2} % from the \
@@ -343,7 +350,11 @@ pub fn unexplained(
             change,
             bb.b_per_m2,
             bb.b_se,
-            if bb.b_per_m2 < 0.0 { "a softening trend" } else { "a hardening trend" }
+            if bb.b_per_m2 < 0.0 {
+                "a softening trend"
+            } else {
+                "a hardening trend"
+            }
         ));
     }
     if let Some(l) = &s.loss {
@@ -427,7 +438,11 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
                 " (several effects together: {})",
                 d.causes
                     .iter()
-                    .map(|c| format!("`{}` {:.0} % of the explained misfit", c.effect, 100.0 * c.share))
+                    .map(|c| format!(
+                        "`{}` {:.0} % of the explained misfit",
+                        c.effect,
+                        100.0 * c.share
+                    ))
                     .collect::<Vec<_>>()
                     .join(", ")
             ));
@@ -608,20 +623,12 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         m.push_str(&format!("- **{}** — evidence: {}\n", c.effect, c.evidence));
         match &c.tests {
             Some(t) => {
-                for (name, test) in [
-                    ("significance", Some(&t.significance)),
-                    ("forecasts", Some(&t.forecasts)),
-                    ("identified", Some(&t.identified)),
-                    ("signature", Some(&t.signature)),
-                    ("every part needed", t.every_part_needed.as_ref()),
-                ] {
-                    if let Some(test) = test {
-                        m.push_str(&format!(
-                            "  - {name}: {} — {}\n",
-                            if test.passed { "held" } else { "FAILED" },
-                            test.text
-                        ));
-                    }
+                for (name, test) in t.each() {
+                    m.push_str(&format!(
+                        "  - {name}: {} — {}\n",
+                        if test.passed { "held" } else { "FAILED" },
+                        test.text
+                    ));
                 }
             }
             None => m.push_str(&format!(
@@ -895,7 +902,12 @@ pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
         .and_then(|e| o.candidates.iter().find(|c| c.label() == e.effect))
         .and_then(|c| c.run.as_ref().ok());
     // Column unit suffix: m/s^2 -> m_s2, m/s -> m_s, m -> m.
-    let suffix = o.diagnosis.quantity.si_unit().replace("/s^2", "_s2").replace("/s", "_s");
+    let suffix = o
+        .diagnosis
+        .quantity
+        .si_unit()
+        .replace("/s^2", "_s2")
+        .replace("/s", "_s");
     let rows = (0..t.len()).map(|i| {
         vec![
             format!("{}", t[i]),

@@ -96,21 +96,27 @@ impl Tests {
             && self.every_part_needed.as_ref().is_none_or(|t| t.passed)
     }
 
-    /// The names of the tests that failed.
-    pub fn failed(&self) -> Vec<&'static str> {
-        let mut out = Vec::new();
-        for (name, t) in [
-            ("significance", Some(&self.significance)),
-            ("forecasts", Some(&self.forecasts)),
-            ("identified", Some(&self.identified)),
-            ("signature", Some(&self.signature)),
-            ("every_part_needed", self.every_part_needed.as_ref()),
-        ] {
-            if t.is_some_and(|t| !t.passed) {
-                out.push(name);
-            }
+    /// Every test held or failed, by name, in report order.
+    pub fn each(&self) -> Vec<(&'static str, &Test)> {
+        let mut out = vec![
+            ("significance", &self.significance),
+            ("forecasts", &self.forecasts),
+            ("identified", &self.identified),
+            ("signature", &self.signature),
+        ];
+        if let Some(t) = &self.every_part_needed {
+            out.push(("every part needed", t));
         }
         out
+    }
+
+    /// The names of the tests that failed.
+    pub fn failed(&self) -> Vec<&'static str> {
+        self.each()
+            .into_iter()
+            .filter(|(_, t)| !t.passed)
+            .map(|(name, _)| name)
+            .collect()
     }
 }
 
@@ -152,7 +158,12 @@ pub fn effective_samples(residual: &[f64], lag: usize) -> f64 {
     let inv_n = 1.0 / n as f64;
     let mut sum = 0.0;
     for k in 1..=lag {
-        let r: f64 = x[..n - k].iter().zip(&x[k..]).map(|(a, b)| a * b).sum::<f64>() / s0;
+        let r: f64 = x[..n - k]
+            .iter()
+            .zip(&x[k..])
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            / s0;
         sum += r * r - inv_n;
     }
     (n as f64 / (1.0 + 2.0 * sum.max(0.0))).max(2.0)
@@ -236,9 +247,10 @@ pub fn score(ctx: &Context<'_>, candidate: &CandidateRun) -> Option<Score> {
                 .map_or(f64::NAN, |j| inflate * run.full.knob_rel_errors[j])
         })
         .collect();
-    let worst = rel_se
-        .iter()
-        .fold(0.0_f64, |m, x| if x.is_nan() { f64::INFINITY } else { m.max(*x) });
+    let worst = rel_se.iter().fold(
+        0.0_f64,
+        |m, x| if x.is_nan() { f64::INFINITY } else { m.max(*x) },
+    );
     let identified = Test {
         passed: worst <= REL_SE_LIMIT,
         value: worst,
@@ -345,7 +357,16 @@ pub fn choose(ctx: &Context<'_>, candidates: &[CandidateRun]) -> Choice {
         let total: f64 = gains.iter().map(|g| g.1).sum();
         let mut shares: Vec<(usize, f64)> = gains
             .into_iter()
-            .map(|(e, g)| (e, if total > 0.0 { g / total } else { 1.0 / set.len() as f64 }))
+            .map(|(e, g)| {
+                (
+                    e,
+                    if total > 0.0 {
+                        g / total
+                    } else {
+                        1.0 / set.len() as f64
+                    },
+                )
+            })
             .collect();
         shares.sort_by(|a, b| b.1.total_cmp(&a.1));
         shares
@@ -391,6 +412,9 @@ mod tests {
         let n = band.len() as f64;
         let ratio = n / effective_samples(&band, 400);
         let expected = (2.0 * 64.0 + 1.0) / 24.0;
-        assert!((ratio / expected - 1.0).abs() < 0.1, "{ratio} vs {expected}");
+        assert!(
+            (ratio / expected - 1.0).abs() < 0.1,
+            "{ratio} vs {expected}"
+        );
     }
 }

@@ -96,7 +96,8 @@ pub fn noise_floor(x: &[f64]) -> NoiseFloor {
     }
 }
 
-fn detrend(x: &[f64]) -> Vec<f64> {
+/// `x` minus its least-squares line (against the sample index).
+pub fn detrend(x: &[f64]) -> Vec<f64> {
     let n = x.len() as f64;
     let mt = (n - 1.0) / 2.0;
     let mx = x.iter().sum::<f64>() / n;

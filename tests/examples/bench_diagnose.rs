@@ -1,39 +1,26 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
-//! time:
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_diagnose [-- extended [NAME...]]`
+//! time, with the confusion table and parameter errors:
+//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|all] [NAME...]`
 //!
-//! With `extended`, the cases are `coil_tests::truth::extended_cases()` (softening and
-//! hardening, combined effects, other sensors, record imperfections, short and long
-//! records; optionally only those NAMEd): the expected causes are every hidden effect
-//! (`TruthCase::causes`), the named set is `diagnosis.json`'s `causes`, and the error is
-//! the largest over the expected parameters.
-//!
-//! Every case of `coil_tests::truth::standard_cases()` is written to a temporary folder,
-//! then the release binary runs `coil-tune diagnose <case> --out <tmp>/out/<name> -q`
-//! (process start, FE reduction, fits, figures, report) and is timed with
-//! `std::time::Instant`. The table gives the hidden effect, the named cause, the named
-//! parameter's error against the truth, `gain.residual_rms_ratio` from
-//! `diagnosis.json`, and the wall time; then the largest and median times against the
-//! 15 s budget per case. Cases run one after another so each has the machine to
-//! itself (the diagnosis runs its own candidates in parallel).
+//! Every selected case (`coil_tests::truth::standard_cases()` of issue 5,
+//! `extended_cases()` of issue 14; all by default, or only the cases named) is written to a
+//! temporary folder, then the release binary runs
+//! `coil-tune diagnose <case> --out <tmp>/out/<name> -q` (process start, FE reduction,
+//! fits, figures, report) and is timed with `std::time::Instant`. Its `diagnosis.json`
+//! is scored by `coil_tests::scoring` (named effects against the hidden ones, each
+//! parameter's error, the gains); the confusion table, the per-case table and the
+//! median and worst wall times against the budget are printed. Cases run one after
+//! another so each has the machine to itself (the diagnosis runs its own candidates in
+//! parallel).
 
+use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{extended_cases, standard_cases, write_case, TruthCase};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
-/// Wall-time budget per case (s), issue 14.
+/// Wall-time budget per case (s; issue 14: 15 s up to 40 000 samples).
 const BUDGET_S: f64 = 15.0;
-
-/// One case's outcome.
-struct Row {
-    name: String,
-    truth: String,
-    cause: String,
-    parameter_error: Option<f64>,
-    residual_rms_ratio: Option<f64>,
-    wall_s: f64,
-}
 
 /// The release `coil-tune`: `$CARGO_TARGET_DIR/release` when that is set, else the
 /// workspace's `target/release`.
@@ -47,8 +34,8 @@ fn binary() -> PathBuf {
         .join(format!("coil-tune{}", std::env::consts::EXE_SUFFIX))
 }
 
-/// Runs the binary on one case and reads its `diagnosis.json`.
-fn bench(exe: &Path, tmp: &Path, case: &TruthCase) -> Result<Row, String> {
+/// Runs the binary on one case and scores its `diagnosis.json`.
+fn bench(exe: &Path, tmp: &Path, case: &TruthCase) -> Result<Score, String> {
     let folder = tmp.join("cases").join(&case.name);
     write_case(&folder, case).map_err(|e| format!("writing {}: {e}", folder.display()))?;
     let out = tmp.join("out").join(&case.name);
@@ -75,45 +62,20 @@ fn bench(exe: &Path, tmp: &Path, case: &TruthCase) -> Result<Row, String> {
         std::fs::read_to_string(&path).map_err(|e| format!("reading {}: {e}", path.display()))?;
     let d: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| format!("parsing {}: {e}", path.display()))?;
-    // The named set: every kept cause, joined by `+` in catalogue order of the truth's
-    // naming (sorted), `none` when there is none.
-    let mut named: Vec<String> = d["causes"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .filter_map(|c| c["effect"].as_str().map(String::from))
-        .collect();
-    named.sort();
-    let cause = if named.is_empty() {
-        "none".to_string()
-    } else {
-        named.join("+")
-    };
-    let expected = case.causes();
-    let mut truth: Vec<&str> = expected.iter().map(|c| c.0).collect();
-    truth.sort();
-    let truth = if truth.is_empty() {
-        "none".to_string()
-    } else {
-        truth.join("+")
-    };
-    // The largest parameter error over the expected causes the diagnosis named.
-    let parameter_error = expected
-        .iter()
-        .filter_map(|(_, name, value)| {
-            d["extended"]["parameters"][*name]
-                .as_f64()
-                .map(|p| p / value - 1.0)
-        })
-        .max_by(|a, b| a.abs().total_cmp(&b.abs()));
-    Ok(Row {
-        name: case.name.clone(),
-        truth,
-        cause,
-        parameter_error,
-        residual_rms_ratio: d["gain"]["residual_rms_ratio"].as_f64(),
-        wall_s,
-    })
+    Ok(scoring::score(case, &d, wall_s))
+}
+
+/// The cases the arguments select (module docs).
+fn selected() -> Vec<TruthCase> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let all = || standard_cases().into_iter().chain(extended_cases());
+    let named = |c: &TruthCase| args.len() == 1 || args.contains(&c.name);
+    match args.first().map(String::as_str) {
+        None | Some("all") => all().collect(),
+        Some("standard") => standard_cases().into_iter().filter(named).collect(),
+        Some("extended") => extended_cases().into_iter().filter(named).collect(),
+        Some(_) => all().filter(|c| args.contains(&c.name)).collect(),
+    }
 }
 
 fn main() -> ExitCode {
@@ -132,65 +94,30 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    // COIL_BENCH_KEEP=<folder> keeps the cases and their diagnoses there.
-    let keep = std::env::var_os("COIL_BENCH_KEEP").map(PathBuf::from);
-    let work: &Path = keep.as_deref().unwrap_or(tmp.path());
     println!("binary: {}", exe.display());
-    println!(
-        "{:<26} {:<45} {:<45} {:>10} {:>10} {:>8}",
-        "case", "truth effect", "named cause", "param err", "res ratio", "wall s"
-    );
-    let mut rows = Vec::new();
+    let mut scores = Vec::new();
     let mut failures = Vec::new();
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let cases = if args.first().is_some_and(|a| a == "extended") {
-        let only = &args[1..];
-        extended_cases()
-            .into_iter()
-            .filter(|c| only.is_empty() || only.contains(&c.name))
-            .collect()
-    } else {
-        standard_cases()
-    };
-    for case in cases {
-        match bench(&exe, work, &case) {
-            Ok(r) => {
-                let mark = if r.cause == r.truth { ' ' } else { '*' };
+    for case in selected() {
+        match bench(&exe, tmp.path(), &case) {
+            Ok(s) => {
                 println!(
-                    "{:<26} {:<45} {:<44}{mark} {:>10} {:>10} {:>8.2}",
-                    r.name,
-                    r.truth,
-                    r.cause,
-                    r.parameter_error
-                        .map_or("-".into(), |e| format!("{:+.2} %", 100.0 * e)),
-                    r.residual_rms_ratio
-                        .map_or("-".into(), |x| format!("{x:.3}")),
-                    r.wall_s
+                    "{:<28} {:<40} {:<40} {:>7.2} s",
+                    s.name, s.truth, s.named, s.runtime_s
                 );
-                rows.push(r);
+                scores.push(s);
             }
             Err(e) => {
-                println!("{:<26} FAILED: {e}", case.name);
+                println!("{:<28} FAILED: {e}", case.name);
                 failures.push(case.name.clone());
             }
         }
     }
-    let mut times: Vec<f64> = rows.iter().map(|r| r.wall_s).collect();
-    times.sort_by(f64::total_cmp);
-    if let Some(&max) = times.last() {
-        let n = times.len();
-        let median = if n % 2 == 1 {
-            times[n / 2]
-        } else {
-            0.5 * (times[n / 2 - 1] + times[n / 2])
-        };
-        let named = rows.iter().filter(|r| r.cause == r.truth).count();
-        println!(
-            "\n{n} cases: wall time max {max:.2} s, median {median:.2} s; all <= {BUDGET_S} s: {}",
-            if max <= BUDGET_S { "yes" } else { "no" }
-        );
-        println!("named cause = hidden effect in {named} of {n} (* marks the others)");
-    }
+    println!("\n{}", scoring::report(&scores));
+    let worst = scores.iter().map(|s| s.runtime_s).fold(0.0, f64::max);
+    println!(
+        "all within the {BUDGET_S} s budget: {}",
+        if worst <= BUDGET_S { "yes" } else { "no" }
+    );
     if failures.is_empty() {
         ExitCode::SUCCESS
     } else {

@@ -291,4 +291,5 @@ impl Spring {
         m
     }
 }
+pub mod scoring;
 pub mod truth;

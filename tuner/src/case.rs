@@ -536,7 +536,7 @@ pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
                     "the header gives {} at once: which one to fit is ambiguous",
                     names.join(" and ")
                 ),
-                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside                  `time_s` (write the other records to their own files)",
+                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside `time_s` (write the other records to their own files)",
             ));
         }
     };
@@ -878,6 +878,52 @@ mod tests {
                 other => panic!("{text}: {other:?}"),
             }
         }
+    }
+
+    /// Decay records: one of the three columns (SI once read), two at once refused
+    /// with both names and the header line, none refused with the header listed, time
+    /// stamps that go back refused with their line.
+    #[test]
+    fn decay_record_columns() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("decay.csv");
+        let rows = |header: &str| {
+            let mut s = format!("# rig B\n{header}\n");
+            for i in 0..10 {
+                s.push_str(&format!("{},{}\n", i as f64 * 0.01, 1.5 + i as f64));
+            }
+            s
+        };
+        for (column, quantity, first) in [
+            ("accel_m_s2", Quantity::Acceleration, 1.5),
+            ("velocity_m_s", Quantity::Velocity, 1.5),
+            ("displacement_mm", Quantity::Displacement, 1.5e-3),
+        ] {
+            std::fs::write(&path, rows(&format!("time_s,{column}"))).unwrap();
+            let r = read_decay_record(&path).unwrap();
+            assert_eq!(r.quantity, quantity);
+            assert_eq!(r.values[0], first);
+            assert_eq!(r.lines[0], 3);
+        }
+        std::fs::write(
+            &path,
+            rows("time_s,displacement_mm,accel_m_s2").replace(",1", ",1,2"),
+        )
+        .unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("decay.csv:2:") && e.contains("`accel_m_s2` and `displacement_mm`"),
+            "{e}"
+        );
+        std::fs::write(&path, rows("time_s,accel")).unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("decay.csv:2:") && e.contains("columns: time_s, accel"),
+            "{e}"
+        );
+        std::fs::write(&path, "time_s,accel_m_s2\n0,1\n0.01,2\n0.005,3\n0.02,1\n").unwrap();
+        let e = read_decay_record(&path).unwrap_err().to_string();
+        assert!(e.contains("decay.csv:4:") && e.contains("increase"), "{e}");
     }
 
     /// The paper's case and Table 4 as shipped under `cases/160ect`.

@@ -442,8 +442,13 @@ fn compute(
         }
     }
     let unexplained = (choice.cause.is_none()
-        && !(reference.residual_rms <= UNEXPLAINED_NOISE * noise_floor))
-        .then(|| report::unexplained(&sigs, &reference, noise_floor, &candidates, &choice));
+        && !matches!(
+            reference
+                .residual_rms
+                .partial_cmp(&(UNEXPLAINED_NOISE * noise_floor)),
+            Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+        ))
+    .then(|| report::unexplained(&sigs, &reference, noise_floor, &candidates, &choice));
     for w in &warnings {
         progress(settings, &clock, &format!("warning: {w}"));
     }

@@ -1,0 +1,39 @@
+//! coil's file boundary, one implementation for every binary and library of the workspace
+//! (the rules are documented for users in `docs/files.md`).
+//!
+//! - [`confine`]: paths named inside user files (record paths of a case, files of a
+//!   procedure) are relative, stay inside their folder after symlinks are resolved, and
+//!   are read with a size limit; error excerpts of user text are short and sanitised
+//!   ([`excerpt`]).
+//! - [`write`]: a single output file is written to a fresh temporary in its folder and
+//!   renamed, and only over nothing or a regular file: never over (or through) a symlink,
+//!   a device, a FIFO or a socket.
+//! - [`set`]: a command's output folder is locked for one run (`.coil-lock`: pid, host,
+//!   command; a stale lock is taken over), its files are staged in a hidden folder inside
+//!   it and moved in as a set with a manifest last; a killed run is rolled forward or
+//!   cleaned up by the next one.
+//! - [`progress`]: progress lines for long runs, also when stderr is not a terminal.
+//! - [`stdout`]: printing that treats a closed stdout (`| head -1`) as the end of the
+//!   reader's interest, not as an error.
+//!
+//! Unix only (symlink and file-type checks use `std::os::unix`).
+
+pub mod confine;
+pub mod progress;
+pub mod set;
+pub mod stdout;
+pub mod write;
+
+pub use confine::{excerpt, read_bounded, resolve_inside, ConfineError};
+pub use progress::Progress;
+pub use set::{OutputSet, SetError};
+pub use write::{check_replaceable, open_journal, produce_file, write_file, WriteError};
+
+/// The size limit of an input deck, bytes (`docs/files.md`).
+pub const MAX_DECK_BYTES: u64 = 64 << 20;
+/// The size limit of a record (a CSV of a measured or computed signal), bytes.
+pub const MAX_RECORD_BYTES: u64 = 64 << 20;
+/// The size limit of a JSON input (case, variants, calibration), bytes.
+pub const MAX_JSON_BYTES: u64 = 8 << 20;
+/// The size limit of a procedure file, bytes.
+pub const MAX_PROCEDURE_BYTES: u64 = 1 << 20;

@@ -752,6 +752,11 @@ mod tests {
             let text = coil_solver::deck::write(&model);
             let back = coil_solver::deck::read_str(&text, "mesh.dat").unwrap();
             assert_eq!(back, model);
+            // Marc's extended fixed format (coil-mesh --format mentat) too.
+            let text = coil_solver::deck::write_mentat(&model);
+            assert!(text.contains("\nEXTENDED\n"));
+            let back = coil_solver::deck::read_str(&text, "mesh_mentat.dat").unwrap();
+            assert_eq!(back, model);
         }
     }
 
@@ -858,6 +863,8 @@ mod tests {
         assert!((e.cubic - 2.0).abs() < 1e-15);
         assert_eq!(model.point_masses[0].inertia, [0.0, 0.0, 2.0]);
         let text = coil_solver::deck::write(&model);
+        assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
+        let text = coil_solver::deck::write_mentat(&model);
         assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
         // Old specs (no such fields) still read, and get no cards.
         let old: SpringSpec = serde_json::from_str(r#"{"coils": 10.0}"#).unwrap();

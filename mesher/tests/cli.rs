@@ -97,3 +97,31 @@ fn bad_input_names_the_problem_and_writes_nothing() {
         assert!(!d.join("x.dat").exists(), "{args:?}: wrote a deck");
     }
 }
+
+#[test]
+fn format_mentat_writes_the_same_model_in_extended_fixed_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let common = [
+        "--mass",
+        "5.12",
+        "--alpha",
+        "0.8",
+        "--analysis",
+        "static,modal",
+    ];
+    let free = coil_mesh(&[&common[..], &["-o", "free.dat"]].concat(), d);
+    let mentat = coil_mesh(
+        &[&common[..], &["--format", "mentat", "-o", "mentat.dat"]].concat(),
+        d,
+    );
+    assert!(free.status.success() && mentat.status.success());
+    let read = |f: &str| {
+        let text = std::fs::read_to_string(d.join(f)).unwrap();
+        (coil_solver::deck::read_str(&text, f).unwrap(), text)
+    };
+    let (a, _) = read("free.dat");
+    let (b, text) = read("mentat.dat");
+    assert!(text.contains("\nEXTENDED\n"), "no EXTENDED parameter");
+    assert_eq!(a, b);
+}

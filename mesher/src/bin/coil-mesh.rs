@@ -45,6 +45,10 @@ struct Args {
     /// Output deck.
     #[arg(short = 'o', long = "output", value_name = "DECK")]
     output: PathBuf,
+    /// Deck format: coil's free format, or Marc's extended fixed format as Mentat
+    /// writes it (reads back to the same model; see docs/deck.md).
+    #[arg(long = "format", value_enum, default_value_t = DeckFormat::Free)]
+    format: DeckFormat,
     /// Also write the merged spec as JSON.
     #[arg(long, value_name = "JSON")]
     write_spec: Option<PathBuf>,
@@ -225,6 +229,15 @@ fn merge(args: &Args, mut spec: SpringSpec) -> SpringSpec {
     spec
 }
 
+/// The deck formats `coil-mesh` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum DeckFormat {
+    /// coil's free format (commas and blanks).
+    Free,
+    /// Marc's extended fixed format, as Mentat writes it.
+    Mentat,
+}
+
 fn run(args: &Args) -> Result<(), String> {
     let base = match &args.spec {
         Some(path) => coil_mesher::read_spec(path).map_err(|e| e.to_string())?,
@@ -234,7 +247,10 @@ fn run(args: &Args) -> Result<(), String> {
     let model = spec
         .build()
         .map_err(|e| format!("invalid spring spec: {e}"))?;
-    let deck = coil_solver::deck::write(&model);
+    let deck = match args.format {
+        DeckFormat::Free => coil_solver::deck::write(&model),
+        DeckFormat::Mentat => coil_solver::deck::write_mentat(&model),
+    };
     coil_solver::atomic::write_atomic(&args.output, deck.as_bytes())
         .map_err(|e| format!("{}: {e}", args.output.display()))?;
     if let Some(path) = &args.write_spec {

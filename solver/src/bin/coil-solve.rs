@@ -105,7 +105,14 @@ fn summary(cases: &[CaseResult]) -> String {
 }
 
 fn run(cli: &Cli) -> Result<Vec<CaseResult>, Error> {
-    let mut model = deck::read_file(&cli.deck)?;
+    let (mut model, not_needed) = deck::read_file_noting(&cli.deck)?;
+    if !not_needed.is_empty() {
+        let cards: Vec<String> = not_needed
+            .iter()
+            .map(|n| format!("{} (line {})", n.card, n.line))
+            .collect();
+        eprintln!("read and not needed: {}", cards.join(", "));
+    }
     match cli.method {
         Some(Method::Direct) => override_method(&mut model, MethodOverride::Direct),
         Some(Method::Modal) => {

@@ -156,6 +156,7 @@ impl Builder<'_> {
                         ));
                     }
                 }
+                ListItem::All => out.extend_from_slice(ids),
                 ListItem::Set(name) => {
                     let found = self
                         .sets
@@ -716,11 +717,39 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     point_laws.sort_by_key(|e| (e.node, e.dof));
 
     // Loads, initial velocities, outputs.
-    let point_loads = raw
+    let mut point_loads = raw
         .point_loads
         .iter()
         .map(|p| point_load(&b, p, &raw))
         .collect::<Result<Vec<_>, _>>()?;
+    // Mentat's named loads: per load case where a LOADCASE lists them, else global.
+    let mut named_loads: Vec<(&str, Vec<PointLoad>)> = Vec::new();
+    for (name, p) in &raw.named_loads {
+        named_loads.push((name, vec![point_load(&b, p, &raw)?]));
+    }
+    for d in &raw.dist_loads {
+        let els = b.resolve(&d.elements, SetKind::Element, "DIST LOADS")?;
+        let els = b.non_empty(els, &d.elements, "DIST LOADS", "elements")?;
+        let mut loads = Vec::new();
+        for id in els {
+            let e = &elements[elements.partition_point(|e| e.id < id)];
+            let (a, z) = (e.nodes[0].0, e.nodes[1].0);
+            let (Some(xa), Some(xb)) = (xyz_of(a), xyz_of(z)) else {
+                continue;
+            };
+            loads.extend(consistent_beam_loads(d.q, a, xa, z, xb));
+        }
+        named_loads.push((&d.name, loads));
+    }
+    if let Some(names) = &raw.model_loadcase {
+        active_names_exist(&b, names, &raw)?;
+    }
+    let per_case = raw.load_cases.iter().any(|c| c.active.is_some());
+    if !per_case {
+        for (_, loads) in &named_loads {
+            point_loads.extend(loads.iter().cloned());
+        }
+    }
     let mut given: HashMap<(u32, u8), Loc> = HashMap::new();
     let initial_velocities = dof_groups(&b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
         .into_iter()
@@ -743,11 +772,35 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         });
     }
 
-    let load_cases = raw
-        .load_cases
-        .iter()
-        .map(|c| load_case(&b, c, &raw))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut load_cases = Vec::new();
+    for c in &raw.load_cases {
+        let mut case = load_case(&b, c, &raw)?;
+        if let Some(active) = &c.active {
+            active_names_exist(&b, active, &raw)?;
+            for (name, _) in active {
+                for (n, loads) in &named_loads {
+                    if n == name {
+                        case.point_loads.extend(loads.iter().cloned());
+                    }
+                }
+            }
+            let begun = c.loc.unwrap_or(Loc::new(1, 1));
+            for (name, at, support) in &raw.named {
+                if *support && !active.iter().any(|(n, _)| n == name) {
+                    return Err(b.err(
+                        begun,
+                        "LOADCASE",
+                        format!(
+                            "the support `{name}` (line {}) is not active in this load case",
+                            at.line
+                        ),
+                        "every FIXED DISP active in every load case (coil's supports do not change between load cases)",
+                    ));
+                }
+            }
+        }
+        load_cases.push(case);
+    }
 
     Ok(Model {
         title: raw.title.map(|t| t.0).unwrap_or_default(),
@@ -893,4 +946,64 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Fails unless every name a `LOADCASE` lists names a Mentat block.
+fn active_names_exist(
+    b: &Builder<'_>,
+    names: &[(String, Loc)],
+    raw: &RawDeck,
+) -> Result<(), DeckError> {
+    for (name, loc) in names {
+        if !raw.named.iter().any(|(n, _, _)| n == name) {
+            return Err(b.err(
+                *loc,
+                "LOADCASE",
+                format!("no load or support named `{name}`"),
+                "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The consistent nodal loads of a uniform load per unit length `q` (global, N/mm)
+/// on a straight beam from node `a` at `xa` to node `z` at `xb`: qL/2 at each node and
+/// the moments +-(L^2/12) e x q (e the unit vector from a to z), the cubic Hermite
+/// interpolation's work-equivalent loads (exact nodal displacements for
+/// Euler-Bernoulli beams).
+fn consistent_beam_loads(
+    q: [f64; 3],
+    a: u32,
+    xa: [f64; 3],
+    z: u32,
+    xb: [f64; 3],
+) -> Vec<PointLoad> {
+    let d = sub(xb, xa);
+    let l = norm(d);
+    let e = [d[0] / l, d[1] / l, d[2] / l];
+    let m = cross(e, q);
+    let mut out = Vec::new();
+    for (node, sign) in [(a, 1.0), (z, -1.0)] {
+        let mut dofs = Vec::new();
+        for (k, qk) in q.iter().enumerate() {
+            if *qk != 0.0 {
+                dofs.push((k as u8 + 1, qk * l / 2.0));
+            }
+        }
+        for (k, mk) in m.iter().enumerate() {
+            let mk = sign * mk * l * l / 12.0;
+            if mk != 0.0 {
+                dofs.push((k as u8 + 4, mk));
+            }
+        }
+        if !dofs.is_empty() {
+            out.push(PointLoad {
+                dofs,
+                nodes: vec![node],
+                table: None,
+            });
+        }
+    }
+    out
 }

@@ -11,6 +11,7 @@
 
 use super::error::DeckError;
 use super::lexer::{self, Line, LIST_WORDS};
+use super::mentat;
 use super::raw::{
     PointLawKind, RawDamping, RawDofValues, RawElement, RawGeometry, RawMaterial, RawNode,
     RawOutput, RawPointLaw, RawPointLoad, RawPointMass, RawSet, RawTable, RawTie, SetKind,
@@ -46,6 +47,9 @@ pub enum Origin {
     Marc,
     /// coil's own definition (Marc has no public layout for it, or coil's differs).
     Coil,
+    /// A Marc card whose physics coil does not model: reading it is an error that
+    /// names it and what coil supports.
+    Unsupported,
 }
 
 pub(crate) type ParseFn = fn(&mut CardCtx<'_, '_>) -> Result<(), DeckError>;
@@ -435,7 +439,7 @@ pub static KEYWORDS: &[Keyword] = &[
     },
     Keyword {
         name: "TABLE",
-        sections: &[Model],
+        sections: &[Parameters, Model],
         origin: Origin::Coil,
         meaning: "A piecewise-linear load factor against time, for POINT LOAD.",
         layout: &[
@@ -445,8 +449,12 @@ pub static KEYWORDS: &[Keyword] = &[
                 "one line per point (s, -); times strictly increasing",
             ),
         ],
-        notes: "Points repeat until the next card; at least one. Marc's TABLE parameter \
-                and table-driven layout are not read.",
+        notes: "Points repeat until the next card; at least one. In the parameter section \
+                TABLE is Marc's parameter (table-driven input; read and not needed); \
+                Mentat's model-definition layout is read too: two lines of integers \
+                (the first ending with the number of points, the second starting with the \
+                independent variable's type, 1 = time, inferred from public decks), then \
+                the points.",
         example: "TABLE, ramp\n0.0, 0.0\n0.1, 1.0",
         parse: parse_table,
     },
@@ -574,6 +582,277 @@ pub static KEYWORDS: &[Keyword] = &[
         example: "TITLE, modes\nMODAL SHAPE\n10\nCONTINUE",
         parse: parse_continue,
     },
+    // ---- Cards of decks that Mentat writes (issue 12); parse functions in mentat.rs.
+    Keyword {
+        name: "EXTENDED",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's extended fixed format: from the next line on, a line without a comma is cut in columns of 10 (integers) and 20 (reals, words).",
+        layout: &[("EXTENDED", "")],
+        notes: "The reader switches format when it splits the deck into lines (see Fixed format above).",
+        example: "EXTENDED",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "ALLOC",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's memory allocation.",
+        layout: &[("ALLOC, n", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "ALLOC, 25",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "VERSION",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "The version of Marc's input format; 13 and later give each GEOMETRY block an id and a name line.",
+        layout: &[("VERSION, n[, ...]", "")],
+        notes: "Read; coil also recognises the GEOMETRY layout by its lines.",
+        example: "VERSION, 11",
+        parse: mentat::parse_version,
+    },
+    Keyword {
+        name: "PROCESSOR",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's processor and parallel options.",
+        layout: &[("PROCESSOR, flags ...", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "PROCESSOR, 1, 1, 1, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "ALL POINTS",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's output at all integration points.",
+        layout: &[("ALL POINTS", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "ALL POINTS",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "NO ECHO",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's echo of the input in its output file.",
+        layout: &[("NO ECHO, flags ...", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "NO ECHO, 1, 2, 3",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "SETNAME",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Marc's allocation of set names.",
+        layout: &[("SETNAME, n", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "SETNAME, 9",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "SOLVER",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's linear solver choice (coil chooses its own).",
+        layout: &[("SOLVER", ""), ("type, flags ...", "integers")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "SOLVER\n8, 0, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "OPTIMIZE",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's bandwidth optimiser (coil orders its own unknowns).",
+        layout: &[("OPTIMIZE, n[, ...]", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "OPTIMIZE, 11",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "NO PRINT",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's printed output.",
+        layout: &[("NO PRINT", "")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "NO PRINT",
+        parse: mentat::parse_not_needed_line,
+    },
+    Keyword {
+        name: "POST",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Marc's post file contents (coil writes its own result files).",
+        layout: &[("POST", ""), ("flags ...", "integers; more lines may follow")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "POST\n0, 16, 17, 0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "PARAMETERS",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Marc's numerical constants (tolerances, physical constants).",
+        layout: &[("PARAMETERS", ""), ("values ...", "lines of reals")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "PARAMETERS\n1.0, 1.0e9, 100.0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "CONTROL",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Marc's convergence control of nonlinear increments; a linear solve needs none.",
+        layout: &[("CONTROL[, qualifier]", ""), ("flags ...", "integers"), ("tolerances ...", "reals")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "CONTROL\n99999, 10, 0\n0.1, 0.0",
+        parse: mentat::parse_not_needed,
+    },
+    Keyword {
+        name: "MAT COLOR",
+        sections: &[Model],
+        origin: Origin::Marc,
+        meaning: "Mentat's colours of materials.",
+        layout: &[("MAT COLOR", ""), ("", "a header line (often blank)"), ("id, ...", "integers")],
+        notes: "Read and not needed: coil lists it once in the run's log.",
+        example: "MAT COLOR\n\n1, 1, 230, 0, 0",
+        parse: mentat::parse_mat_color,
+    },
+    Keyword {
+        name: "LOADCASE",
+        sections: &[Model, History],
+        origin: Origin::Marc,
+        meaning: "Mentat's list of the named loads and supports active in the model's own load case (model definition) or in the load case it appears in (history).",
+        layout: &[("LOADCASE, name", ""), ("n", "number of active blocks"), ("name", "one line per block (FIXED DISP, POINT LOAD, DIST LOADS)")],
+        notes: "A named POINT LOAD or DIST LOADS acts in a load case whose LOADCASE lists it (in every load case if no history LOADCASE is given). coil's supports are the same in every load case: a named FIXED DISP missing from a history LOADCASE is an error. The model definition's LOADCASE (Marc's increment 0) is read and checked for names.",
+        example: "LOADCASE, lc1\n1\nclamp",
+        parse: mentat::parse_loadcase,
+    },
+    Keyword {
+        name: "BEAM SECT",
+        sections: &[Parameters],
+        origin: Origin::Marc,
+        meaning: "Named beam cross-sections, numbered from 1 in their order, referred to by a GEOMETRY whose area is 0.",
+        layout: &[("BEAM SECT", ""), ("name", "the section name"), ("0, type, dimensions", "type -2: a solid circle, dimension 1 its radius r (mm)"), ("n, ...", "integration points (not needed)"), ("LAST", "after the last section")],
+        notes: "coil reads the solid circle (type -2, radius r: A = pi r^2, I = pi r^4 / 4, J = pi r^4 / 2, the polar moment, exact for a circle; shear coefficient 6(1+nu)/(7+6nu)). Other types are an error naming the type. The meaning of -2 and of its dimension (radius) is inferred from public Mentat decks, not from Marc's manual.",
+        example: "BEAM SECT\nwire\n0, -2.0, 1.5\n5, 0, 0, 0\nLAST",
+        parse: mentat::parse_beam_sect,
+    },
+    Keyword {
+        name: "DIST LOADS",
+        sections: &[Parameters, Model],
+        origin: Origin::Marc,
+        meaning: "As a parameter, Marc's allocation of distributed loads (not needed). In the model definition, Mentat's named blocks of a uniform load per unit length on beams, applied as the consistent nodal forces and moments of each element (qL/2 at each node, moments +-(L^2/12) e x q).",
+        layout: &[("DIST LOADS", ""), ("", "a header line (blank)"), ("flags..., name", "integers then the block name; field 2 = 1 (FORCEM) is an error"), ("qx, qy, qz", "the load per unit length, global components (N/mm)"), ("0, 0, 0", "table ids, 0"), ("0, type", "load type 110 (a global load vector)"), ("1", "list kind 1: elements"), ("list", "the beams")],
+        notes: "Only type 110 with three components is read (the layout of the corpus's beam deck, inferred, not from Marc's manual); every other type is an error naming it.",
+        example: "DIST LOADS, 0, 0, 10",
+        parse: mentat::parse_dist_loads,
+    },
+    Keyword {
+        name: "LARGE STRAIN",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's large-strain (finite deformation) analysis.",
+        layout: &[("LARGE STRAIN, ...", "")],
+        notes: "coil solves small displacements and strains (linear analyses).",
+        example: "LARGE STRAIN",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "LARGE DISP",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's large-displacement analysis.",
+        layout: &[("LARGE DISP", "")],
+        notes: "coil solves small displacements (linear analyses).",
+        example: "LARGE DISP",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "UPDATE",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's updated Lagrange formulation.",
+        layout: &[("UPDATE", "")],
+        notes: "coil solves small displacements (linear analyses).",
+        example: "UPDATE",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FINITE",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's finite strain.",
+        layout: &[("FINITE", "")],
+        notes: "coil solves small strains (linear analyses).",
+        example: "FINITE",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FOLLOW FOR",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's follower forces.",
+        layout: &[("FOLLOW FOR", "")],
+        notes: "coil's loads keep their direction (linear analyses).",
+        example: "FOLLOW FOR",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "PLASTICITY",
+        sections: &[Parameters],
+        origin: Origin::Unsupported,
+        meaning: "Marc's plasticity procedure.",
+        layout: &[("PLASTICITY, ...", "")],
+        notes: "coil's materials are linear elastic.",
+        example: "PLASTICITY",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "WORK HARD",
+        sections: &[Model],
+        origin: Origin::Unsupported,
+        meaning: "Marc's work-hardening data of plastic materials.",
+        layout: &[("WORK HARD, ...", "")],
+        notes: "coil's materials are linear elastic.",
+        example: "WORK HARD",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "FORCDT",
+        sections: &[Model],
+        origin: Origin::Unsupported,
+        meaning: "Marc's user subroutine FORCDT (nodal loads and displacements computed by Fortran code).",
+        layout: &[("FORCDT, n", ""), ("list", "nodes")],
+        notes: "the user subroutine FORCDT is Fortran code coil cannot run; give the load as POINT LOAD values.",
+        example: "FORCDT, 1",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "UMOTION",
+        sections: &[Model],
+        origin: Origin::Unsupported,
+        meaning: "Marc's user subroutine UMOTION (rigid-surface motion).",
+        layout: &[("UMOTION, n", "")],
+        notes: "the user subroutine UMOTION is Fortran code coil cannot run.",
+        example: "UMOTION, 0",
+        parse: mentat::parse_unsupported,
+    },
+    Keyword {
+        name: "USDATA",
+        sections: &[Parameters, Model],
+        origin: Origin::Unsupported,
+        meaning: "Marc's user data for user subroutines.",
+        layout: &[("USDATA, n", "")],
+        notes: "user subroutines are Fortran code coil cannot run.",
+        example: "USDATA, 1",
+        parse: mentat::parse_unsupported,
+    },
 ];
 
 /// The keyword a line starts with, and how many fields its words take. The longest
@@ -583,19 +862,38 @@ pub(crate) fn match_keyword(line: &Line) -> Option<(&'static Keyword, usize)> {
     if !first.text.starts_with(|c: char| c.is_ascii_alphabetic()) {
         return None;
     }
-    let mut best: Option<(&'static Keyword, usize)> = None;
+    // A fixed-format keyword field: its words, as Marc reads them (the first 10
+    // characters count: `large stra` is LARGE STRAIN).
+    let lead = (line.fixed.is_some() && line.lead_words > 0).then(|| {
+        line.fields[..line.lead_words]
+            .iter()
+            .map(|f| f.text.to_ascii_uppercase())
+            .collect::<Vec<_>>()
+            .join(" ")
+    });
+    let mut best: Option<(&'static Keyword, usize, usize)> = None;
     for kw in KEYWORDS {
         let words: Vec<&str> = kw.name.split(' ').collect();
-        let matches = words.len() <= line.fields.len()
+        let full = words.len() <= line.fields.len()
             && words
                 .iter()
                 .zip(&line.fields)
                 .all(|(w, f)| f.text.eq_ignore_ascii_case(w));
-        if matches && best.is_none_or(|(_, n)| words.len() > n) {
-            best = Some((kw, words.len()));
+        let cut = lead
+            .as_deref()
+            .is_some_and(|s| s.len() == 10 && kw.name.len() > 10 && kw.name.starts_with(s));
+        let taken = if full {
+            words.len()
+        } else if cut {
+            line.lead_words
+        } else {
+            continue;
+        };
+        if best.is_none_or(|(_, _, n)| words.len() > n) {
+            best = Some((kw, taken, words.len()));
         }
     }
-    best
+    best.map(|(kw, taken, _)| (kw, taken))
 }
 
 /// Up to `k` keywords nearest (by edit distance) to the line's first words: the best
@@ -640,12 +938,29 @@ fn edit_distance(a: &str, b: &str) -> usize {
 
 /// True if a set or table name would be read as something else: a keyword's first
 /// word or a list word.
+///
+/// The first words of the multi-word keywords of coil's first deck language stay
+/// reserved (`FIXED`, `POINT`, ...); those of Marc's further cards (`BEAM SECT`, `ALL
+/// POINTS`, ...) are not, so that existing decks keep their set names: a list line
+/// that spells a whole keyword is still refused where it is read.
 pub(crate) fn is_reserved(name: &str) -> bool {
+    const FIRST_WORDS: [&str; 11] = [
+        "END",
+        "FIXED",
+        "POINT",
+        "INITIAL",
+        "HISTORY",
+        "AUTO",
+        "TIME",
+        "MODAL",
+        "DYNAMIC",
+        "QUADRATIC",
+        "CUBIC",
+    ];
     let upper = name.to_ascii_uppercase();
     LIST_WORDS.contains(&upper.as_str())
-        || KEYWORDS
-            .iter()
-            .any(|kw| kw.name.split(' ').next() == Some(upper.as_str()))
+        || FIRST_WORDS.contains(&upper.as_str())
+        || KEYWORDS.iter().any(|kw| kw.name == upper)
 }
 
 // ---------------------------------------------------------------------------------
@@ -691,8 +1006,29 @@ fn parse_sizing(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const WHAT: &str =
         "non-negative integers: SIZING, memory, elements, nodes, boundary conditions";
     let mut values = Vec::new();
-    for j in 0..c.args().len() {
-        values.push(c.uint_or(c.line, c.kw_fields + j, 0, WHAT)?);
+    if let Some(w) = c.line.fixed {
+        // Fixed format: the memory field is two integer fields wide.
+        let chars: Vec<char> = c.line.raw.chars().collect();
+        let mut p = w.word;
+        let mut width = 2 * w.int;
+        while p < chars.len() {
+            let end = (p + width).min(chars.len());
+            let t: String = chars[p..end].iter().collect();
+            let t = t.trim();
+            let v = if t.is_empty() {
+                0
+            } else {
+                lexer::parse_uint(t)
+                    .map_err(|m| c.err(super::error::Loc::new(c.line.no, p + 1), m, WHAT))?
+            };
+            values.push(v);
+            p = end;
+            width = w.int;
+        }
+    } else {
+        for j in 0..c.args().len() {
+            values.push(c.uint_or(c.line, c.kw_fields + j, 0, WHAT)?);
+        }
     }
     let get = |i: usize| values.get(i).copied().unwrap_or(0);
     c.deck.sizing = Some((get(1), get(2), c.loc()));
@@ -793,6 +1129,15 @@ fn header_count(
         c.uint_or(line, i, 0, "Marc's header flags: integers")?;
     }
     Ok(n)
+}
+
+/// Fails unless the keyword line has nothing after the keyword but, optionally, the
+/// qualifier word Mentat writes (`isotropic           structural`).
+fn qualifier(c: &CardCtx<'_, '_>, word: &str) -> Result<(), DeckError> {
+    match c.args() {
+        [q] if q.text.eq_ignore_ascii_case(word) => Ok(()),
+        _ => c.no_args(),
+    }
 }
 
 fn no_groups(c: &CardCtx<'_, '_>, layout: &str) -> DeckError {
@@ -917,13 +1262,28 @@ fn parse_define(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const NAME_LINE: &str = "id, name";
-    const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
-    c.no_args()?;
+    qualifier(c, "STRUCTURAL")?;
     let header = c.data_line("the number of materials (0 = until the next card)")?;
-    c.field_count(header, 0, 1, "the number of materials")?;
+    if header.fixed.is_none() {
+        c.field_count(header, 0, 1, "the number of materials")?;
+    }
     let n = c.uint_or(header, 0, 0, "the number of materials")?;
+    let n = if header.fixed.is_some() && header.fields.len() > 1 {
+        0
+    } else {
+        n
+    };
     let mut done = 0;
     while another(c, n, done) {
+        let mentat = c.cur.peek_significant().is_some_and(|l| {
+            l.fixed.is_some() && l.fields.len() > 2 && lexer::is_name(&l.fields[1].text)
+        });
+        if mentat {
+            let material = mentat::isotropic_material(c)?;
+            c.deck.materials.push(material);
+            done += 1;
+            continue;
+        }
         let l = c.data_line(&format!("the line `{NAME_LINE}` of material {}", done + 1))?;
         c.field_count(l, 1, 2, NAME_LINE)?;
         let id = c.id(l, 0, "the material id")?;
@@ -931,25 +1291,7 @@ fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             Some(f) if !f.text.is_empty() => c.name(l, 1, "the material name")?,
             _ => id.to_string(),
         };
-        let p = c.data_line(PROPS)?;
-        c.field_count(p, 3, usize::MAX, PROPS)?;
-        let e = c.real(p, 0, "Young's modulus E (MPa)")?;
-        let youngs_modulus = c.positive(e, p.loc_of(0), "Young's modulus E")?;
-        let poisson = c.real(p, 1, "Poisson's ratio")?;
-        if !(poisson > -1.0 && poisson < 0.5) {
-            return Err(c.err(
-                p.loc_of(1),
-                format!("Poisson's ratio is {poisson:?}"),
-                "-1 < Poisson's ratio < 0.5",
-            ));
-        }
-        let rho = c.real(p, 2, "density (t/mm^3)")?;
-        let density = c.non_negative(rho, p.loc_of(2), "density")?;
-        c.zeros_from(
-            p,
-            3,
-            "Marc's further material data (thermal expansion, yield stress, ...)",
-        )?;
+        let [youngs_modulus, poisson, density] = material_values(c)?;
         let elements = c.list("the list of elements")?;
         c.deck.materials.push(RawMaterial {
             id,
@@ -971,15 +1313,57 @@ fn parse_isotropic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     Ok(())
 }
 
+/// The values line of a material, in coil's layout and Mentat's: `E, nu, density`
+/// checked, Marc's further fields (thermal expansion, yield stress, ...) blank or 0.
+pub(crate) fn material_values(c: &mut CardCtx<'_, '_>) -> Result<[f64; 3], DeckError> {
+    const PROPS: &str = "E (MPa), Poisson's ratio, density (t/mm^3)";
+    let p = c.data_line(PROPS)?;
+    c.field_count(p, 3, usize::MAX, PROPS)?;
+    let e = c.real(p, 0, "Young's modulus E (MPa)")?;
+    let youngs_modulus = c.positive(e, p.loc_of(0), "Young's modulus E")?;
+    let poisson = c.real(p, 1, "Poisson's ratio")?;
+    if !(poisson > -1.0 && poisson < 0.5) {
+        return Err(c.err(
+            p.loc_of(1),
+            format!("Poisson's ratio is {poisson:?}"),
+            "-1 < Poisson's ratio < 0.5",
+        ));
+    }
+    let rho = c.real(p, 2, "density (t/mm^3)")?;
+    let density = c.non_negative(rho, p.loc_of(2), "density")?;
+    c.zeros_from(
+        p,
+        3,
+        "Marc's further material data (thermal expansion, yield stress, ...)",
+    )?;
+    Ok([youngs_modulus, poisson, density])
+}
+
 const SECTION_LINE: &str = "the section: wire diameter d, or A, I1, I2, J[, shear coefficient]";
 
 fn parse_geometry(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     c.no_args()?;
     let header = c.data_line("the number of geometries (0 = until the next card)")?;
-    c.field_count(header, 0, 1, "the number of geometries")?;
+    if header.fixed.is_none() {
+        c.field_count(header, 0, 1, "the number of geometries")?;
+    }
     let n = c.uint_or(header, 0, 0, "the number of geometries")?;
     let mut done = 0;
     while another(c, n, done) {
+        // Mentat's blocks: a line of 6 or more values, or (version 13+) an integer
+        // line before the name line; coil's own lines are shorter or free format.
+        let mentat_block = c.cur.peek_significant().is_some_and(|l| {
+            l.fixed.is_some()
+                && (l.fields.len() >= 6
+                    || (l.fields.len() >= 2
+                        && l.fields.iter().all(|f| lexer::parse_uint(&f.text).is_ok())))
+        });
+        if mentat_block {
+            let geometry = mentat::geometry_block(c)?;
+            c.deck.geometries.push(geometry);
+            done += 1;
+            continue;
+        }
         let first = c.data_line(&format!(
             "geometry {}: `id, name` or {SECTION_LINE}",
             done + 1
@@ -1276,6 +1660,13 @@ fn dof_value_groups(
 
 fn parse_fixed_disp(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     c.no_args()?;
+    if mentat::blank_header_follows(c) {
+        let groups = mentat::fixed_disp(c)?;
+        if !groups.is_empty() {
+            c.deck.fixed_disp.extend(groups);
+            return Ok(());
+        }
+    }
     let groups = dof_value_groups(c, "prescribed values (mm or rad)", false)?;
     c.deck.fixed_disp.extend(groups);
     Ok(())
@@ -1303,6 +1694,18 @@ fn parse_initial_vel(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const VALUES: &str = "the load in DOF order: Fx, Fy, Fz (N), Mx, My, Mz (N mm)";
+    // Mentat's history layout: `point load 0` (an integer after the keyword).
+    if *c.section == History
+        && c.line.fixed.is_some()
+        && c.args()
+            .first()
+            .is_some_and(|f| lexer::parse_uint(&f.text).is_ok())
+    {
+        return mentat::history_point_load(c);
+    }
+    if *c.section == Model && c.args().is_empty() && mentat::blank_header_follows(c) {
+        return mentat::point_load_blocks(c);
+    }
     let args = c.args();
     let table = match args.len() {
         0 => None,
@@ -1353,6 +1756,9 @@ fn parse_point_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 
 fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const POINT: &str = "time (s), factor";
+    if *c.section == Parameters {
+        return mentat::parse_not_needed(c);
+    }
     if c.args().len() != 1 {
         let loc = c.arg_loc(c.args().len().min(1));
         return Err(c.err(loc, "TABLE needs exactly one name", "TABLE, name"));
@@ -1366,7 +1772,17 @@ fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         ));
     }
     let mut points: Vec<(f64, f64)> = Vec::new();
-    while c.more_data() {
+    let mentat = c.cur.peek_significant().is_some_and(|l| {
+        l.fixed.is_some()
+            && l.fields.len() >= 3
+            && l.fields.iter().all(|f| lexer::parse_uint(&f.text).is_ok())
+    });
+    let expected = if mentat {
+        Some(mentat::table_header(c)?)
+    } else {
+        None
+    };
+    while c.more_data() && expected.is_none_or(|n| points.len() < n) {
         let l = c.data_line(POINT)?;
         c.field_count(l, 2, 2, POINT)?;
         let t = c.real(l, 0, "the time (s)")?;
@@ -1384,6 +1800,13 @@ fn parse_table(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     }
     if points.is_empty() {
         return Err(no_groups(c, POINT));
+    }
+    if let Some(n) = expected.filter(|&n| n != points.len()) {
+        return Err(c.err(
+            c.loc(),
+            format!("the table has {} points, its header says {n}", points.len()),
+            "as many `time, factor` lines as the header's last field",
+        ));
     }
     c.deck.tables.push(RawTable {
         name,
@@ -1487,7 +1910,11 @@ fn parse_auto_load(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     one_analysis(c, Kind::Static)?;
     let l = c.data_line("the number of steps")?;
     let steps = c.count(l, 0, 1, "the number of steps")?;
-    c.zeros_from(l, 1, "Marc's further AUTO LOAD fields")?;
+    // Marc's further fields (Mentat writes `n 0 10`) control nonlinear increments,
+    // which change nothing in a linear solve: integers, not used.
+    for i in 1..l.fields.len() {
+        c.uint_or(l, i, 0, "Marc's further AUTO LOAD fields: integers")?;
+    }
     let loc = c.loc();
     c.case().auto_load = Some((steps, loc));
     Ok(())
@@ -1654,6 +2081,7 @@ pub fn reference_markdown() -> String {
             match kw.origin {
                 Origin::Marc => "Layout of public Marc decks",
                 Origin::Coil => "coil's own definition",
+                Origin::Unsupported => "Marc's card, not supported: reading it is an error",
             },
             sections_text(kw),
             kw.meaning
@@ -1682,6 +2110,7 @@ fn origin_text(o: Origin) -> &'static str {
     match o {
         Origin::Marc => "Marc",
         Origin::Coil => "**coil's own**",
+        Origin::Unsupported => "Marc, **error**",
     }
 }
 
@@ -1718,6 +2147,15 @@ mod tests {
             assert!(!a.sections.is_empty(), "{}", a.name);
             for b in &KEYWORDS[i + 1..] {
                 assert_ne!(a.name, b.name, "keyword {} is defined twice", a.name);
+                // Marc reads 10 characters of a keyword: cut, no two may be equal.
+                let cut = |n: &str| n.chars().take(10).collect::<String>();
+                assert_ne!(
+                    cut(a.name),
+                    cut(b.name),
+                    "{} and {} collide when cut to 10 characters",
+                    a.name,
+                    b.name
+                );
             }
             // Every keyword, in any case, reads as itself and nothing else.
             let line = first_line(&format!("{}, 1", a.name.to_ascii_lowercase()));
@@ -1771,7 +2209,12 @@ mod tests {
         for kw in KEYWORDS {
             let lines = lex(kw.example).unwrap();
             let r = read_cards(&lines, "example", kw.sections[0], false);
-            assert!(r.is_ok(), "{}: {}", kw.name, r.unwrap_err());
+            if kw.origin == Origin::Unsupported {
+                let e = r.unwrap_err().to_string();
+                assert!(e.contains(":1:1:") && e.contains("is not supported"), "{e}");
+            } else {
+                assert!(r.is_ok(), "{}: {}", kw.name, r.unwrap_err());
+            }
         }
     }
 
@@ -1883,8 +2326,8 @@ mod tests {
 
     #[test]
     fn define_sets_resolve_ranges_and_other_sets() {
-        let m =
-            with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, all\nends 2\n").unwrap();
+        let m = with_model("DEFINE, NODE, SET, ends\n1, 3\nDEFINE, NODE, SET, every\nends 2\n")
+            .unwrap();
         assert_eq!(m.node_sets[0].nodes, [1, 3]);
         assert_eq!(m.node_sets[1].nodes, [1, 2, 3]);
         assert_eq!(m.element_sets[0].elements, [1, 2]);
@@ -2058,6 +2501,90 @@ mod tests {
                 .to_string();
             assert!(e.contains(what), "{bad}: {e}");
         }
+    }
+
+    /// Mentat's cards in extended fixed format, each with what it must do.
+    #[test]
+    fn mentat_cards_read_skip_or_refuse() {
+        let ext = |params: &str, model: &str, history: &str| {
+            format!("TITLE, t\nEXTENDED\n{params}ELEMENTS                    98\nEND\n{}{model}END OPTION\n{history}", MESH.replace("GEOMETRY\n1\n3.0\n0, 0, 1\nwire\n", "GEOMETRY\n1\n1, g\n3.0\n0, 0, 1\nwire\n"))
+        };
+        let static_case = "AUTO LOAD\n         1         0        10\nTIME STEP\n1.0\nCONTINUE\n";
+        // Read and not needed, listed once each.
+        let text = ext(
+            "PROCESSOR                    1         1\nTABLE                        0         0         2\nALL POINTS\n",
+            "SOLVER\n         8         0\nOPTIMIZE                    11\nNO PRINT\nPOST\n         0        16\nPARAMETERS\n 1.000000000000000+0 1.000000000000000+9\n",
+            &format!("CONTROL\n     99999        10\n 1.000000000000000-1\nPARAMETERS\n 1.0\n{static_case}"),
+        );
+        let (m, notes) = crate::deck::read_str_noting(&text, "t.dat").unwrap();
+        assert_eq!(m.load_cases.len(), 1);
+        let cards: Vec<&str> = notes.iter().map(|n| n.card.as_str()).collect();
+        assert_eq!(
+            cards,
+            [
+                "EXTENDED",
+                "PROCESSOR",
+                "TABLE",
+                "ALL POINTS",
+                "SOLVER",
+                "OPTIMIZE",
+                "NO PRINT",
+                "POST",
+                "PARAMETERS",
+                "CONTROL"
+            ]
+        );
+        // Unsupported physics: the line and what coil supports.
+        for card in ["LARGE STRA                   4", "PLASTICITY", "FOLLOW FOR"] {
+            let e = read_str(&ext(&format!("{card}\n"), "", static_case), "t.dat").unwrap_err();
+            assert!(
+                e.to_string().contains("t.dat:3:1:") && e.to_string().contains("is not supported"),
+                "{e}"
+            );
+        }
+        let e = read_str(
+            &ext("", "FORCDT                       1\n1\n", static_case),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("user subroutine FORCDT"), "{e}");
+        // A history LOADCASE must keep the supports active.
+        let named = "FIXED DISP\n\n         1         0         0         0         1         0clamp2\n 0.0\n         0\n         3\n         2\n3\n";
+        let e = read_str(
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         0\n{static_case}"),
+            ),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("the support `clamp2`"), "{e}");
+        let m = read_str(
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         1\nclamp2\n{static_case}"),
+            ),
+            "t.dat",
+        )
+        .unwrap();
+        assert_eq!(m.fixed_disp.len(), 2);
+        // Mentat's model-definition TABLE (the parameter TABLE is above).
+        let table = format!(
+            "TABLE               ramp\n{}\n{}\n{:>20}{:>20}\n{:>20}{:>20}\n",
+            "         1         1         0         0         2",
+            "         1         2",
+            "0.0",
+            "0.0",
+            "1.0",
+            "2.0+0"
+        );
+        let m = read_str(&ext("", &table, static_case), "t.dat").unwrap();
+        assert_eq!(m.tables[0].points, [(0.0, 0.0), (1.0, 2.0)]);
+        let bad = table.replace("         1         2\n", "         3         2\n");
+        let e = read_str(&ext("", &bad, static_case), "t.dat").unwrap_err();
+        assert!(e.to_string().contains("independent variable type 3"), "{e}");
     }
 
     #[test]

@@ -36,6 +36,29 @@ pub(crate) enum LineKind {
     Text,
 }
 
+/// Column widths of Marc's fixed format: integers, reals and words (keywords, names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Widths {
+    pub int: usize,
+    pub real: usize,
+    pub word: usize,
+}
+
+/// Marc's normal fixed format: integers in 5 columns, reals and words in 10.
+pub(crate) const NORMAL: Widths = Widths {
+    int: 5,
+    real: 10,
+    word: 10,
+};
+
+/// Marc's extended fixed format (parameter `EXTENDED`): integers in 10 columns, reals
+/// and words in 20.
+pub(crate) const EXTENDED: Widths = Widths {
+    int: 10,
+    real: 20,
+    word: 20,
+};
+
 /// A line of the deck with its number, its raw text and its fields.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Line {
@@ -43,6 +66,15 @@ pub(crate) struct Line {
     pub raw: String,
     pub kind: LineKind,
     pub fields: Vec<Field>,
+    /// The fixed-format widths the line was cut with; `None` for a free-format line
+    /// (one with a comma, or any line of a free-format deck).
+    pub fixed: Option<Widths>,
+    /// How many leading fields are the words of the line's first (keyword or name)
+    /// field of a fixed-format line.
+    pub lead_words: usize,
+    /// Why the line cannot be cut into fixed-format fields (a number out of its
+    /// columns), if it cannot; reported when a card reads the line as data.
+    pub cut_error: Option<(Loc, String)>,
 }
 
 impl Line {
@@ -77,12 +109,28 @@ pub(crate) struct LexError {
 
 /// Splits a deck into lines and fields. Rejects control characters (other than tab
 /// and the carriage return of a CRLF line end), which only binary garbage contains.
+///
+/// The format of each line follows Marc: a line with a comma is free format. A line
+/// without one is fixed format when the deck is: extended fixed format after the
+/// parameter `EXTENDED`, normal fixed format (5/10/10 columns) in a deck with no
+/// comma on any line that is not a comment (what Mentat writes without `EXTENDED`).
+/// In coil's own free-format decks (which have commas) a line without a comma is
+/// split at blanks, as before; Marc would cut it by columns, which gives the same
+/// fields whenever each sits within its columns.
 pub(crate) fn lex(text: &str) -> Result<Vec<Line>, LexError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let raws: Vec<&str> = text
+        .split('\n')
+        .map(|r| r.strip_suffix('\r').unwrap_or(r))
+        .collect();
+    let is_comment = |r: &str| r.trim_start().starts_with('$');
+    let extended_at = raws
+        .iter()
+        .position(|r| !is_comment(r) && r.trim().eq_ignore_ascii_case("EXTENDED"));
+    let no_commas = raws.iter().all(|r| is_comment(r) || !r.contains(','));
     let mut lines = Vec::new();
-    for (i, raw) in text.split('\n').enumerate() {
+    for (i, raw) in raws.iter().copied().enumerate() {
         let no = i + 1;
-        let raw = raw.strip_suffix('\r').unwrap_or(raw);
         for (c, ch) in raw.chars().enumerate() {
             if ch.is_control() && ch != '\t' {
                 return Err(LexError {
@@ -94,7 +142,14 @@ pub(crate) fn lex(text: &str) -> Result<Vec<Line>, LexError> {
                 });
             }
         }
-        lines.push(split_line(no, raw));
+        let widths = match extended_at {
+            Some(at) if i > at => Some(EXTENDED),
+            Some(_) => None,
+            None if no_commas => Some(NORMAL),
+            None => None,
+        };
+        let widths = widths.filter(|_| !raw.contains(','));
+        lines.push(split_line(no, raw, widths));
     }
     // `split` yields one empty piece after a final newline; it is not a line.
     if text.ends_with('\n') {
@@ -103,7 +158,7 @@ pub(crate) fn lex(text: &str) -> Result<Vec<Line>, LexError> {
     Ok(lines)
 }
 
-fn split_line(no: usize, raw: &str) -> Line {
+fn split_line(no: usize, raw: &str, widths: Option<Widths>) -> Line {
     let trimmed = raw.trim_start();
     let kind = if trimmed.is_empty() {
         LineKind::Blank
@@ -112,17 +167,170 @@ fn split_line(no: usize, raw: &str) -> Line {
     } else {
         LineKind::Text
     };
-    let fields = if kind == LineKind::Text {
-        split_fields(raw)
-    } else {
-        Vec::new()
-    };
-    Line {
+    let mut line = Line {
         no,
         raw: raw.to_string(),
         kind,
-        fields,
+        fields: Vec::new(),
+        fixed: None,
+        lead_words: 0,
+        cut_error: None,
+    };
+    if kind == LineKind::Text {
+        match widths {
+            Some(w) => {
+                let cut = cut_fixed(no, raw, w);
+                line.fields = cut.fields;
+                line.lead_words = cut.lead_words;
+                line.cut_error = cut.error;
+                line.fixed = Some(w);
+            }
+            None => line.fields = split_fields(raw),
+        }
     }
+    line
+}
+
+/// A fixed-format line cut into fields.
+struct Cut {
+    fields: Vec<Field>,
+    lead_words: usize,
+    error: Option<(Loc, String)>,
+}
+
+/// Cuts a fixed-format line by columns, never at blanks (Marc's reading, so that
+/// `0-2.0+0` is the integer 0 and the real -2.0, and `0Support` the integer 0 and the
+/// name `Support`):
+/// - a line that starts with a letter in column 1 begins with a word field (a keyword
+///   or a name) of `word` columns, longer if a word runs over its end; its words are
+///   separate fields (`fixed disp`);
+/// - then, field by field: a real (a number with a point or an exponent) right-aligned
+///   in `real` columns, else an integer right-aligned in `int` columns, else `int`
+///   blank columns (a blank field), else a word of `word` columns (the rest of the
+///   line if nothing follows it).
+///
+/// A number that does not end at its field's last column (a shifted column) is an
+/// error, kept with the line and reported when a card reads it as data.
+fn cut_fixed(no: usize, raw: &str, w: Widths) -> Cut {
+    let chars: Vec<char> = raw.chars().collect();
+    let n = chars.len();
+    let blank = |c: char| c == ' ' || c == '\t';
+    let text_of = |a: usize, b: usize| -> String { chars[a..b.min(n)].iter().collect() };
+    let mut fields = Vec::new();
+    let mut p = 0;
+    let mut lead_words = 0;
+    if chars.first().is_some_and(|c| c.is_ascii_alphabetic()) {
+        let mut end = w.word.min(n);
+        while end < n && !blank(chars[end]) && !blank(chars[end - 1]) {
+            end += 1;
+        }
+        let mut k = 0;
+        while k < end {
+            if blank(chars[k]) {
+                k += 1;
+                continue;
+            }
+            let start = k;
+            while k < end && !blank(chars[k]) {
+                k += 1;
+            }
+            fields.push(Field {
+                text: text_of(start, k),
+                col: start + 1,
+            });
+            lead_words += 1;
+        }
+        p = end;
+    }
+    let mut error = None;
+    while p < n {
+        if chars[p..].iter().all(|&c| blank(c)) {
+            break;
+        }
+        // A field's text is one token within its columns; a token may touch the
+        // next field's sign or name (Mentat's `0-2.0+0`, `0Support`) but a digit or a
+        // point across the boundary means the number runs over its field.
+        let token_in = |width: usize| -> Option<(String, usize, bool)> {
+            let end = (p + width).min(n);
+            let t = text_of(p, end);
+            let lead = t.chars().take_while(|&c| blank(c)).count();
+            let tok = t.trim();
+            if tok.is_empty() {
+                return None;
+            }
+            let single = !tok.contains([' ', '\t']);
+            let over = end < n
+                && !blank(chars[end - 1])
+                && (chars[end].is_ascii_digit() || chars[end] == '.');
+            Some((tok.to_string(), p + lead + 1, single && !over))
+        };
+        if let Some((r, col, true)) = token_in(w.real) {
+            if r.contains(['.', 'e', 'E', 'd', 'D']) && looks_numeric(&r) && parse_real(&r).is_ok()
+            {
+                fields.push(Field { text: r, col });
+                p = (p + w.real).min(n);
+                continue;
+            }
+        }
+        let is_int = |s: &str| {
+            let d = s.strip_prefix(['+', '-']).unwrap_or(s);
+            !d.is_empty() && d.chars().all(|c| c.is_ascii_digit())
+        };
+        let Some((i, col, clean)) = token_in(w.int) else {
+            fields.push(Field {
+                text: String::new(),
+                col: p + 1,
+            });
+            p = (p + w.int).min(n);
+            continue;
+        };
+        if clean && is_int(&i) {
+            fields.push(Field { text: i, col });
+            p = (p + w.int).min(n);
+            continue;
+        }
+        if i.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
+            let end = if chars[(p + w.word).min(n)..].iter().all(|&c| blank(c)) {
+                n
+            } else {
+                (p + w.word).min(n)
+            };
+            fields.push(Field {
+                text: text_of(p, end).trim().to_string(),
+                col,
+            });
+            p = end;
+            continue;
+        }
+        // A number that runs over the end of its field, or two in one field.
+        let token: String = chars[col - 1..]
+            .iter()
+            .take_while(|&&c| !blank(c))
+            .collect();
+        error = Some((
+            Loc::new(no, col),
+            format!(
+                "`{token}` does not fit the fixed-format field of columns {}-{} (a shifted column?): integers take {} columns, reals {} (a line with a comma is read in free format)",
+                p + 1,
+                (p + w.int).min(n),
+                w.int,
+                w.real,
+            ),
+        ));
+        fields.push(Field { text: token, col });
+        break;
+    }
+    Cut {
+        fields,
+        lead_words,
+        error,
+    }
+}
+
+/// The fields of a line split at commas and blanks (free format), whatever the line's
+/// format: lists are read this way in every format, as Marc does.
+pub(crate) fn free_fields(raw: &str) -> Vec<Field> {
+    split_fields(raw)
 }
 
 fn split_fields(raw: &str) -> Vec<Field> {
@@ -256,6 +464,8 @@ pub(crate) enum ListItem {
         by: u32,
     },
     Set(String),
+    /// Every node or element (Mentat's blank element list of a material).
+    All,
 }
 
 /// The items of one list line with their locations, and whether it ends with `C`.
@@ -483,10 +693,87 @@ mod tests {
             ("1 C 2", 3),
             ("1 #x", 3),
         ] {
-            let lines = lex(text).unwrap();
-            let (loc, _, _) = parse_list_fields(&lines[0]).unwrap_err();
+            let line = split_line(1, text, None);
+            let (loc, _, _) = parse_list_fields(&line).unwrap_err();
             assert_eq!(loc.col, col, "{text}");
         }
+    }
+
+    fn ext(raw: &str) -> Line {
+        split_line(7, raw, Some(EXTENDED))
+    }
+
+    #[test]
+    fn extended_fields_are_cut_by_column() {
+        // A negative real touching the integer before it, a bare exponent.
+        let l = ext(&format!(
+            "{:>10}{:>20}{:>20}",
+            0, "-2.5+0", "4.000000000000000+1"
+        ));
+        assert_eq!(texts(&l), ["0", "-2.5+0", "4.000000000000000+1"]);
+        assert_eq!(l.fields[1].col, 25);
+        assert_eq!(parse_real(&l.fields[2].text), Ok(40.0));
+        // A name touching the last integer; a blank integer field.
+        let l = ext(&format!("{:>10}{:>10}{:>10}Support", 1, "", 5));
+        assert_eq!(texts(&l), ["1", "", "5", "Support"]);
+        assert_eq!(l.fields[3].col, 31);
+        // A keyword with its words, a qualifier word, integer parameters.
+        let l = ext("isotropic           structural");
+        assert_eq!(texts(&l), ["isotropic", "structural"]);
+        assert_eq!(l.lead_words, 1);
+        let l = ext(&format!("{:<20}{:>10}{:>10}", "large stra", 4, 213));
+        assert_eq!(texts(&l), ["large", "stra", "4", "213"]);
+        assert_eq!(l.lead_words, 2);
+        // A line longer than 80 columns.
+        let long: String = (0..9)
+            .map(|i| format!("{:>20}", format!("{i}.5")))
+            .collect();
+        assert_eq!(ext(&long).fields.len(), 9);
+        assert!(ext(&long).cut_error.is_none());
+    }
+
+    #[test]
+    fn normal_fixed_fields_are_5_and_10_columns() {
+        let l = split_line(1, "elements     27", Some(NORMAL));
+        assert_eq!(texts(&l), ["elements", "27"]);
+        let l = split_line(1, "    1   27    1   48", Some(NORMAL));
+        assert_eq!(texts(&l), ["1", "27", "1", "48"]);
+        let l = split_line(
+            1,
+            &format!("{:>5}{:>10}{:>10}", 12, "1.5-3", "-2.0"),
+            Some(NORMAL),
+        );
+        assert_eq!(texts(&l), ["12", "1.5-3", "-2.0"]);
+    }
+
+    #[test]
+    fn a_shifted_column_is_an_error_naming_its_column() {
+        let l = ext(&format!("{:>10}{:<10}", 1, "2"));
+        let (loc, msg) = l.cut_error.unwrap();
+        assert_eq!(loc, Loc::new(7, 10));
+        assert!(msg.contains("columns 1-10"), "{msg}");
+        // Every field one column to the right.
+        let l = ext(&format!(" {:>10}{:>20}", 1, "0.000000000000000+0"));
+        let (loc, msg) = l.cut_error.unwrap();
+        assert_eq!(loc, Loc::new(7, 11), "{msg}");
+        // Left-aligned in its field is what Fortran reads too.
+        let l = ext(&format!("{:<10}{:>10}", 3, 4));
+        assert_eq!(texts(&l), ["3", "4"]);
+    }
+
+    #[test]
+    fn decks_choose_their_format_line_by_line() {
+        let lines =
+            lex("title   t\nextended\nsizing                                 0        10\n1, 2\n")
+                .unwrap();
+        assert_eq!(lines[0].fixed, None);
+        assert_eq!(lines[2].fixed, Some(EXTENDED));
+        assert_eq!(texts(&lines[2]), ["sizing", "", "0", "10"]);
+        assert_eq!(lines[3].fixed, None);
+        let lines = lex("elements     27\n").unwrap();
+        assert_eq!(lines[0].fixed, Some(NORMAL));
+        let lines = lex("ELEMENTS, 98\n1 2\n").unwrap();
+        assert_eq!(lines[1].fixed, None);
     }
 
     #[test]

@@ -27,6 +27,7 @@ mod build;
 mod error;
 pub mod keywords;
 mod lexer;
+mod mentat;
 mod raw;
 mod reader;
 mod writer;
@@ -39,15 +40,42 @@ use std::path::Path;
 
 /// Reads a deck from text; `file` names it in error messages.
 pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
+    read_str_noting(text, file).map(|(m, _)| m)
+}
+
+/// A card that was read and changes nothing coil computes (Marc's `PROCESSOR`,
+/// `OPTIMIZE`, `POST`, ...): its keyword and the line of its first appearance. A run
+/// lists these once in its log.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NotNeeded {
+    pub card: String,
+    pub line: usize,
+}
+
+/// [`read_str`], also returning the cards read and not needed.
+pub fn read_str_noting(text: &str, file: &str) -> Result<(Model, Vec<NotNeeded>), DeckError> {
     let lines = lexer::lex(text)
         .map_err(|e| DeckError::new(file, e.loc, None, e.message, "a text deck"))?;
     let raw = reader::read_cards(&lines, file, DeckSection::Parameters, true)?;
-    build::build(raw, file)
+    let notes = raw
+        .not_needed
+        .iter()
+        .map(|(card, loc)| NotNeeded {
+            card: card.clone(),
+            line: loc.line,
+        })
+        .collect();
+    Ok((build::build(raw, file)?, notes))
 }
 
 /// Reads a deck file. A file that cannot be read, or is not UTF-8 text, is a
 /// [`DeckError`] too (naming the line and column of the first bad byte).
 pub fn read_file(path: &Path) -> Result<Model, DeckError> {
+    read_file_noting(path).map(|(m, _)| m)
+}
+
+/// [`read_file`], also returning the cards read and not needed.
+pub fn read_file_noting(path: &Path) -> Result<(Model, Vec<NotNeeded>), DeckError> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
         DeckError::file_level(
@@ -57,7 +85,7 @@ pub fn read_file(path: &Path) -> Result<Model, DeckError> {
         )
     })?;
     match String::from_utf8(bytes) {
-        Ok(text) => read_str(&text, &name),
+        Ok(text) => read_str_noting(&text, &name),
         Err(e) => {
             let bytes = e.as_bytes();
             let valid = e.utf8_error().valid_up_to();
@@ -80,4 +108,10 @@ pub fn read_file(path: &Path) -> Result<Model, DeckError> {
 /// few things a hand-built model could hold that a deck cannot).
 pub fn write(model: &Model) -> String {
     writer::write(model)
+}
+
+/// Writes a model in Marc's extended fixed format, the format Mentat writes (see
+/// [`writer::write_mentat`]); it reads back to an equal model too.
+pub fn write_mentat(model: &Model) -> String {
+    writer::write_mentat(model)
 }

@@ -199,6 +199,8 @@ pub(crate) struct RawLoadCase {
     pub modal: Option<(u32, Loc)>,
     pub dynamic: Option<(f64, f64, TransientMethod, Loc)>,
     pub point_loads: Vec<RawPointLoad>,
+    /// Mentat's `LOADCASE` in this load case: the names of its active blocks.
+    pub active: Option<Vec<(String, Loc)>>,
     /// The `CONTINUE` line.
     pub end: Option<Loc>,
 }
@@ -228,7 +230,39 @@ pub(crate) struct RawDeck {
     pub load_cases: Vec<RawLoadCase>,
     /// The load case being read (history cards seen, `CONTINUE` not yet).
     pub open_case: Option<RawLoadCase>,
+    /// Cards read that change nothing coil computes: name and first line.
+    pub not_needed: Vec<(String, Loc)>,
+    /// Marc's input version (`VERSION`).
+    pub version: Option<u64>,
+    /// `BEAM SECT` sections, numbered from 1.
+    pub beam_sections: Vec<RawBeamSection>,
+    /// Mentat's named blocks (name, line, true for a FIXED DISP block).
+    pub named: Vec<(String, Loc, bool)>,
+    /// Mentat's named point loads, active where a `LOADCASE` lists them.
+    pub named_loads: Vec<(String, RawPointLoad)>,
+    /// Mentat's named distributed loads on beams.
+    pub dist_loads: Vec<RawDistLoad>,
+    /// The model definition's `LOADCASE` (Marc's increment 0).
+    pub model_loadcase: Option<Vec<(String, Loc)>>,
     /// Where `END` and `END OPTION` were.
     pub end: Option<Loc>,
     pub end_option: Option<Loc>,
+}
+
+/// A `BEAM SECT` section.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawBeamSection {
+    pub id: u32,
+    pub name: String,
+    pub loc: Loc,
+    pub section: Section,
+}
+
+/// A uniform load per unit length (global components, N/mm) on beam elements.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawDistLoad {
+    pub name: String,
+    pub loc: Loc,
+    pub q: [f64; 3],
+    pub elements: RawList,
 }

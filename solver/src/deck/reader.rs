@@ -133,6 +133,16 @@ impl<'c, 'a> CardCtx<'c, 'a> {
     /// without fields). The end of the file or a keyword line is an error: the card
     /// is incomplete.
     pub fn data_line(&mut self, what: &str) -> Result<&'a Line, DeckError> {
+        let line = self.any_data_line(what)?;
+        if let Some((loc, msg)) = &line.cut_error {
+            return Err(self.err(*loc, msg.clone(), what));
+        }
+        Ok(line)
+    }
+
+    /// [`Self::data_line`] for a line read in free format whatever its format (a
+    /// list), so a fixed-format cutting problem does not matter.
+    fn any_data_line(&mut self, what: &str) -> Result<&'a Line, DeckError> {
         match self.cur.peek_data() {
             None => Err(self.err(
                 self.cur.eof_loc(),
@@ -164,6 +174,11 @@ impl<'c, 'a> CardCtx<'c, 'a> {
     /// end of the file ends the card (the section reader reports the latter two).
     pub fn more_data(&mut self) -> bool {
         match self.cur.peek_significant() {
+            Some(l) if l.fixed.is_some() => l
+                .raw
+                .split_whitespace()
+                .next()
+                .is_some_and(lexer::looks_numeric),
             Some(l) => l
                 .fields
                 .first()
@@ -175,20 +190,37 @@ impl<'c, 'a> CardCtx<'c, 'a> {
     /// Reads a list (one line, continued on the next while a line ends with `C`).
     /// A blank line is an empty list.
     pub fn list(&mut self, what: &str) -> Result<RawList, DeckError> {
-        let first = self.data_line(what)?;
+        let first = self.any_data_line(what)?;
         let mut list = RawList {
             items: Vec::new(),
             loc: first.start_loc(),
         };
         let mut line = first;
         loop {
-            let (items, continued) = lexer::parse_list_fields(line)
+            // Marc reads lists in free format in every format.
+            let free;
+            let read = if line.fixed.is_some() {
+                free = Line {
+                    fields: lexer::free_fields(&line.raw),
+                    fixed: None,
+                    lead_words: 0,
+                    cut_error: None,
+                    ..line.clone()
+                };
+                &free
+            } else {
+                line
+            };
+            if list.items.is_empty() {
+                list.loc = read.start_loc();
+            }
+            let (items, continued) = lexer::parse_list_fields(read)
                 .map_err(|(loc, msg, exp)| self.err(loc, msg, exp))?;
             list.items.extend(items);
             if !continued {
                 return Ok(list);
             }
-            line = self.data_line(&format!(
+            line = self.any_data_line(&format!(
                 "the continuation of the list ended with C on line {}",
                 line.no
             ))?;

@@ -469,3 +469,75 @@ impl Writer<'_> {
         }
     }
 }
+
+/// Writes a model in Marc's extended fixed format (parameter `EXTENDED`), the format
+/// Mentat writes: keyword lines as a 20-column keyword then 10-column integers or
+/// 20-column words, data lines of numbers as 10-column integers and 20-column reals
+/// (Rust's shortest round-trip form, right-aligned, so the deck reads back to an
+/// equal model). Lines that hold words (names, methods) or a real longer than 19
+/// characters stay in free format with commas, which Marc reads line by line too;
+/// lists are free format in every Marc format. Cards are the ones [`write`] emits, so
+/// the round trip is the same.
+pub fn write_mentat(model: &Model) -> String {
+    let free = write(model);
+    let mut out = String::new();
+    let mut extended = false;
+    for line in free.lines() {
+        let line = &line.replace(
+            "in MSC Marc's free format",
+            "in MSC Marc's extended fixed format (as Mentat writes)",
+        );
+        let fixed = to_fixed(line);
+        out.push_str(fixed.as_deref().unwrap_or(line));
+        out.push('\n');
+        if !extended && !line.trim_start().starts_with('$') {
+            // EXTENDED right after the first card (TITLE), as Mentat writes it.
+            out.push_str(
+                "$ Marc's extended fixed format: integers in 10 columns, reals and words in 20\n",
+            );
+            out.push_str("EXTENDED\n");
+            extended = true;
+        }
+    }
+    out
+}
+
+/// A free-format line of [`write`] in extended fixed columns, if it can be.
+fn to_fixed(line: &str) -> Option<String> {
+    if line.trim_start().starts_with('$') || !line.contains(',') {
+        return None;
+    }
+    let parts: Vec<&str> = line.split(',').map(str::trim).collect();
+    let int = |s: &str| !s.is_empty() && s.chars().all(|c| c.is_ascii_digit());
+    let real = |s: &str| s.parse::<f64>().is_ok() && s.len() <= 19;
+    let first = parts[0];
+    let mut out = String::new();
+    let rest = if first.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        // A keyword line: the keyword, then integers or words (TITLE keeps its text).
+        if first.eq_ignore_ascii_case("TITLE") || first.len() > 20 {
+            return None;
+        }
+        let _ = write!(out, "{first:<20}");
+        &parts[1..]
+    } else {
+        &parts[..]
+    };
+    for (k, p) in rest.iter().enumerate() {
+        // SIZING's first field (memory) is two integer fields wide.
+        if k == 0 && first.eq_ignore_ascii_case("SIZING") && int(p) {
+            let _ = write!(out, "{p:>20}");
+        } else if int(p) {
+            let _ = write!(out, "{p:>10}");
+        } else if p.parse::<f64>().is_ok() {
+            if !real(p) {
+                return None;
+            }
+            let _ = write!(out, "{p:>20}");
+        } else if crate::deck::lexer::is_name(p) && !first.starts_with(char::is_numeric) {
+            let _ = write!(out, "{p:<20}");
+        } else {
+            return None;
+        }
+    }
+    Some(out.trim_end().to_string())
+}

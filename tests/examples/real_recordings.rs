@@ -84,20 +84,12 @@ fn main() {
             println!("  -- {} (named: {})", c.effect, c.significant);
             match &c.tests {
                 Some(t) => {
-                    for (test, v) in [
-                        ("significance", Some(&t.significance)),
-                        ("forecasts", Some(&t.forecasts)),
-                        ("identified", Some(&t.identified)),
-                        ("signature", Some(&t.signature)),
-                        ("every part needed", t.every_part_needed.as_ref()),
-                    ] {
-                        if let Some(v) = v {
-                            println!(
-                                "     {test}: {} — {}",
-                                if v.passed { "held" } else { "FAILED" },
-                                v.text
-                            );
-                        }
+                    for (test, v) in t.each() {
+                        println!(
+                            "     {test}: {} — {}",
+                            if v.passed { "held" } else { "FAILED" },
+                            v.text
+                        );
                     }
                 }
                 None => println!(

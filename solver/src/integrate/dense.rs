@@ -994,8 +994,9 @@ mod tests {
         let zero = DMatrix::from_element(1, 1, 0.0);
         assert!(DenseStepper::new(&one, &zero, &one, 0.0, &[]).is_err());
         assert!(DenseStepper::new(&zero, &zero, &zero, 0.1, &[]).is_err());
+        // A negative dashpot (a softening cubic, k3 < 0, is a valid law).
         let law = PointLaw {
-            cubic: -1.0,
+            quadratic: -1.0,
             ..Default::default()
         };
         assert!(DenseStepper::new(&one, &zero, &one, 0.1, &[(0, law)]).is_err());

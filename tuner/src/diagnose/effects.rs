@@ -21,7 +21,7 @@
 //!   the two lines give the weight's mass and rotary inertia through
 //!   `w1^2 + w2^2 = kz/m + kt/J` and `w1^2 w2^2 = (kz kt - c^2)/(m J)`.
 
-use super::evidence::Signatures;
+use super::evidence::{robust_backbone, robust_loss, Signatures};
 use coil_solver::integrate::PointLaw;
 use coil_solver::model::units;
 
@@ -148,7 +148,10 @@ impl Effect for CoulombFriction {
     }
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A constant term in the loss per cycle, or the static record's hysteresis.
-        let loss = s.loss.map_or(f64::NAN, |l| l.a0_m / l.a0_se);
+        let loss = s
+            .loss
+            .map_or(f64::NAN, |l| l.a0_m / l.a0_se)
+            .max(robust_z(s, 0));
         let hysteresis = s
             .statics
             .map_or(f64::NAN, |st| st.friction_n / st.friction_se);
@@ -222,7 +225,10 @@ impl Effect for QuadraticDamping {
     }
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A loss per cycle growing as A^2.
-        let z = s.loss.map_or(f64::NAN, |l| l.a2_per_m / l.a2_se);
+        let z = s
+            .loss
+            .map_or(f64::NAN, |l| l.a2_per_m / l.a2_se)
+            .max(robust_z(s, 2));
         check(
             if z.is_nan() { 0.0 } else { z },
             SIGNATURE_Z,
@@ -280,9 +286,14 @@ impl Effect for CubicStiffness {
         // fitted k3's sign.
         let kt = b.stiffness_n_m + 3.0 * value * b.preload_m * b.preload_m;
         let predicted = 3.0 * value / (4.0 * kt) - 7.5 * (value * b.preload_m / kt).powi(2);
+        // The larger of the two estimates (the post-processor's and the per-cycle
+        // refit without outlying cycles), in the direction the fitted k3 predicts.
+        let sign = predicted.signum();
+        let robust = robust_backbone(&s.per_cycle).map_or(f64::NAN, |(b, se)| b / se * sign);
         let backbone = s
             .backbone
-            .map_or(f64::NAN, |bb| bb.b_per_m2 / bb.b_se * predicted.signum());
+            .map_or(f64::NAN, |bb| bb.b_per_m2 / bb.b_se * sign)
+            .max(robust);
         let statics = s
             .statics
             .map_or(f64::NAN, |st| st.k3_n_m3 / st.k3_se * value.signum());
@@ -448,6 +459,12 @@ impl Effect for AxialTorsionalCoupling {
             z_score: p.z_score,
         }
     }
+}
+
+/// The z-score of loss term `term` (0: a0, 1: a1, 2: a2) of the per-cycle loss refitted
+/// without outlying cycles (`evidence::robust_loss`); NaN when it cannot be formed.
+fn robust_z(s: &Signatures, term: usize) -> f64 {
+    robust_loss(&s.per_cycle).map_or(f64::NAN, |(c, se)| c[term] / se[term])
 }
 
 fn show_z(z: f64) -> String {

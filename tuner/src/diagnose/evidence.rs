@@ -84,3 +84,119 @@ pub struct Signatures {
     #[serde(skip)]
     pub per_cycle: Vec<CycleSummary>,
 }
+
+/// A linear least-squares fit `y = X c` with outlying rows removed: rows whose residual
+/// exceeds [`CLIP_SIGMAS`] robust standard deviations (1.4826 times the median
+/// absolute residual) are dropped and the fit repeated, twice. Returns the coefficients
+/// and their standard errors (`s^2 (X^T X)^-1`), or `None` when fewer than three rows
+/// per coefficient remain or `X^T X` is singular.
+///
+/// Why: per-cycle frequencies and amplitudes inherit every glitch of the record (a
+/// position sensor's single-sample spikes, spread over a few cycles by the band-pass),
+/// and one such cycle can hide a backbone slope or a loss term that every other cycle
+/// shows.
+pub fn robust_fit(rows: &[(Vec<f64>, f64)]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let p = rows.first()?.0.len();
+    let mut keep: Vec<bool> = vec![true; rows.len()];
+    let mut out = None;
+    for round in 0..3 {
+        let used: Vec<&(Vec<f64>, f64)> = rows
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(r, _)| r)
+            .collect();
+        if used.len() < 3 * p {
+            return out;
+        }
+        let x = nalgebra::DMatrix::from_fn(used.len(), p, |i, j| used[i].0[j]);
+        let y = nalgebra::DVector::from_iterator(used.len(), used.iter().map(|r| r.1));
+        let xtx = x.transpose() * &x;
+        let inv = xtx.try_inverse()?;
+        let c = &inv * x.transpose() * &y;
+        let resid = &y - &x * &c;
+        let s2 = resid.norm_squared() / (used.len() - p) as f64;
+        let se: Vec<f64> = (0..p).map(|j| (s2 * inv[(j, j)]).max(0.0).sqrt()).collect();
+        out = Some((c.iter().copied().collect(), se));
+        if round == 2 {
+            break;
+        }
+        let mut all: Vec<f64> = rows
+            .iter()
+            .map(|(xr, yr)| (yr - xr.iter().zip(c.iter()).map(|(a, b)| a * b).sum::<f64>()).abs())
+            .collect();
+        let mut sorted: Vec<f64> = all
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(r, _)| *r)
+            .collect();
+        sorted.sort_by(f64::total_cmp);
+        let sigma = 1.4826 * sorted[sorted.len() / 2];
+        if sigma <= 0.0 {
+            break;
+        }
+        for (k, r) in keep.iter_mut().zip(all.drain(..)) {
+            *k = r <= CLIP_SIGMAS * sigma;
+        }
+    }
+    out
+}
+
+/// Robust standard deviations beyond which a row of [`robust_fit`] is an outlier.
+pub const CLIP_SIGMAS: f64 = 3.5;
+
+/// The backbone `f^2 = f0^2 + f0^2 b A^2` refitted over the cycles with outliers
+/// removed ([`robust_fit`]): `(b, se(b))` in 1/m^2.
+pub fn robust_backbone(cycles: &[CycleSummary]) -> Option<(f64, f64)> {
+    let rows: Vec<(Vec<f64>, f64)> = cycles
+        .iter()
+        .map(|c| {
+            (
+                vec![1.0, c.amplitude_m * c.amplitude_m],
+                c.frequency_hz.powi(2),
+            )
+        })
+        .collect();
+    let (c, se) = robust_fit(&rows)?;
+    (c[0] > 0.0).then(|| (c[1] / c[0], se[1] / c[0]))
+}
+
+/// The loss per cycle `dA = a0 + a1 A + a2 A^2` refitted over successive cycles with
+/// outliers removed ([`robust_fit`]; `A` the pair's mean amplitude): the coefficients
+/// `[a0 (m), a1, a2 (1/m)]` and their standard errors.
+pub fn robust_loss(cycles: &[CycleSummary]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let rows: Vec<(Vec<f64>, f64)> = cycles
+        .windows(2)
+        .map(|w| {
+            let a = 0.5 * (w[0].amplitude_m + w[1].amplitude_m);
+            (vec![1.0, a, a * a], w[0].amplitude_m - w[1].amplitude_m)
+        })
+        .collect();
+    robust_fit(&rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_outlying_cycle_does_not_hide_the_backbone() {
+        // f^2 = 4 (1 - 2 A^2) with a small deterministic scatter, and one glitch.
+        let mut cycles: Vec<CycleSummary> = (0..60)
+            .map(|i| {
+                let a = 0.05 * (1.0 - i as f64 / 80.0);
+                let wiggle = 1e-4 * ((i * 7919 % 13) as f64 - 6.0);
+                CycleSummary {
+                    time_s: i as f64,
+                    amplitude_m: a,
+                    frequency_hz: (4.0 * (1.0 - 2.0 * a * a)).sqrt() + wiggle,
+                }
+            })
+            .collect();
+        cycles[5].frequency_hz += 0.05;
+        let (b, se) = robust_backbone(&cycles).unwrap();
+        assert!((b + 2.0).abs() < 0.1, "{b}");
+        assert!(b.abs() / se > 10.0, "{b} {se}");
+    }
+}

@@ -624,20 +624,12 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         m.push_str(&format!("- **{}** — evidence: {}\n", c.effect, c.evidence));
         match &c.tests {
             Some(t) => {
-                for (name, test) in [
-                    ("significance", Some(&t.significance)),
-                    ("forecasts", Some(&t.forecasts)),
-                    ("identified", Some(&t.identified)),
-                    ("signature", Some(&t.signature)),
-                    ("every part needed", t.every_part_needed.as_ref()),
-                ] {
-                    if let Some(test) = test {
-                        m.push_str(&format!(
-                            "  - {name}: {} — {}\n",
-                            if test.passed { "held" } else { "FAILED" },
-                            test.text
-                        ));
-                    }
+                for (name, test) in t.each() {
+                    m.push_str(&format!(
+                        "  - {name}: {} — {}\n",
+                        if test.passed { "held" } else { "FAILED" },
+                        test.text
+                    ));
                 }
             }
             None => m.push_str(&format!(

@@ -96,21 +96,27 @@ impl Tests {
             && self.every_part_needed.as_ref().is_none_or(|t| t.passed)
     }
 
-    /// The names of the tests that failed.
-    pub fn failed(&self) -> Vec<&'static str> {
-        let mut out = Vec::new();
-        for (name, t) in [
-            ("significance", Some(&self.significance)),
-            ("forecasts", Some(&self.forecasts)),
-            ("identified", Some(&self.identified)),
-            ("signature", Some(&self.signature)),
-            ("every_part_needed", self.every_part_needed.as_ref()),
-        ] {
-            if t.is_some_and(|t| !t.passed) {
-                out.push(name);
-            }
+    /// Every test held or failed, by name, in report order.
+    pub fn each(&self) -> Vec<(&'static str, &Test)> {
+        let mut out = vec![
+            ("significance", &self.significance),
+            ("forecasts", &self.forecasts),
+            ("identified", &self.identified),
+            ("signature", &self.signature),
+        ];
+        if let Some(t) = &self.every_part_needed {
+            out.push(("every part needed", t));
         }
         out
+    }
+
+    /// The names of the tests that failed.
+    pub fn failed(&self) -> Vec<&'static str> {
+        self.each()
+            .into_iter()
+            .filter(|(_, t)| !t.passed)
+            .map(|(name, _)| name)
+            .collect()
     }
 }
 

@@ -365,7 +365,13 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             if let Some(shard) = shard {
                 let study = crate::study::Study::Tolerance(tolerance_study(
-                    &case, &variants, &tolerance, &material, &model, None, Some(shard),
+                    &case,
+                    &variants,
+                    &tolerance,
+                    &material,
+                    &model,
+                    None,
+                    Some(shard),
                 )?);
                 let clock = std::time::Instant::now();
                 let path = crate::study::run_shard(&study, shard, &out)?;
@@ -380,7 +386,13 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             let out = OutDir::create(out)?;
             let study = crate::study::Study::Tolerance(tolerance_study(
-                &case, &variants, &tolerance, &material, &model, Some(&out), None,
+                &case,
+                &variants,
+                &tolerance,
+                &material,
+                &model,
+                Some(&out),
+                None,
             )?);
             let clock = std::time::Instant::now();
             let rows = study.run_all()?;

@@ -383,8 +383,9 @@ fn diagnose(
         settings.fe.elements_per_coil = elements_per_coil;
         settings.modes = modes;
         settings.plots = plots;
+        let dir = OutDir::create(&out).map_err(fail)?;
         let outcome = coil_tuner::diagnose::diagnose(&case, &settings).map_err(fail)?;
-        coil_tuner::diagnose::write(&outcome, &out, &settings).map_err(fail)?;
+        coil_tuner::diagnose::write(&outcome, &dir, &settings).map_err(fail)?;
         let path = out.join("diagnosis.json");
         std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
     })

@@ -481,10 +481,12 @@ pub fn run(cli: Cli) -> Result<()> {
             settings.modes = usize::from(modes);
             settings.plots = !no_plots;
             settings.progress = !quiet;
+            // The folder is held for the whole run, not only while writing (one run per folder).
+            let out = OutDir::create(out)?;
             let outcome = crate::diagnose::diagnose(&case, &settings)?;
             crate::diagnose::write(&outcome, &out, &settings)?;
             text(&crate::diagnose::summary(&outcome))?;
-            say!("report in {}", out.join("report.md").display())?;
+            say!("report in {}", out.path("report.md").display())?;
             Ok(())
         }
         Command::Paper {

@@ -739,9 +739,13 @@ impl Job<'_> {
     }
 }
 
-/// Writes the outcome into `out`: figures, tables, report.md and, last,
-/// diagnosis.json; each through a temporary file.
-pub fn write(outcome: &Outcome, out: &Path, settings: &DiagnoseSettings) -> Result<()> {
+/// Writes the outcome into `out` (locked by the caller for the whole run): figures,
+/// tables, report.md and diagnosis.json, committed as one set.
+pub fn write(
+    outcome: &Outcome,
+    out: &crate::output::OutDir,
+    settings: &DiagnoseSettings,
+) -> Result<()> {
     report::write(outcome, out, settings.plots)
 }
 

@@ -939,8 +939,7 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
 
 /// Writes the outcome into `out` (created): figures and tables first, report.md, then
 /// diagnosis.json, each via a temporary file.
-pub fn write(o: &Outcome, out: &Path, plots_too: bool) -> Result<()> {
-    let dir = OutDir::create(out)?;
+pub fn write(o: &Outcome, dir: &OutDir, plots_too: bool) -> Result<()> {
     let figs = if plots_too {
         figures(o, &dir.staging_folder()?)?
     } else {

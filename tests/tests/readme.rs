@@ -113,6 +113,9 @@ fn step(command: &str, bins: &Path, b: &str) -> Step {
             }
         }
         Some("cargo") => Step::Skip,
+        // The Python quickstart (`pip install ./python`, `python -c ...`) needs a venv and a
+        // maturin build: .ci/run's Python stage runs both commands as written.
+        Some("pip" | "python") => Step::Skip,
         Some("mkdir") => Step::Mkdir(words[1..].iter().filter(|w| *w != "-p").cloned().collect()),
         Some(w) if w.starts_with("B=") => Step::SetB(w[2..].to_string()),
         Some(program) if program.starts_with(b) && !b.is_empty() => {

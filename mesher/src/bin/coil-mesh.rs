@@ -43,7 +43,7 @@ enum MethodArg {
     version,
     about,
     after_help = "Geometry refused (docs/files.md): fewer than 1 coil, a pitch at or below the wire \
-diameter (coils through each other), D/d outside [3, 25] (EN 13906-1 recommends 4 to 20). \
+diameter (coils through each other), D/d outside [3, 100] (EN 13906-1 recommends 4 to 20 for manufacture). \
 The deck is written as a regular file; an existing symlink, device or FIFO at -o is refused."
 )]
 struct Args {

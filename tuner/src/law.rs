@@ -776,29 +776,21 @@ fn predict_variants(
     for v in &variants.variants {
         let c = mode_coefficients(&state.with_spring(v.spring), fe, DecayMode::Axial)?;
         let mut by_law = BTreeMap::new();
+        // A law's zeta is linear in its parameters: the row of coefficients times them.
+        let zeta_of = |cand: &Candidate, row: &[f64]| -> f64 {
+            let names = cand.law.parameters();
+            row.iter()
+                .zip(names)
+                .map(|(a, n)| a * cand.parameters[*n])
+                .sum()
+        };
         for cand in candidates {
-            let row = c.row(cand.law);
-            let p: Vec<f64> = cand
-                .law
-                .parameters()
-                .iter()
-                .map(|n| cand.parameters[*n])
-                .collect();
-            by_law.insert(
-                cand.law.name().to_string(),
-                row.iter().zip(&p).map(|(a, b)| a * b).sum(),
-            );
+            by_law.insert(cand.law.name().to_string(), zeta_of(cand, &c.row(cand.law)));
         }
         let (zeta, se) = match chosen {
             Some(cand) => {
                 let row = c.row(cand.law);
-                let p: Vec<f64> = cand
-                    .law
-                    .parameters()
-                    .iter()
-                    .map(|n| cand.parameters[*n])
-                    .collect();
-                let z: f64 = row.iter().zip(&p).map(|(a, b)| a * b).sum();
+                let z = zeta_of(cand, &row);
                 let k = row.len();
                 let var: f64 = (0..k)
                     .flat_map(|i| (0..k).map(move |j| (i, j)))

@@ -23,7 +23,7 @@
 //! Matrices are stored as their upper triangle (faer `Side::Upper`); see
 //! [`crate::linalg::sym_upper_matvec`] for products.
 
-use crate::analysis::SolveError;
+use crate::error::SolveError;
 use crate::dof::DofMap;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 

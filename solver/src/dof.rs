@@ -27,19 +27,10 @@
 //! ties, and nodes that no element or tie touches (their free DOFs are mechanisms) are
 //! reported with the node and DOF.
 
-use crate::analysis::SolveError;
+pub use crate::error::{dof_name, DOF_NAMES};
+use crate::error::SolveError;
+use crate::linalg::FactorError;
 use crate::model::{Model, NodeId, DOFS_PER_NODE};
-
-/// Short names of DOFs 1..=6, used in messages and result files.
-pub const DOF_NAMES: [&str; 6] = ["ux", "uy", "uz", "rx", "ry", "rz"];
-
-/// Name of a DOF number 1..=6 (`"?"` outside, which validated models never contain).
-pub fn dof_name(dof: u8) -> &'static str {
-    match dof {
-        1..=6 => DOF_NAMES[dof as usize - 1],
-        _ => "?",
-    }
-}
 
 /// What a full DOF is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,6 +59,30 @@ pub struct DofMap {
 type Terms = Vec<(usize, f64)>;
 
 impl DofMap {
+    /// Maps a factorisation failure of a matrix on the free DOFs to a
+    /// [`SolveError::Mechanism`] at the DOF of the failing equation.
+    pub fn mechanism(&self, error: FactorError) -> SolveError {
+        match error {
+            FactorError::Singular {
+                equation,
+                pivot,
+                diagonal,
+            } => {
+                let (node, dof) = self.free_label(equation);
+                let detail = if pivot.is_nan() {
+                    "the stiffness matrix has a non-positive pivot there".to_string()
+                } else {
+                    format!(
+                        "the stiffness left at this DOF is {:.1e} of its own diagonal (pivot {pivot:.3e}, diagonal {diagonal:.3e})",
+                        pivot / diagonal
+                    )
+                };
+                SolveError::Mechanism { node, dof, detail }
+            }
+            FactorError::Other(s) => SolveError::Linalg(s),
+        }
+    }
+
     /// Builds the map from the model's `FIXED DISP` and rigid ties.
     pub fn new(model: &Model) -> Result<Self, SolveError> {
         let n_full = model.dof_count();

@@ -36,7 +36,7 @@
 //! solve is no longer meaningful, so it is reported as a mechanism rather than
 //! returning displacements amplified by 1e11.
 
-use crate::analysis::SolveError;
+use crate::error::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::matrix_free::LinOp;

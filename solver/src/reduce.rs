@@ -54,7 +54,8 @@
 //! Cholesky and symmetric eigensolver serve the reduced checks). Units: solver units,
 //! mm, N, t, s (rad and N mm for rotations).
 
-use crate::analysis::{modal, SolveError, System};
+use crate::analysis::{modal, System};
+use crate::error::SolveError;
 use crate::dof::{dof_name, DofMap, DofStatus};
 use crate::linalg::sym_upper_matvec;
 use crate::model::{FixedDisp, Model, NodeId};

@@ -28,7 +28,8 @@
 //!
 //! Units: omega in rad/s, frequency in Hz, mass in t (kg only in result files).
 
-use super::{SolveError, System};
+use super::system::System;
+use crate::error::SolveError;
 use crate::linalg::{sym_upper_matvec, Cholesky, ShiftInvert};
 use crate::model::DOFS_PER_NODE;
 use faer::dyn_stack::{MemBuffer, MemStack};

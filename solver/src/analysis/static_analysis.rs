@@ -28,7 +28,8 @@
 //! velocity-squared dashpot exert no static force: a quasi-static friction path (the
 //! hysteresis of a slow load cycle) is not modelled in a static load case.
 
-use super::{SolveError, System};
+use super::system::System;
+use crate::error::SolveError;
 use crate::linalg::Cholesky;
 use crate::model::{LoadCase, Model, NodeId, DOFS_PER_NODE};
 

@@ -20,7 +20,7 @@
 use std::time::Instant;
 
 use coil_solver::analysis::System;
-use coil_solver::integrate::modal::{integrate_modal, ModalBasis, ModalState};
+use coil_solver::integrate::modal_superposition::{integrate_modal, ModalBasis, ModalState};
 use coil_solver::integrate::{Operators, Scheme, Stepper};
 use coil_solver::linalg::upper_to_full;
 use coil_solver::model::*;

@@ -8,7 +8,7 @@
 //!
 //! # Two ways to run the transient
 //! - [`Method::Modal`]: modal superposition on the lowest `modal_modes` modes of the
-//!   undamped model, each integrated exactly (`coil_solver::integrate::modal`, Nigam &
+//!   undamped model, each integrated exactly (`coil_solver::integrate::modal_superposition`, Nigam &
 //!   Jennings). The modes do not depend on alpha and beta, so one eigensolution serves a
 //!   whole grid ([`ModalDecay`]). Modal damping ratios are `zeta_i = phi_i^T C phi_i /
 //!   (2 w_i)` with `C = alpha M_wire + beta K` (mass-normalised shapes): `phi_i^T K phi_i =
@@ -27,7 +27,7 @@ use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{AnalysisKind, WEIGHT_NODE};
 use coil_postproc::decrement::{self, DecrementOptions, Lowpass};
 use coil_solver::analysis::{modal, System};
-use coil_solver::integrate::modal::{integrate_modal, ModalBasis, ModalState};
+use coil_solver::integrate::modal_superposition::{integrate_modal, ModalBasis, ModalState};
 use coil_solver::linalg::sym_upper_matvec;
 use coil_solver::model::units;
 use faer::Mat;

@@ -55,10 +55,10 @@
 //! The lowest `modes` modes from [`super::modal::solve`] on the stiffness factor the
 //! static and modal cases share; mass-normalised `Phi`, `Phi^T K Phi = Omega^2`. Each mode
 //! gets its exact Rayleigh modal damping `zeta_i = phi_i^T C phi_i / (2 w_i)` (the formula
-//! of [`crate::integrate::modal::modal_damping_ratios`], taken here from the diagonal of
+//! of [`crate::integrate::modal_superposition::modal_damping_ratios`], taken here from the diagonal of
 //! the modal damping matrix computed anyway for the coupling below) and is
 //! integrated exactly for a load linear between steps
-//! ([`crate::integrate::modal::integrate_modal`]); initial modal coordinates are
+//! ([`crate::integrate::modal_superposition::integrate_modal`]); initial modal coordinates are
 //! `Phi^T M u0` and `Phi^T M v0`; outputs are `T Phi q` at the requested DOFs. What the
 //! method leaves out is measured and reported in [`ModalSummary`]:
 //! - the off-diagonal modal damping `Phi^T C Phi` (Rayleigh per element set is not
@@ -86,9 +86,11 @@
 //! quasi-static velocity field).
 
 use super::modal;
-use super::{table_points, SolveError, StaticSolution, System};
+use super::static_analysis::StaticSolution;
+use super::system::{interpolate, table_points, System};
+use crate::error::SolveError;
 use crate::dof::{dof_name, DofStatus};
-use crate::integrate::modal::{integrate_modal, ModalBasis, ModalState};
+use crate::integrate::modal_superposition::{integrate_modal, ModalBasis, ModalState};
 use crate::integrate::{IntegrateError, Operators, Scheme, State, Stepper};
 use crate::linalg::{sym_upper_matvec, upper_to_full, Cholesky};
 use crate::model::{
@@ -98,6 +100,19 @@ use crate::model::{
 use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::fmt::Write as _;
+
+/// The deck's integrator as the operator-level scheme (the integrators do not see
+/// the model).
+impl From<Integrator> for Scheme {
+    fn from(integrator: Integrator) -> Self {
+        match integrator {
+            Integrator::AverageAcceleration => Scheme::AverageAcceleration,
+            Integrator::Hht { alpha } => Scheme::Hht { alpha },
+            Integrator::GeneralizedAlpha { rho_inf } => Scheme::GeneralizedAlpha { rho_inf },
+        }
+    }
+}
+
 
 /// Modes of a modal superposition when the command line asks for `modal` without a count
 /// and the deck's method is direct.
@@ -600,7 +615,7 @@ impl LoadPatterns {
     fn factors(&self, t: f64, out: &mut [f64]) {
         out[0] = 1.0;
         for (o, tabled) in out[1..].iter_mut().zip(&self.tabled) {
-            *o = super::interpolate(&tabled.points, t);
+            *o = interpolate(&tabled.points, t);
         }
     }
 
@@ -1316,7 +1331,7 @@ struct Coupling {
 /// `lambda = -zeta w +- i w sqrt(1 - zeta^2)` of `[[0, Omega], [-Omega, -c]]` (the state
 /// `(Omega q, q')`, which keeps every entry of the order of a frequency), each mode taking
 /// the eigenvalue nearest its decoupled one, `zeta = -Re lambda / |lambda|`.
-fn damping_coupling(system: &System, modes: &[super::Mode], omega: &[f64]) -> Coupling {
+fn damping_coupling(system: &System, modes: &[modal::Mode], omega: &[f64]) -> Coupling {
     let m = modes.len();
     let n = system.dim();
     let mut c_phi = vec![vec![0.0; n]; m];
@@ -1405,7 +1420,7 @@ fn damping_coupling(system: &System, modes: &[super::Mode], omega: &[f64]) -> Co
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_support::tied_frame;
+    use crate::analysis::test_support::tied_frame;
     use super::*;
     use crate::analysis::{run, CaseSolution};
     use crate::model::{Damping, OutputRequest, PointMass, Table};

@@ -7,7 +7,7 @@
 //!
 //! # One operator fewer per step
 //! The step solves `S a_{n+1} = f_{n+1-af} - M x - C y - K z` with (the predictor
-//! folded in, see `newmark`)
+//! folded in, see `stepper`)
 //! ```text
 //! x = am a_n,   y = v_n + (1-af) dt (1-gamma) a_n,
 //! z = u_n + (1-af) [dt v_n + dt^2 (1/2 - beta) a_n],   S = cm M + cc C + ck K.
@@ -59,12 +59,12 @@
 
 use super::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
 use super::error::IntegrateError;
-use super::newmark::Coefficients;
+use super::scheme::Coefficients;
 use super::operator::{MergedOperators, C, K, M};
 use super::profile::{
     choose_ordering, has_fma, scatter_lower, vectorized, Ordering, ProfileCholesky,
 };
-use super::State;
+use super::state::State;
 
 /// How an operator enters the step.
 #[derive(Debug, Clone)]
@@ -553,16 +553,11 @@ impl BandedEngine {
 
 /// `(cm, cc, ck)` of `S = cm M + cc C + ck K`, indexed by [`M`], [`C`], [`K`].
 fn effective(coefficients: &Coefficients, dt: f64) -> [f64; 3] {
-    let Coefficients {
-        alpha_m: am,
-        alpha_f: af,
-        beta,
-        gamma,
-    } = *coefficients;
+    let (cm, cc, ck) = coefficients.effective(dt);
     let mut s = [0.0; 3];
-    s[M] = 1.0 - am;
-    s[C] = (1.0 - af) * gamma * dt;
-    s[K] = (1.0 - af) * beta * dt * dt;
+    s[M] = cm;
+    s[C] = cc;
+    s[K] = ck;
     s
 }
 

@@ -48,15 +48,17 @@
 //! `1/2 u^T K u + sum_l k3_l u_l^4 / 4 - f^T u`, with step halving when the energy
 //! does not decrease.
 
-use super::{IntegrateError, PointLaw};
+use super::error::IntegrateError;
+use super::point::{self, PointLaw, MAX_SWEEPS};
+use super::scheme::{Coefficients, AVERAGE_ACCELERATION};
 use nalgebra::DMatrix;
 
-/// Newmark's beta of the average-acceleration scheme.
-pub const BETA: f64 = 0.25;
-/// Newmark's gamma of the average-acceleration scheme.
-pub const GAMMA: f64 = 0.5;
-
-use super::point::{self, MAX_SWEEPS};
+/// The dense stepper's scheme: Newmark average acceleration, from [`super::scheme`].
+const SCHEME: Coefficients = AVERAGE_ACCELERATION;
+/// Newmark's beta of the dense stepper's scheme.
+const BETA: f64 = SCHEME.beta;
+/// Newmark's gamma of the dense stepper's scheme.
+const GAMMA: f64 = SCHEME.gamma;
 
 /// Errors of the dense stepper.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -261,7 +263,8 @@ impl DenseStepper {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(IntegrateError::InvalidTimeStep { dt }.into());
         }
-        let S = m + c * (GAMMA * dt) + k * (BETA * dt * dt);
+        let (cm, cc, ck) = SCHEME.effective(dt);
+        let S = m * cm + c * cc + k * ck;
         let s_inv = spd_inverse("M + gamma dt C + beta dt^2 K", &S)?;
         let m_inv = spd_inverse("M", m)?;
         let mut kept: Vec<Law> = Vec::with_capacity(laws.len());

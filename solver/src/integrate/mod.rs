@@ -1,14 +1,25 @@
 //! Time integrators at the operator level: they see `M a + C v + K u = f(t)` as sparse
 //! matrices and a load callback, never the finite-element model.
 //!
-//! * [`newmark`]: direct implicit integration by the generalised-alpha family
-//!   ([`Scheme::AverageAcceleration`], the default; [`Scheme::Hht`];
+//! * [`stepper`]: the stepper core, direct implicit integration by the generalised-alpha
+//!   family ([`Scheme::AverageAcceleration`], the default; [`Scheme::Hht`];
 //!   [`Scheme::GeneralizedAlpha`]), one predictor-solve-corrector step, the effective
-//!   matrix factored once per `dt` with its ordering reused; banded operators (beam
-//!   models) run on a banded engine with one banded product per step.
-//! * [`modal`]: modal superposition, each mode integrated exactly (closed-form
-//!   state-transition matrix of the damped oscillator, exact for loads linear between
-//!   samples).
+//!   matrix factored once per `dt` with its ordering reused, on one of two engines:
+//!   `banded` (beam models: envelope Cholesky, one banded product per step, its
+//!   kernels in `profile` and `blocked`) or `sparse` (faer's sparse Cholesky, one fused
+//!   pass over the merged pattern of `operator`).
+//! * [`dense`]: the same average-acceleration step on small dense operators (reduced
+//!   models run thousands of times inside a fit).
+//! * [`scheme`]: the schemes and the one place their coefficients are derived;
+//!   [`state`]: the `(t, u, v, a)` a step carries; [`point`]: the nonlinear point laws
+//!   and the one end-of-step solve both steppers use.
+//! * [`modal_superposition`]: modal superposition, each mode integrated exactly
+//!   (closed-form state-transition matrix of the damped oscillator, exact for loads
+//!   linear between samples).
+//!
+//! Within the module the arrows point one way: `stepper -> {banded, sparse} ->
+//! {operator, factor, profile, blocked, scheme, state} -> error`; `dense -> {scheme,
+//! point}`; nothing imports `stepper` or this module's root.
 //!
 //! # Operators
 //! `M`, `C` (optional), `K` are square, symmetric (both triangles stored; checked to a
@@ -26,30 +37,22 @@ mod blocked;
 pub mod dense;
 pub mod error;
 mod factor;
-pub mod modal;
-pub mod newmark;
+pub mod modal_superposition;
 mod operator;
 pub mod point;
 mod profile;
+pub mod scheme;
 mod sparse;
+pub mod state;
+pub mod stepper;
 
 #[cfg(test)]
 mod tests;
 
-use faer::sparse::SparseColMatRef;
-
 pub use dense::{DenseError, DenseStepper};
 pub use error::IntegrateError;
-pub use newmark::{integrate, Coefficients, Scheme, State, Stepper};
+pub use operator::Operators;
 pub use point::{PointLaw, PointSolve};
-
-/// The structural operators of `M a + C v + K u = f(t)`.
-#[derive(Debug, Clone, Copy)]
-pub struct Operators<'a> {
-    /// Mass matrix: symmetric positive semi-definite; zero columns mark massless DOFs.
-    pub m: SparseColMatRef<'a, usize, f64>,
-    /// Viscous damping matrix (symmetric positive semi-definite), or `None` for none.
-    pub c: Option<SparseColMatRef<'a, usize, f64>>,
-    /// Stiffness matrix: symmetric positive semi-definite.
-    pub k: SparseColMatRef<'a, usize, f64>,
-}
+pub use scheme::{Coefficients, Scheme};
+pub use state::State;
+pub use stepper::{integrate, Stepper};

@@ -14,7 +14,17 @@
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 use super::error::IntegrateError;
-use super::Operators;
+
+/// The structural operators of `M a + C v + K u = f(t)`.
+#[derive(Debug, Clone, Copy)]
+pub struct Operators<'a> {
+    /// Mass matrix: symmetric positive semi-definite; zero columns mark massless DOFs.
+    pub m: SparseColMatRef<'a, usize, f64>,
+    /// Viscous damping matrix (symmetric positive semi-definite), or `None` for none.
+    pub c: Option<SparseColMatRef<'a, usize, f64>>,
+    /// Stiffness matrix: symmetric positive semi-definite.
+    pub k: SparseColMatRef<'a, usize, f64>,
+}
 
 /// Index of each operator in the interleaved value triple.
 pub(crate) const M: usize = 0;

@@ -37,7 +37,7 @@
 //!
 //! Sources: J. C. Simo & T. J. R. Hughes, *Computational Inelasticity*, Springer 1998,
 //! ch. 1 (return mapping for one-dimensional friction); the Newmark update as in
-//! [`super::newmark`].
+//! [`super::stepper`].
 
 /// A nonlinear restoring force at one DOF: `k3 u^3 + c2 v|v| + F sgn(v)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

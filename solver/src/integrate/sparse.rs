@@ -2,14 +2,14 @@
 //! factored by faer (AMD ordering, simplicial, see `factor`), the right-hand side one
 //! fused symmetric pass `M x + C y + K z` over the merged lower pattern (`operator`).
 //! Used when the pattern's envelope is too wide for the banded path (`banded`); the
-//! step is the unreduced predictor-solve-corrector of `newmark`'s module docs, in the
+//! step is the unreduced predictor-solve-corrector of `stepper`'s module docs, in the
 //! caller's numbering.
 
 use super::error::IntegrateError;
 use super::factor::SpdFactor;
-use super::newmark::Coefficients;
+use super::scheme::Coefficients;
 use super::operator::MergedOperators;
-use super::State;
+use super::state::State;
 
 #[derive(Debug)]
 pub(crate) struct SparseEngine {

@@ -5,7 +5,7 @@ use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 
-use super::modal::{
+use super::modal_superposition::{
     integrate_modal, modal_coordinates, modal_damping_ratios, project, rayleigh_damping_ratios,
     ModalBasis, ModalState,
 };
@@ -571,7 +571,7 @@ fn helix_like(nodes: usize, lumped: bool) -> Mck {
     (m, c, k)
 }
 
-/// The unreduced generalised-alpha step (newmark's module docs) on dense matrices
+/// The unreduced generalised-alpha step (stepper's module docs) on dense matrices
 /// with a dense Cholesky: an independent reference for the stepper. Returns the
 /// states at steps 0..=n_steps.
 #[allow(clippy::too_many_arguments)]

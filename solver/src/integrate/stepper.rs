@@ -138,161 +138,17 @@
 use super::banded::BandedEngine;
 use super::error::IntegrateError;
 use super::factor::SpdFactor;
-use super::operator::MergedOperators;
+use super::operator::{MergedOperators, Operators};
 use super::point::{self, PointLaw};
+use super::scheme::{Coefficients, Scheme};
 use super::sparse::SparseEngine;
-use super::Operators;
+use super::state::State;
 
 /// Most Gauss-Seidel sweeps over several point laws in one step.
 pub const MAX_LAW_SWEEPS: usize = point::MAX_SWEEPS;
 
 /// Name of the effective matrix in error messages.
 const EFFECTIVE: &str = "effective matrix S = (1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K";
-
-/// A time integration scheme. [`Scheme::default`] is average acceleration.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum Scheme {
-    /// Newmark average acceleration: no numerical damping, period error `W^2/12`.
-    #[default]
-    AverageAcceleration,
-    /// Hilber-Hughes-Taylor with `alpha` in `[-1/3, 0]` (`0` is average acceleration).
-    Hht { alpha: f64 },
-    /// Chung-Hulbert generalised-alpha with spectral radius at infinity `rho_inf` in
-    /// `[0, 1]` (`1` is average acceleration).
-    GeneralizedAlpha { rho_inf: f64 },
-}
-
-impl From<crate::model::Integrator> for Scheme {
-    fn from(integrator: crate::model::Integrator) -> Self {
-        use crate::model::Integrator;
-        match integrator {
-            Integrator::AverageAcceleration => Scheme::AverageAcceleration,
-            Integrator::Hht { alpha } => Scheme::Hht { alpha },
-            Integrator::GeneralizedAlpha { rho_inf } => Scheme::GeneralizedAlpha { rho_inf },
-        }
-    }
-}
-
-impl Scheme {
-    /// The scheme's Newmark and alpha parameters, after checking its parameter range.
-    pub fn coefficients(self) -> Result<Coefficients, IntegrateError> {
-        match self {
-            Scheme::AverageAcceleration => Ok(Coefficients {
-                alpha_m: 0.0,
-                alpha_f: 0.0,
-                beta: 0.25,
-                gamma: 0.5,
-            }),
-            Scheme::Hht { alpha } => {
-                if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-                    return Err(IntegrateError::InvalidParameter {
-                        scheme: "HHT-alpha",
-                        name: "alpha",
-                        value: alpha,
-                        min: -1.0 / 3.0,
-                        max: 0.0,
-                    });
-                }
-                Ok(Coefficients {
-                    alpha_m: 0.0,
-                    alpha_f: -alpha,
-                    beta: 0.25 * (1.0 - alpha) * (1.0 - alpha),
-                    gamma: 0.5 - alpha,
-                })
-            }
-            Scheme::GeneralizedAlpha { rho_inf } => {
-                if !(0.0..=1.0).contains(&rho_inf) {
-                    return Err(IntegrateError::InvalidParameter {
-                        scheme: "generalised-alpha",
-                        name: "rho_inf",
-                        value: rho_inf,
-                        min: 0.0,
-                        max: 1.0,
-                    });
-                }
-                let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
-                let alpha_f = rho_inf / (rho_inf + 1.0);
-                let shift = 1.0 - alpha_m + alpha_f;
-                Ok(Coefficients {
-                    alpha_m,
-                    alpha_f,
-                    beta: 0.25 * shift * shift,
-                    gamma: 0.5 - alpha_m + alpha_f,
-                })
-            }
-        }
-    }
-
-    /// Spectral radius of the amplification matrix as `w dt -> inf`: the factor by
-    /// which a fully unresolved mode shrinks per step.
-    pub fn rho_infinity(self) -> f64 {
-        match self {
-            Scheme::AverageAcceleration => 1.0,
-            Scheme::Hht { alpha } => (1.0 + alpha) / (1.0 - alpha),
-            Scheme::GeneralizedAlpha { rho_inf } => rho_inf,
-        }
-    }
-}
-
-/// Parameters of a generalised-alpha step (Chung & Hulbert's notation).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Coefficients {
-    /// Weight of `a_n` in the inertia term (`M a_{n+1-alpha_m}`).
-    pub alpha_m: f64,
-    /// Weight of the old state in the damping, stiffness and load terms.
-    pub alpha_f: f64,
-    /// Newmark beta.
-    pub beta: f64,
-    /// Newmark gamma.
-    pub gamma: f64,
-}
-
-impl Coefficients {
-    /// Leading-order algorithmic damping ratio of an undamped mode with
-    /// `omega_dt = w dt` (see the module docs): `(af - am)(beta - af(1 - am)) W^3 / 2`.
-    pub fn algorithmic_damping(&self, omega_dt: f64) -> f64 {
-        let (am, af) = (self.alpha_m, self.alpha_f);
-        0.5 * (af - am) * (self.beta - af * (1.0 - am)) * omega_dt.powi(3)
-    }
-
-    /// Leading-order relative period elongation `T_num/T - 1` of an undamped mode
-    /// with `omega_dt = w dt`: `(beta/2 - 1/24 - af(af - am)/2) W^2`.
-    pub fn period_elongation(&self, omega_dt: f64) -> f64 {
-        let (am, af) = (self.alpha_m, self.alpha_f);
-        (0.5 * self.beta - 1.0 / 24.0 - 0.5 * af * (af - am)) * omega_dt * omega_dt
-    }
-
-    /// Scale factors `(cm, cc, ck)` of `S = cm M + cc C + ck K`.
-    pub(crate) fn effective(&self, dt: f64) -> (f64, f64, f64) {
-        let (am, af, beta, gamma) = (self.alpha_m, self.alpha_f, self.beta, self.gamma);
-        (
-            1.0 - am,
-            (1.0 - af) * gamma * dt,
-            (1.0 - af) * beta * dt * dt,
-        )
-    }
-}
-
-/// Displacement, velocity and acceleration at time `t`, one entry per operator row.
-#[derive(Debug, Clone, PartialEq)]
-pub struct State {
-    pub t: f64,
-    pub u: Vec<f64>,
-    pub v: Vec<f64>,
-    pub a: Vec<f64>,
-}
-
-impl State {
-    /// The state at rest at `t`.
-    pub fn zeros(n: usize, t: f64) -> Self {
-        Self {
-            t,
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-        }
-    }
-}
 
 /// A generalised-alpha integrator bound to one set of operators, holding the factored
 /// effective matrix for the current `(scheme, dt)` and all step buffers.

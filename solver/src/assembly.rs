@@ -23,8 +23,8 @@
 //! Matrices are stored as their upper triangle (faer `Side::Upper`); see
 //! [`crate::linalg::sym_upper_matvec`] for products.
 
-use crate::error::SolveError;
 use crate::dof::DofMap;
+use crate::error::SolveError;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 /// One slot: block entry `(i, j)` (`i <= j`) times `coefficient`.

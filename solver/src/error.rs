@@ -118,7 +118,6 @@ pub enum SolveError {
     },
 }
 
-
 /// Any error of coil-solver.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {

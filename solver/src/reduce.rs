@@ -55,8 +55,8 @@
 //! mm, N, t, s (rad and N mm for rotations).
 
 use crate::analysis::{modal, System};
-use crate::error::SolveError;
 use crate::dof::{dof_name, DofMap, DofStatus};
+use crate::error::SolveError;
 use crate::linalg::sym_upper_matvec;
 use crate::model::{FixedDisp, Model, NodeId};
 use faer::sparse::SparseColMat;

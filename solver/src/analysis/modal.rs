@@ -36,6 +36,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::matrix_free::eigen::{
     partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams,
 };
+use faer::sparse::SparseColMatRef;
 use faer::{Mat, Par, Side};
 
 /// Residual tolerance of the Lanczos iteration on the operator scaled to `mu_1 ~ 1`.
@@ -244,18 +245,7 @@ pub fn solve(
     let k = system.stiffness.as_ref();
     let m = system.mass.as_ref();
     let dofs = &system.dofs;
-    // M_full r_j for the three rigid translations.
-    let full = dofs.full_len();
-    let mut mass_r = Vec::with_capacity(3);
-    let mut total_mass = [0.0; 3];
-    for (j, total) in total_mass.iter_mut().enumerate() {
-        let r: Vec<f64> = (0..full)
-            .map(|d| if d % DOFS_PER_NODE == j { 1.0 } else { 0.0 })
-            .collect();
-        let mr = system.full_mass_times(&r);
-        *total = dot(&r, &mr);
-        mass_r.push(mr);
-    }
+    let (mass_r, total_mass) = rigid_translation_masses(system);
 
     let mut modes = Vec::with_capacity(n_modes);
     for (index, (mu, y)) in pairs.into_iter().enumerate() {
@@ -310,6 +300,34 @@ pub fn solve(
     }
     modes.sort_by(|a, b| a.omega_squared.total_cmp(&b.omega_squared));
 
+    let orthonormality_error = orthonormality_error(m, &modes);
+    Ok(ModalSolution {
+        modes,
+        total_mass,
+        orthonormality_error,
+    })
+}
+
+/// `M_full r_j` for the three rigid translations `r_j` (full space) and the total mass
+/// `r_j^T M_full r_j` in each direction.
+fn rigid_translation_masses(system: &System) -> (Vec<Vec<f64>>, [f64; 3]) {
+    let full = system.dofs.full_len();
+    let mut mass_r = Vec::with_capacity(3);
+    let mut total_mass = [0.0; 3];
+    for (j, total) in total_mass.iter_mut().enumerate() {
+        let r: Vec<f64> = (0..full)
+            .map(|d| if d % DOFS_PER_NODE == j { 1.0 } else { 0.0 })
+            .collect();
+        let mr = system.full_mass_times(&r);
+        *total = dot(&r, &mr);
+        mass_r.push(mr);
+    }
+    (mass_r, total_mass)
+}
+
+/// `max |phi_i^T M phi_j - delta_ij|` over the modes (free DOFs, `m` upper triangle).
+fn orthonormality_error(m: SparseColMatRef<'_, usize, f64>, modes: &[Mode]) -> f64 {
+    let n = m.nrows();
     let mut orthonormality_error: f64 = 0.0;
     let m_shapes: Vec<Vec<f64>> = modes
         .iter()
@@ -326,9 +344,5 @@ pub fn solve(
                 orthonormality_error.max((dot(&a.shape_free, mb) - target).abs());
         }
     }
-    Ok(ModalSolution {
-        modes,
-        total_mass,
-        orthonormality_error,
-    })
+    orthonormality_error
 }

@@ -7,7 +7,7 @@ use crate::dof::{dof_name, DofMap};
 use crate::element::{self, Matrix12};
 use crate::error::SolveError;
 use crate::linalg::{Cholesky, SymbolicFactor};
-use crate::model::{Model, NodeId, PointLoad, DOFS_PER_NODE};
+use crate::model::{Dashpot, Model, NodeId, PointLoad, PointMass, DOFS_PER_NODE};
 use faer::sparse::SparseColMat;
 use nalgebra::SMatrix;
 
@@ -74,42 +74,16 @@ impl<'m> System<'m> {
         }
         let mut point_mass_blocks = Vec::with_capacity(model.point_masses.len());
         for p in &model.point_masses {
-            let values = [
-                p.mass,
-                p.mass,
-                p.mass,
-                p.inertia[0],
-                p.inertia[1],
-                p.inertia[2],
-            ];
-            if values.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-                return Err(SolveError::BadInput {
-                    what: format!(
-                        "POINT MASS at node {}: mass and rotary inertia must be finite and non-negative, got {values:?}",
-                        p.node
-                    ),
-                });
-            }
+            point_mass_blocks.push(point_mass_block(p)?);
             blocks.push(node_dofs(p.node, "POINT MASS")?.collect());
-            point_mass_blocks.push(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()));
         }
         // Linear dashpots (`DASHPOT`): one 6x6 block per dashpot at its node, after the
         // point masses.
         let dashpot_first = blocks.len();
         let mut dashpot_blocks = Vec::with_capacity(model.dashpots.len());
         for d in &model.dashpots {
-            if !(d.c.is_finite() && d.c >= 0.0 && (1..=6).contains(&d.dof)) {
-                return Err(SolveError::BadInput {
-                    what: format!(
-                        "DASHPOT at node {} DOF {}: c must be finite and >= 0 on a DOF 1..6, got {}",
-                        d.node, d.dof, d.c
-                    ),
-                });
-            }
+            dashpot_blocks.push(dashpot_block(d)?);
             blocks.push(node_dofs(d.node, "DASHPOT")?.collect());
-            let mut values = [0.0; 6];
-            values[usize::from(d.dof) - 1] = d.c;
-            dashpot_blocks.push(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()));
         }
         let assembler = Assembler::new(&dofs, &blocks)?;
         let n_elements = model.elements.len();
@@ -387,4 +361,40 @@ pub(crate) fn interpolate(p: &[(f64, f64)], time: f64) -> f64 {
     } else {
         f1
     }
+}
+
+/// The 6x6 diagonal mass block of a point mass, checked finite and non-negative.
+fn point_mass_block(p: &PointMass) -> Result<SMatrix<f64, 6, 6>, SolveError> {
+    let values = [
+        p.mass,
+        p.mass,
+        p.mass,
+        p.inertia[0],
+        p.inertia[1],
+        p.inertia[2],
+    ];
+    if values.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(SolveError::BadInput {
+            what: format!(
+                "POINT MASS at node {}: mass and rotary inertia must be finite and non-negative, got {values:?}",
+                p.node
+            ),
+        });
+    }
+    Ok(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()))
+}
+
+/// The 6x6 damping block of a linear dashpot (its `c` on its DOF), checked.
+fn dashpot_block(d: &Dashpot) -> Result<SMatrix<f64, 6, 6>, SolveError> {
+    if !(d.c.is_finite() && d.c >= 0.0 && (1..=6).contains(&d.dof)) {
+        return Err(SolveError::BadInput {
+            what: format!(
+                "DASHPOT at node {} DOF {}: c must be finite and >= 0 on a DOF 1..6, got {}",
+                d.node, d.dof, d.c
+            ),
+        });
+    }
+    let mut values = [0.0; 6];
+    values[usize::from(d.dof) - 1] = d.c;
+    Ok(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()))
 }

@@ -59,11 +59,11 @@
 
 use super::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
 use super::error::IntegrateError;
-use super::scheme::Coefficients;
 use super::operator::{MergedOperators, C, K, M};
 use super::profile::{
     choose_ordering, has_fma, scatter_lower, vectorized, Ordering, ProfileCholesky,
 };
+use super::scheme::Coefficients;
 use super::state::State;
 
 /// How an operator enters the step.

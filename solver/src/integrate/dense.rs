@@ -50,7 +50,7 @@
 
 use super::error::IntegrateError;
 use super::point::{self, PointLaw, MAX_SWEEPS};
-use super::scheme::{Coefficients, AVERAGE_ACCELERATION};
+use super::scheme::{check_dt, Coefficients, AVERAGE_ACCELERATION};
 use nalgebra::DMatrix;
 
 /// The dense stepper's scheme: Newmark average acceleration, from [`super::scheme`].
@@ -260,9 +260,7 @@ impl DenseStepper {
         check_matrix("M", m, r)?;
         check_matrix("C", c, r)?;
         check_matrix("K", k, r)?;
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(IntegrateError::InvalidTimeStep { dt }.into());
-        }
+        check_dt(dt)?;
         let (cm, cc, ck) = SCHEME.effective(dt);
         let S = m * cm + c * cc + k * ck;
         let s_inv = spd_inverse("M + gamma dt C + beta dt^2 K", &S)?;

@@ -50,6 +50,7 @@ use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
 use super::error::IntegrateError;
+use super::scheme::check_dt;
 
 /// Displacement and velocity of one modal coordinate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -76,9 +77,7 @@ impl ExactSdof {
     /// The map over `dt` for circular frequency `omega >= 0` and damping ratio
     /// `zeta >= 0` (under-, critically or over-damped).
     pub fn new(omega: f64, zeta: f64, dt: f64) -> Result<Self, IntegrateError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(IntegrateError::InvalidTimeStep { dt });
-        }
+        check_dt(dt)?;
         for (name, value) in [("omega", omega), ("zeta", zeta)] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(IntegrateError::InvalidMode {

@@ -127,3 +127,16 @@ impl Coefficients {
         )
     }
 }
+
+/// The one check of a time step every integrator applies (the sparse stepper, the
+/// dense stepper, the exact modal step): finite and positive, else
+/// [`IntegrateError::InvalidTimeStep`]. A deck's `dt` is parsed positive by the deck
+/// reader and checked against the total time by the transient analysis; this guards
+/// the integrators' own callers.
+pub(crate) fn check_dt(dt: f64) -> Result<(), IntegrateError> {
+    if dt.is_finite() && dt > 0.0 {
+        Ok(())
+    } else {
+        Err(IntegrateError::InvalidTimeStep { dt })
+    }
+}

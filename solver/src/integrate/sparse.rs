@@ -7,8 +7,8 @@
 
 use super::error::IntegrateError;
 use super::factor::SpdFactor;
-use super::scheme::Coefficients;
 use super::operator::MergedOperators;
+use super::scheme::Coefficients;
 use super::state::State;
 
 #[derive(Debug)]

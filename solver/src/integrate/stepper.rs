@@ -140,7 +140,7 @@ use super::error::IntegrateError;
 use super::factor::SpdFactor;
 use super::operator::{MergedOperators, Operators};
 use super::point::{self, PointLaw};
-use super::scheme::{Coefficients, Scheme};
+use super::scheme::{check_dt, Coefficients, Scheme};
 use super::sparse::SparseEngine;
 use super::state::State;
 
@@ -768,14 +768,6 @@ pub fn integrate(
     let mut state = stepper.initial_state(0.0, u0, v0, &f0)?;
     stepper.run(&mut state, n_steps, force, &mut |k, s| observer(k, s.t, s))?;
     Ok(state)
-}
-
-fn check_dt(dt: f64) -> Result<(), IntegrateError> {
-    if dt.is_finite() && dt > 0.0 {
-        Ok(())
-    } else {
-        Err(IntegrateError::InvalidTimeStep { dt })
-    }
 }
 
 fn check_vector(what: &'static str, x: &[f64], n: usize) -> Result<(), IntegrateError> {

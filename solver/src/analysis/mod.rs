@@ -3,17 +3,26 @@
 //! and [`run`], which executes a model's load cases in order.
 //!
 //! # The shared system
-//! [`System::new`] builds, once per model, the [`DofMap`] (constraints), the global
-//! element matrices, the [`Assembler`] with its pattern, the reduced stiffness `K`,
+//! [`System::new`] builds, once per model, the [`DofMap`](crate::dof::DofMap) (constraints), the global
+//! element matrices, the [`Assembler`](crate::assembly::Assembler) with its pattern, the reduced stiffness `K`,
 //! mass `M` and Rayleigh damping `C` on that one pattern, the load that prescribed
 //! displacements put on the free DOFs, and the symbolic Cholesky of the pattern.
 //!
-//! For a transient analysis the system provides: `M`, `C`, `K` on one pattern (upper
-//! triangles; [`crate::linalg::upper_to_full`] gives both triangles where an
-//! integrator wants them), `M + gamma dt C + beta dt^2 K` by [`Assembler::combine`]
-//! factored with [`System::symbolic`] (pattern and symbolic analysis reused), the load
-//! at time t by [`System::point_load_vector`] + [`System::free_load`], and the DOF map
-//! to expand free vectors to nodes ([`DofMap::expand`]) for history output.
+//! The symbolic Cholesky ([`System::symbolic`]) serves the stiffness factor only:
+//! static cases, modal cases, modal superposition and the quasi-static initial velocity
+//! share one numeric factor of `K` per run. A direct transient does not use it: it
+//! hands `M`, `C`, `K` (both triangles, [`crate::linalg::upper_to_full`]) to the
+//! operator-level [`crate::integrate::Stepper`], which factors its own effective matrix
+//! `(1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K` (the banded envelope or the
+//! simplicial sparse factor of [`crate::linalg`]). The load at time t comes from
+//! [`System::point_load_vector`] + [`System::free_load`], and the DOF map expands free
+//! vectors to nodes ([`crate::dof::DofMap::expand`]) for history output.
+//!
+//! # Modules
+//! [`system`] (the assembled system and the load tables), [`static_analysis`],
+//! [`modal`], [`transient`]; this root only runs a model's load cases in order. The
+//! error type is [`crate::error::SolveError`] (re-exported here), below every layer
+//! that returns it, so `assembly`, `dof` and `linalg` never import `analysis`.
 //!
 //! # Damping
 //! `C = sum over DAMPING entries of (alpha M_e + beta K_e)` over the entry's elements,

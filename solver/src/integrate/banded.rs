@@ -57,14 +57,14 @@
 //! sides and nothing is gathered. Diagonal terms on few DOFs (the weight's `D`) are
 //! a short list applied after the sweep.
 
-use super::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
-use super::error::IntegrateError;
 use super::operator::{MergedOperators, C, K, M};
-use super::profile::{
-    choose_ordering, has_fma, scatter_lower, vectorized, Ordering, ProfileCholesky,
-};
 use super::scheme::Coefficients;
 use super::state::State;
+use crate::error::IntegrateError;
+use crate::linalg::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
+use crate::linalg::profile::{
+    choose_ordering, has_fma, scatter_lower, vectorized, Ordering, ProfileCholesky,
+};
 
 /// How an operator enters the step.
 #[derive(Debug, Clone)]

@@ -48,9 +48,10 @@
 //! `1/2 u^T K u + sum_l k3_l u_l^4 / 4 - f^T u`, with step halving when the energy
 //! does not decrease.
 
-use super::error::IntegrateError;
 use super::point::{self, PointLaw, MAX_SWEEPS};
 use super::scheme::{check_dt, Coefficients, AVERAGE_ACCELERATION};
+use crate::error::IntegrateError;
+use crate::linalg::dense_spd::spd_inverse;
 use nalgebra::DMatrix;
 
 /// The dense stepper's scheme: Newmark average acceleration, from [`super::scheme`].
@@ -164,32 +165,6 @@ fn check_matrix(name: &'static str, a: &DMatrix<f64>, r: usize) -> Result<(), In
         }
     }
     Ok(())
-}
-
-/// Inverse of a symmetric positive definite matrix through the Cholesky factor of its
-/// unit-diagonal scaling `D A D`.
-fn spd_inverse(name: &'static str, a: &DMatrix<f64>) -> Result<DMatrix<f64>, IntegrateError> {
-    let r = a.nrows();
-    let mut d = Vec::with_capacity(r);
-    for i in 0..r {
-        let aii = a[(i, i)];
-        if aii.is_nan() || aii <= 0.0 {
-            return Err(IntegrateError::NotPositiveDefinite {
-                matrix: name,
-                dof: i,
-            });
-        }
-        d.push(1.0 / aii.sqrt());
-    }
-    let scaled = DMatrix::from_fn(r, r, |i, j| d[i] * 0.5 * (a[(i, j)] + a[(j, i)]) * d[j]);
-    let chol = scaled
-        .cholesky()
-        .ok_or(IntegrateError::NotPositiveDefinite {
-            matrix: name,
-            dof: 0,
-        })?;
-    let inv = chol.inverse();
-    Ok(DMatrix::from_fn(r, r, |i, j| d[i] * inv[(i, j)] * d[j]))
 }
 
 fn row_major(a: &DMatrix<f64>) -> Vec<f64> {

@@ -5,9 +5,10 @@
 //!   family ([`Scheme::AverageAcceleration`], the default; [`Scheme::Hht`];
 //!   [`Scheme::GeneralizedAlpha`]), one predictor-solve-corrector step, the effective
 //!   matrix factored once per `dt` with its ordering reused, on one of two engines:
-//!   `banded` (beam models: envelope Cholesky, one banded product per step, its
-//!   kernels in `profile` and `blocked`) or `sparse` (faer's sparse Cholesky, one fused
-//!   pass over the merged pattern of `operator`).
+//!   `banded` (beam models: the envelope Cholesky and block panels of
+//!   [`crate::linalg`], one banded product per step) or `sparse` (the simplicial sparse
+//!   Cholesky of [`crate::linalg`], one fused pass over the merged pattern of
+//!   `operator`).
 //! * [`dense`]: the same average-acceleration step on small dense operators (reduced
 //!   models run thousands of times inside a fit).
 //! * [`scheme`]: the schemes and the one place their coefficients are derived;
@@ -18,8 +19,9 @@
 //!   linear between samples).
 //!
 //! Within the module the arrows point one way: `stepper -> {banded, sparse} ->
-//! {operator, factor, profile, blocked, scheme, state} -> error`; `dense -> {scheme,
-//! point}`; nothing imports `stepper` or this module's root.
+//! {operator, scheme, state}`, the engines -> [`crate::linalg`] (every factorisation)
+//! -> [`crate::error`]; `dense -> {scheme, point}`; nothing imports `stepper` or this
+//! module's root.
 //!
 //! # Operators
 //! `M`, `C` (optional), `K` are square, symmetric (both triangles stored; checked to a
@@ -33,24 +35,20 @@
 //! `docs/integrators.md`.
 
 mod banded;
-mod blocked;
 pub mod dense;
-pub mod error;
-mod factor;
 pub mod modal_superposition;
 mod operator;
 pub mod point;
-mod profile;
 pub mod scheme;
 mod sparse;
 pub mod state;
 pub mod stepper;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
+pub use crate::error::IntegrateError;
 pub use dense::{DenseError, DenseStepper};
-pub use error::IntegrateError;
 pub use operator::Operators;
 pub use point::{PointLaw, PointSolve};
 pub use scheme::{Coefficients, Scheme};

@@ -49,8 +49,8 @@
 use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
-use super::error::IntegrateError;
 use super::scheme::check_dt;
+use crate::error::IntegrateError;
 
 /// Displacement and velocity of one modal coordinate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

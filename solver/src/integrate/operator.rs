@@ -13,7 +13,7 @@
 
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
-use super::error::IntegrateError;
+use crate::error::IntegrateError;
 
 /// The structural operators of `M a + C v + K u = f(t)`.
 #[derive(Debug, Clone, Copy)]

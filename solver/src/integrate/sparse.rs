@@ -5,11 +5,11 @@
 //! step is the unreduced predictor-solve-corrector of `stepper`'s module docs, in the
 //! caller's numbering.
 
-use super::error::IntegrateError;
-use super::factor::SpdFactor;
 use super::operator::MergedOperators;
 use super::scheme::Coefficients;
 use super::state::State;
+use crate::error::IntegrateError;
+use crate::linalg::sparse_spd::SpdFactor;
 
 #[derive(Debug)]
 pub(crate) struct SparseEngine {

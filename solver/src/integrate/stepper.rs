@@ -136,13 +136,13 @@
 //! the operators' rows, 0-based. Time starts at `State::t`.
 
 use super::banded::BandedEngine;
-use super::error::IntegrateError;
-use super::factor::SpdFactor;
 use super::operator::{MergedOperators, Operators};
 use super::point::{self, PointLaw};
 use super::scheme::{check_dt, Coefficients, Scheme};
 use super::sparse::SparseEngine;
 use super::state::State;
+use crate::error::IntegrateError;
+use crate::linalg::sparse_spd::SpdFactor;
 
 /// Most Gauss-Seidel sweeps over several point laws in one step.
 pub const MAX_LAW_SWEEPS: usize = point::MAX_SWEEPS;

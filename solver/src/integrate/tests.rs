@@ -12,7 +12,7 @@ use super::modal_superposition::{
 use super::*;
 
 /// A sparse matrix from a dense row-major table, zeros left out.
-pub(super) fn sparse(rows: &[&[f64]]) -> SparseColMat<usize, f64> {
+pub(crate) fn sparse(rows: &[&[f64]]) -> SparseColMat<usize, f64> {
     let n = rows.len();
     let mut t = Vec::new();
     for (i, row) in rows.iter().enumerate() {
@@ -28,7 +28,7 @@ pub(super) fn sparse(rows: &[&[f64]]) -> SparseColMat<usize, f64> {
 /// A banded chain of `nodes` 6-DOF nodes (full 12x12 coupling blocks), plus one
 /// "hub" DOF numbered first and coupled to the last node's DOFs, as a rigid tie's
 /// reference DOF is. SPD (diagonally dominant). Returns the full matrix.
-pub(super) fn chain_with_hub(nodes: usize, seed: u64) -> SparseColMat<usize, f64> {
+pub(crate) fn chain_with_hub(nodes: usize, seed: u64) -> SparseColMat<usize, f64> {
     let mut state = seed;
     let mut next = move || {
         state ^= state << 13;
@@ -62,7 +62,7 @@ pub(super) fn chain_with_hub(nodes: usize, seed: u64) -> SparseColMat<usize, f64
     SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
 }
 
-pub(super) fn lower(a: &SparseColMat<usize, f64>) -> SparseColMat<usize, f64> {
+pub(crate) fn lower(a: &SparseColMat<usize, f64>) -> SparseColMat<usize, f64> {
     let n = a.nrows();
     let mut t = Vec::new();
     for j in 0..n {
@@ -80,7 +80,7 @@ pub(super) fn lower(a: &SparseColMat<usize, f64>) -> SparseColMat<usize, f64> {
     SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
 }
 
-pub(super) fn mul(a: &SparseColMat<usize, f64>, x: &[f64]) -> Vec<f64> {
+pub(crate) fn mul(a: &SparseColMat<usize, f64>, x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; x.len()];
     for (j, &xj) in x.iter().enumerate() {
         for (&i, &v) in a

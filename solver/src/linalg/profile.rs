@@ -45,7 +45,7 @@
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::traits::pulp;
 
-use super::error::IntegrateError;
+use crate::error::IntegrateError;
 
 /// A bandwidth-reducing ordering: `perm[k]` is the caller's index of internal
 /// unknown `k`.

@@ -1,7 +1,7 @@
 //! Sparse Cholesky factor of a symmetric positive definite matrix, with the symbolic
 //! analysis done once and every numeric (re)factorisation and solve running in
 //! buffers allocated up front. It factors the mass matrix for the initial
-//! acceleration and, on the general sparse path (`sparse`), the effective matrix;
+//! acceleration and, on the stepper's general sparse engine, the effective matrix;
 //! banded operators take the envelope factor of `profile` / `blocked` instead.
 //!
 //! faer's `factorize_symbolic_cholesky` computes the AMD fill-reducing ordering and
@@ -29,7 +29,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Par, Side};
 
-use super::error::IntegrateError;
+use crate::error::IntegrateError;
 
 /// An SPD factor `P A P^T = L L^T` whose symbolic part is reused across values.
 pub(crate) struct SpdFactor {

@@ -1,14 +1,48 @@
-//! Sparse symmetric linear algebra over faer: the Cholesky factor of the reduced
-//! stiffness (or of any SPD matrix on the assembler's pattern), symmetric products, and
-//! the shift-invert operator of the modal analysis.
+//! Linear algebra of the engine: every factorisation of a symmetric positive definite
+//! matrix lives here, with the symmetric products and the shift-invert operator of the
+//! modal analysis.
 //!
-//! # Factorisation
+//! # The factorisations, and why there are four
+//! Each serves a shape of matrix the others are slow or wrong on; they are not folded
+//! further because each is measured faster on its own use (`docs/integrators.md`):
+//! - [`Cholesky`] / [`SymbolicFactor`] (this file): faer's sparse Cholesky of the
+//!   reduced stiffness (or any SPD matrix on the assembler's pattern), simplicial or
+//!   supernodal by faer's heuristic, with the pivot-ratio check below that turns a
+//!   mechanism into an error naming its DOF. Static and modal cases, modal
+//!   superposition, the quasi-static initial velocity, reduction (`reduce`).
+//! - `sparse_spd::SpdFactor`: faer's simplicial Cholesky under AMD with hand-written
+//!   dot-product solves (about twice as fast as faer's solve on narrow systems), for
+//!   tens of thousands of solves per transient: the effective matrix of the general
+//!   sparse stepper engine and the mass matrix of the initial acceleration.
+//! - `profile::ProfileCholesky` with the block panels of `blocked`: the envelope
+//!   (skyline) Cholesky under the envelope-minimising ordering, four-row panels
+//!   compiled for AVX2 + FMA where the CPU has them: the banded stepper engine (beam
+//!   models), about four times faster per step than the sparse one.
+//! - `dense_spd::spd_inverse`: nalgebra's dense Cholesky of a handful of reduced DOFs,
+//!   inverted once for the dense stepper (`crate::integrate::dense`).
+//!
+//! # Triangle convention
+//! Symmetric sparse matrices are stored as one triangle, compressed sparse column:
+//! - the assembler, the [`crate::analysis::System`] (`K`, `M`, `C`), [`Cholesky`],
+//!   [`sym_upper_matvec`], [`ShiftInvert`] and `reduce` hold and read the **upper**
+//!   triangle (`Side::Upper`);
+//! - the operator-level integrators take both triangles at their public boundary
+//!   ([`crate::integrate::Operators`], so that a caller's asymmetric matrix is caught
+//!   by their symmetry check), and [`upper_to_full`] is the one conversion, on the way
+//!   from the system to a stepper;
+//! - inside the stepper engines the merged operators, `SpdFactor` and the envelope
+//!   factor keep the **lower** triangle (`Side::Lower`, rows >= column): their kernels
+//!   walk `L` by rows forward and by columns backward.
+//! Reading any SPD matrix of this crate: upper outside the integrators, full at their
+//! boundary, lower inside their engines.
+//!
+//! # Factorisation (the stiffness)
 //! [`SymbolicFactor::analyze`] runs faer's symbolic Cholesky once per pattern (AMD
 //! fill-reducing ordering, then simplicial or supernodal by faer's flop heuristic);
 //! [`SymbolicFactor::factor`] and [`Cholesky::factor_in_place`] compute numeric
-//! factors `P A P^T = L L^T` that reuse it, so a new matrix on the same pattern (the
-//! transient's `M + gamma dt C + beta dt^2 K`, a tuner's new E) costs only the numeric
-//! part. Matrices are given as their upper triangle (`Side::Upper`).
+//! factors `P A P^T = L L^T` that reuse it, so a new matrix on the same pattern (a
+//! tuner's new E) costs only the numeric part. Matrices are given as their upper
+//! triangle (`Side::Upper`).
 //!
 //! # Singularity
 //! A mechanism makes the reduced stiffness singular. In floating point its pivot is
@@ -36,6 +70,11 @@
 //! solve is no longer meaningful, so it is reported as a mechanism rather than
 //! returning displacements amplified by 1e11.
 
+pub(crate) mod blocked;
+pub(crate) mod dense_spd;
+pub(crate) mod profile;
+pub(crate) mod sparse_spd;
+
 use crate::error::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
@@ -49,7 +88,7 @@ use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef, Tripl
 use faer::{Conj, MatMut, MatRef, Par, Side};
 use std::sync::Arc;
 
-/// Smallest admissible pivot ratio `d_j / A_jj` (see the module docs for why 1e-13).
+/// Smallest admissible pivot ratio `d_j / A_jj` (see the module docs for why 1e-11).
 pub const PIVOT_RATIO_TOL: f64 = 1e-11;
 
 /// faer's choice between the two numeric Cholesky kernels.
@@ -355,8 +394,9 @@ fn permute_back(fwd: Option<&[usize]>, z: &[f64], out: &mut [f64]) {
     }
 }
 
-/// Both triangles of a symmetric matrix stored as its upper triangle (for consumers
-/// that want the full pattern, e.g. the time integrators' operators).
+/// Both triangles of a symmetric matrix stored as its upper triangle: the one triangle
+/// conversion, from the system's matrices to the integrators' operators (module docs,
+/// "Triangle convention").
 pub fn upper_to_full(
     a: SparseColMatRef<'_, usize, f64>,
 ) -> Result<SparseColMat<usize, f64>, SolveError> {

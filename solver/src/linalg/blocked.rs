@@ -515,8 +515,8 @@ fn solve_kernel<Q: Quad>(q: Q, blocks: &Blocks, factor: &FactorPanels, y: &mut [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrate::profile::{choose_ordering, has_fma, scatter_lower};
     use crate::integrate::tests::{chain_with_hub, lower, mul};
+    use crate::linalg::profile::{choose_ordering, has_fma, scatter_lower};
 
     fn to_chunks(x: &[f64], n_chunks: usize) -> Vec<Chunk> {
         let mut out = vec![[0.0; 4]; n_chunks];
@@ -683,7 +683,7 @@ mod tests {
         // The sparse engine's factor (faer's simplicial Cholesky under AMD, with its
         // own dot-form solves) on the same matrix.
         let mut sparse =
-            crate::integrate::factor::SpdFactor::analyse("test", a.symbolic()).unwrap();
+            crate::linalg::sparse_spd::SpdFactor::analyse("test", a.symbolic()).unwrap();
         sparse.factor(a.as_ref()).unwrap();
         let p_flat: Vec<f64> = p.iter().flatten().copied().take(n).collect();
         let mut x_flat = p_flat.clone();

@@ -374,31 +374,17 @@ impl DenseStepper {
         if resting.is_empty() {
             return Ok(());
         }
-        let g0 = |s: &Self, a: usize, b: usize| s.m_inv[s.laws[a].dof * r + s.laws[b].dof];
         let mut f = vec![0.0; resting.len()];
-        let mut converged = false;
-        for _ in 0..MAX_SWEEPS {
-            let (mut change, mut size) = (0.0f64, 0.0f64);
-            for (p, &j) in resting.iter().enumerate() {
-                let others: f64 = resting
-                    .iter()
-                    .zip(&f)
-                    .enumerate()
-                    .filter(|(q, _)| *q != p)
-                    .map(|(_, (&l, &fl))| g0(self, j, l) * fl)
-                    .sum();
-                let a_free = self.a[self.laws[j].dof] - others;
-                let friction = self.laws[j].law.friction;
-                let hold = (a_free / g0(self, j, j)).clamp(-friction, friction);
-                change = change.max((hold - f[p]).abs());
-                size = size.max(hold.abs());
-                f[p] = hold;
-            }
-            if change <= point::SWEEP_TOLERANCE * size || size == 0.0 {
-                converged = true;
-                break;
-            }
-        }
+        let (m_inv, laws, acceleration) = (&self.m_inv, &self.laws, &self.a);
+        let converged = point::hold_at_rest(
+            resting.len(),
+            |p, q| m_inv[laws[resting[p]].dof * r + laws[resting[q]].dof],
+            |p| acceleration[laws[resting[p]].dof],
+            |p| laws[resting[p]].law.friction,
+            point::SWEEP_TOLERANCE,
+            true,
+            &mut f,
+        );
         if !converged {
             return Err(DenseError::SweepsNotConverged {
                 step: 0,

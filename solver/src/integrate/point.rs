@@ -256,6 +256,45 @@ pub fn solve_step(
     }
 }
 
+/// The friction forces that hold laws at rest at an initial state, shared by both
+/// steppers: `count` friction laws whose DOFs start at rest, `coupling(p, q)` the entry
+/// of `E^T M^-1 E` between their DOFs, `a_free(p)` the acceleration at law `p`'s DOF
+/// without these forces and `friction(p)` its `F`. Each force is the one that keeps its
+/// DOF at rest (`a = 0`) clamped to `[-F, F]` (`F` against the net force when it
+/// cannot hold), by projected Gauss-Seidel from `held` (overwritten; one sweep for one
+/// law) until the largest change is at most `tolerance` of the largest force, or, with
+/// `stop_when_zero`, every force is zero. Returns whether that happened within
+/// [`MAX_SWEEPS`] sweeps; each stepper decides what non-convergence means (module docs
+/// of `stepper` and `dense`).
+pub(crate) fn hold_at_rest(
+    count: usize,
+    coupling: impl Fn(usize, usize) -> f64,
+    a_free: impl Fn(usize) -> f64,
+    friction: impl Fn(usize) -> f64,
+    tolerance: f64,
+    stop_when_zero: bool,
+    held: &mut [f64],
+) -> bool {
+    for _ in 0..MAX_SWEEPS {
+        let (mut change, mut size) = (0.0f64, 0.0f64);
+        for p in 0..count {
+            let others: f64 = (0..count)
+                .filter(|&q| q != p)
+                .map(|q| coupling(p, q) * held[q])
+                .sum();
+            let f_max = friction(p);
+            let f = ((a_free(p) - others) / coupling(p, p)).clamp(-f_max, f_max);
+            change = change.max((f - held[p]).abs());
+            size = size.max(f.abs());
+            held[p] = f;
+        }
+        if count <= 1 || change <= tolerance * size || (stop_when_zero && size == 0.0) {
+            return true;
+        }
+    }
+    false
+}
+
 /// Root of an increasing function on `(lo, hi)` (either end may be infinite), from
 /// the start `x0`: the bracket is grown until it holds a sign change, then Newton's
 /// steps are kept inside it and replaced by bisection when they leave it.

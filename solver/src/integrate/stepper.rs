@@ -625,24 +625,21 @@ fn initial_law_forces(
             v0[d] == 0.0 && laws.laws[j].friction > 0.0 && z[j * n + d] > 0.0
         })
         .collect();
+    // Not converging within the sweeps leaves the last sweep's forces (the laws are
+    // then strongly coupled through M; the first step's solve takes over from there).
+    let mut held_at_rest = vec![0.0; resting.len()];
+    point::hold_at_rest(
+        resting.len(),
+        |p, q| z[resting[q] * n + laws.dofs[resting[p]]],
+        |p| a[laws.dofs[resting[p]]],
+        |p| laws.laws[resting[p]].friction,
+        1e-12,
+        false,
+        &mut held_at_rest,
+    );
     let mut held = vec![0.0; l];
-    for _ in 0..MAX_LAW_SWEEPS {
-        let mut change: f64 = 0.0;
-        for &j in &resting {
-            let d = laws.dofs[j];
-            let others: f64 = resting
-                .iter()
-                .filter(|&&k| k != j)
-                .map(|&k| z[k * n + d] * held[k])
-                .sum();
-            let friction = laws.laws[j].friction;
-            let f = ((a[d] - others) / z[j * n + d]).clamp(-friction, friction);
-            change = change.max((f - held[j]).abs());
-            held[j] = f;
-        }
-        if resting.len() <= 1 || change <= 1e-12 * held.iter().fold(0.0f64, |m, f| m.max(f.abs())) {
-            break;
-        }
+    for (&j, &f) in resting.iter().zip(&held_at_rest) {
+        held[j] = f;
     }
     for &j in &resting {
         for (ai, zi) in a.iter_mut().zip(&z[j * n..(j + 1) * n]) {

@@ -11,8 +11,8 @@
 //! The symbolic Cholesky ([`System::symbolic`]) serves the stiffness factor only:
 //! static cases, modal cases, modal superposition and the quasi-static initial velocity
 //! share one numeric factor of `K` per run. A direct transient does not use it: it
-//! hands `M`, `C`, `K` (both triangles, [`crate::linalg::upper_to_full`]) to the
-//! operator-level [`crate::integrate::Stepper`], which factors its own effective matrix
+//! hands `M`, `C`, `K` (upper triangles, [`crate::integrate::Stepper::new_upper`]) to
+//! the operator-level [`crate::integrate::Stepper`], which factors its own effective matrix
 //! `(1-am) M + (1-af) gamma dt C + (1-af) beta dt^2 K` (the banded envelope or the
 //! simplicial sparse factor of [`crate::linalg`]). The load at time t comes from
 //! [`System::point_load_vector`] + [`System::free_load`], and the DOF map expands free

@@ -24,10 +24,14 @@
 //! module's root.
 //!
 //! # Operators
-//! `M`, `C` (optional), `K` are square, symmetric (both triangles stored; checked to a
-//! relative 1e-10 of the largest entry), finite, of one size `n`, in compressed sparse
-//! column form (`faer::sparse::SparseColMatRef<usize, f64>`); their patterns may
-//! differ. Rows and columns are the engine's free DOFs after constraint elimination,
+//! `M`, `C` (optional), `K` are square, symmetric, finite, of one size `n`, in
+//! compressed sparse column form (`faer::sparse::SparseColMatRef<usize, f64>`); their
+//! patterns may differ. They are given as their upper triangles, the crate's convention
+//! ([`Stepper::new_upper`]: the finite-element system's matrices as stored), or, for a
+//! caller holding full matrices, with both triangles stored and checked symmetric to a
+//! relative 1e-10 of the largest entry ([`Stepper::new`]). Inside, the engines keep the
+//! lower triangle, the side their factors are written in (`crate::linalg`, "Triangle
+//! convention"). Rows and columns are the engine's free DOFs after constraint elimination,
 //! 0-based. Units are consistent (coil: mm, N, tonne, s), so `u` in mm, `v` in mm/s,
 //! `a` in mm/s^2, `f` in N.
 //!

@@ -66,7 +66,48 @@ pub(crate) struct MergedOperators {
 }
 
 impl MergedOperators {
+    /// Merges operators given with both triangles stored, checked symmetric.
     pub(crate) fn new(ops: &Operators<'_>) -> Result<Self, IntegrateError> {
+        Self::merge(ops, false)
+    }
+
+    /// Merges operators given as their upper triangles (the crate's convention,
+    /// `crate::linalg`): each is transposed to its lower triangle, the values unchanged,
+    /// so the result is the one [`MergedOperators::new`] builds from both triangles.
+    pub(crate) fn new_upper(ops: &Operators<'_>) -> Result<Self, IntegrateError> {
+        let lower = |name: &'static str, a: SparseColMatRef<'_, usize, f64>| {
+            for j in 0..a.ncols() {
+                if let Some(&i) = a.row_idx_of_col_raw(j).iter().find(|&&i| i > j) {
+                    return Err(IntegrateError::Factorization {
+                        matrix: name,
+                        message: format!(
+                            "expected the upper triangle only, found entry ({i}, {j}) below the diagonal"
+                        ),
+                    });
+                }
+            }
+            a.transpose()
+                .to_col_major()
+                .map_err(|e| IntegrateError::Factorization {
+                    matrix: name,
+                    message: format!("transposing the upper triangle: {e:?}"),
+                })
+        };
+        let m = lower("mass matrix M", ops.m)?;
+        let k = lower("stiffness matrix K", ops.k)?;
+        let c = ops.c.map(|c| lower("damping matrix C", c)).transpose()?;
+        let lower_ops = Operators {
+            m: m.as_ref(),
+            c: c.as_ref().map(|c| c.as_ref()),
+            k: k.as_ref(),
+        };
+        Self::merge(&lower_ops, true)
+    }
+
+    /// The merge of [`MergedOperators::new`]; `lower_only` inputs hold their lower
+    /// triangles (from [`MergedOperators::new_upper`]), so there is no other triangle to
+    /// check symmetry against (a non-finite entry is reported at its upper position).
+    fn merge(ops: &Operators<'_>, lower_only: bool) -> Result<Self, IntegrateError> {
         let n = ops.k.nrows();
         let mut inputs: Vec<(usize, &'static str, SparseColMatRef<'_, usize, f64>)> = vec![
             (M, "mass matrix M", ops.m),
@@ -124,10 +165,11 @@ impl MergedOperators {
                     .zip(a.val_of_col(j))
                 {
                     if !v.is_finite() {
+                        let (row, col) = if lower_only { (j, i) } else { (i, j) };
                         return Err(IntegrateError::NonFiniteEntry {
                             matrix: name,
-                            row: i,
-                            col: j,
+                            row,
+                            col,
                         });
                     }
                     // The union holds every input entry, so the search cannot miss.
@@ -137,8 +179,10 @@ impl MergedOperators {
                 }
             }
         }
-        for &(which, name, _) in &inputs {
-            check_symmetric(&col_ptr, &row_idx, &values, which, name)?;
+        if !lower_only {
+            for &(which, name, _) in &inputs {
+                check_symmetric(&col_ptr, &row_idx, &values, which, name)?;
+            }
         }
 
         // Keep the lower triangle.
@@ -502,6 +546,64 @@ mod tests {
         })
         .unwrap();
         assert_eq!(merged.massless_dofs(), vec![false, true, false, false]);
+    }
+
+    /// The crate's convention (upper triangles, `Stepper::new_upper`) and full matrices
+    /// (`Stepper::new`) merge to the same operators, bit for bit, and an upper input
+    /// with an entry below the diagonal is refused.
+    #[test]
+    fn upper_triangles_merge_to_the_operators_of_both_triangles() {
+        use crate::analysis::{test_support::damped_tied_frame, System};
+        use crate::linalg::upper_to_full;
+        let model = damped_tied_frame(0.8, 1.2e-4);
+        let system = System::new(&model).unwrap();
+        let full = |a: &SparseColMat<usize, f64>| upper_to_full(a.as_ref()).unwrap();
+        let (kf, mf, cf) = (
+            full(&system.stiffness),
+            full(&system.mass),
+            full(&system.damping),
+        );
+        for with_c in [true, false] {
+            let from_full = MergedOperators::new(&Operators {
+                m: mf.as_ref(),
+                c: with_c.then(|| cf.as_ref()),
+                k: kf.as_ref(),
+            })
+            .unwrap();
+            let from_upper = MergedOperators::new_upper(&Operators {
+                m: system.mass.as_ref(),
+                c: with_c.then(|| system.damping.as_ref()),
+                k: system.stiffness.as_ref(),
+            })
+            .unwrap();
+            assert_eq!(
+                from_full.pattern().col_ptr(),
+                from_upper.pattern().col_ptr()
+            );
+            assert_eq!(
+                from_full.pattern().row_idx(),
+                from_upper.pattern().row_idx()
+            );
+            assert_eq!(from_full.rows, from_upper.rows);
+            for which in [M, C, K] {
+                let bits = |v: Option<&[f64]>| {
+                    v.map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                };
+                assert_eq!(
+                    bits(from_full.values(which)),
+                    bits(from_upper.values(which))
+                );
+            }
+        }
+        let lower_entry = sparse(&[&[2.0, 0.0], &[-1.0, 2.0]]);
+        assert!(matches!(
+            MergedOperators::new_upper(&Operators {
+                m: lower_entry.as_ref(),
+                c: None,
+                k: lower_entry.as_ref(),
+            }),
+            Err(IntegrateError::Factorization { .. })
+        ));
     }
 
     #[test]

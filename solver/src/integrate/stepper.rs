@@ -227,7 +227,16 @@ impl Stepper {
     /// Merges the operators, checks them (square, same size, finite, symmetric),
     /// analyses the effective matrix's pattern and factors it for `scheme` and `dt`.
     pub fn new(ops: Operators<'_>, scheme: Scheme, dt: f64) -> Result<Self, IntegrateError> {
-        Self::with_engine(ops, scheme, dt, true)
+        Self::with_engine(ops, scheme, dt, true, false)
+    }
+
+    /// As [`Stepper::new`], with `M`, `C`, `K` given as their upper triangles, the
+    /// crate's convention for symmetric matrices (`crate::linalg`, "Triangle
+    /// convention"): the finite-element system hands its matrices over without
+    /// expanding them. The step is the one [`Stepper::new`] builds from both triangles,
+    /// to the last bit.
+    pub fn new_upper(ops: Operators<'_>, scheme: Scheme, dt: f64) -> Result<Self, IntegrateError> {
+        Self::with_engine(ops, scheme, dt, true, true)
     }
 
     /// As [`Stepper::new`], on the general sparse path only (tests).
@@ -237,7 +246,7 @@ impl Stepper {
         scheme: Scheme,
         dt: f64,
     ) -> Result<Self, IntegrateError> {
-        Self::with_engine(ops, scheme, dt, false)
+        Self::with_engine(ops, scheme, dt, false, false)
     }
 
     fn with_engine(
@@ -245,10 +254,15 @@ impl Stepper {
         scheme: Scheme,
         dt: f64,
         allow_banded: bool,
+        upper: bool,
     ) -> Result<Self, IntegrateError> {
         let coefficients = scheme.coefficients()?;
         check_dt(dt)?;
-        let ops = MergedOperators::new(&ops)?;
+        let ops = if upper {
+            MergedOperators::new_upper(&ops)?
+        } else {
+            MergedOperators::new(&ops)?
+        };
         let banded = allow_banded.then(|| BandedEngine::new(&ops)).flatten();
         let engine = match banded {
             Some(banded) => Engine::Banded(Box::new(banded)),

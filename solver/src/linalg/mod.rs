@@ -22,19 +22,18 @@
 //!   inverted once for the dense stepper (`crate::integrate::dense`).
 //!
 //! # Triangle convention
-//! Symmetric sparse matrices are stored as one triangle, compressed sparse column:
-//! - the assembler, the [`crate::analysis::System`] (`K`, `M`, `C`), [`Cholesky`],
-//!   [`sym_upper_matvec`], [`ShiftInvert`] and `reduce` hold and read the **upper**
-//!   triangle (`Side::Upper`);
-//! - the operator-level integrators take both triangles at their public boundary
-//!   ([`crate::integrate::Operators`], so that a caller's asymmetric matrix is caught
-//!   by their symmetry check), and [`upper_to_full`] is the one conversion, on the way
-//!   from the system to a stepper;
-//! - inside the stepper engines the merged operators, `SpdFactor` and the envelope
-//!   factor keep the **lower** triangle (`Side::Lower`, rows >= column): their kernels
-//!   walk `L` by rows forward and by columns backward.
-//! Reading any SPD matrix of this crate: upper outside the integrators, full at their
-//! boundary, lower inside their engines.
+//! Symmetric sparse matrices travel between modules as their **upper** triangle,
+//! compressed sparse column (`Side::Upper`): the assembler builds them so, the
+//! [`crate::analysis::System`] holds `K`, `M`, `C` so, [`Cholesky`],
+//! [`sym_upper_matvec`], [`ShiftInvert`] and `reduce` read them so, and the stepper
+//! takes them so ([`crate::integrate::Stepper::new_upper`]); no module expands them on
+//! the way from assembly to the stepper. Inside the stepper engines the merged
+//! operators, `SpdFactor` and the envelope factor store the transpose, the lower
+//! triangle (`Side::Lower`, row >= column), the same numbers: their kernels walk the
+//! factor `L` by rows forward and by columns backward, which is that side. Two
+//! exceptions at the edges, for callers outside this convention: the integrators'
+//! [`crate::integrate::Stepper::new`] accepts full matrices (both triangles, checked
+//! symmetric) and [`upper_to_full`] makes them.
 //!
 //! # Factorisation (the stiffness)
 //! [`SymbolicFactor::analyze`] runs faer's symbolic Cholesky once per pattern (AMD

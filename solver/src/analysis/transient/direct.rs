@@ -1,5 +1,5 @@
-//! The direct path of a transient case: the operators with both triangles, the
-//! stepper kept between cases (refactored only when the scheme or `dt` changes), the
+//! The direct path of a transient case: the system's matrices handed to the stepper as
+//! their upper triangles, the stepper kept between cases (refactored only when the scheme or `dt` changes), the
 //! point laws bound to it, and the run loop (the "Direct integration" section of
 //! [`super`]).
 
@@ -10,9 +10,8 @@ use super::recording::Recorder;
 use crate::analysis::system::System;
 use crate::error::SolveError;
 use crate::integrate::{Operators, Scheme, State, Stepper};
-use crate::linalg::{upper_to_full, Cholesky};
+use crate::linalg::Cholesky;
 use crate::model::Integrator;
-use faer::sparse::SparseColMat;
 
 /// The deck's integrator as the operator-level scheme (the integrators do not see
 /// the model).
@@ -26,42 +25,21 @@ impl From<Integrator> for Scheme {
     }
 }
 
-/// What the direct path keeps between the transient cases of one run: the operators
-/// with both triangles and the stepper with its factored effective matrix.
+/// What the direct path keeps between the transient cases of one run: the stepper with
+/// its merged operators and its factored effective matrix.
 #[derive(Debug, Default)]
 pub(super) struct DirectCache {
-    operators: Option<FullOperators>,
     stepper: Option<Stepper>,
 }
 
-#[derive(Debug)]
-pub(super) struct FullOperators {
-    pub(super) k: SparseColMat<usize, f64>,
-    pub(super) m: SparseColMat<usize, f64>,
-    /// `None` when the model has no damping.
-    pub(super) c: Option<SparseColMat<usize, f64>>,
-}
-
-impl FullOperators {
-    pub(super) fn new(system: &System) -> Result<Self, SolveError> {
-        let c = if system.damping.val().iter().any(|&v| v != 0.0) {
-            Some(upper_to_full(system.damping.as_ref())?)
-        } else {
-            None
-        };
-        Ok(FullOperators {
-            k: upper_to_full(system.stiffness.as_ref())?,
-            m: upper_to_full(system.mass.as_ref())?,
-            c,
-        })
-    }
-
-    pub(super) fn view(&self) -> Operators<'_> {
-        Operators {
-            m: self.m.as_ref(),
-            c: self.c.as_ref().map(|c| c.as_ref()),
-            k: self.k.as_ref(),
-        }
+/// The system's `M`, `C` (`None` when the model has no damping), `K` as the stepper's
+/// operators, upper triangles as stored (`crate::linalg`, "Triangle convention").
+fn system_operators<'s>(system: &'s System) -> Operators<'s> {
+    let damped = system.damping.val().iter().any(|&v| v != 0.0);
+    Operators {
+        m: system.mass.as_ref(),
+        c: damped.then(|| system.damping.as_ref()),
+        k: system.stiffness.as_ref(),
     }
 }
 
@@ -82,20 +60,12 @@ pub(super) fn run_direct(
 ) -> Result<(), SolveError> {
     let scheme = Scheme::from(integrator);
     let fail = |e| integrate_error(system, title, false, e);
-    if cache.operators.is_none() {
-        cache.operators = Some(FullOperators::new(system)?);
-    }
-    let stepper = match (cache.stepper.take(), &cache.operators) {
-        (Some(mut stepper), _) => {
+    let stepper = match cache.stepper.take() {
+        Some(mut stepper) => {
             stepper.set_step(scheme, dt).map_err(fail)?;
             stepper
         }
-        (None, Some(ops)) => Stepper::new(ops.view(), scheme, dt).map_err(fail)?,
-        (None, None) => {
-            return Err(SolveError::Linalg(
-                "the transient operators were not built".to_string(),
-            ))
-        }
+        None => Stepper::new_upper(system_operators(system), scheme, dt).map_err(fail)?,
     };
     let stepper = cache.stepper.insert(stepper);
     stepper

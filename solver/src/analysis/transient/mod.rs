@@ -44,7 +44,8 @@
 //!
 //! # Direct integration
 //! [`crate::integrate::Stepper`] (average acceleration, HHT-alpha or generalised-alpha)
-//! on `M`, `C`, `K` with both triangles stored; the effective matrix is factored once per
+//! on `M`, `C`, `K` as their upper triangles ([`crate::integrate::Stepper::new_upper`]);
+//! the effective matrix is factored once per
 //! `(scheme, dt)` and the stepper is kept in [`Context`] for the next transient case.
 //! The model's nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC
 //! SPRING`) are bound to the stepper as [`crate::integrate::PointLaw`]s on their free
@@ -158,8 +159,8 @@ pub struct TransientSolution {
     pub history: History,
 }
 
-/// State kept between the transient cases of one run: the operators with both
-/// triangles, the stepper with its factored effective matrix, the initial velocity.
+/// State kept between the transient cases of one run: the stepper with its merged
+/// operators and factored effective matrix, the initial velocity.
 #[derive(Debug, Default)]
 pub struct Context {
     /// Reporting and limits of this run.

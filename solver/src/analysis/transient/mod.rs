@@ -78,6 +78,15 @@
 //! One history has one time axis: it is sampled every `g`-th step, `g` the greatest
 //! common divisor of the groups' `every`, which holds every sample each group asked for.
 //!
+//! # Modules
+//! This root drives one case ([`solve`]: step count and limits, initial displacement,
+//! dispatch) and holds the run's [`Context`]; `loads` (the load patterns and their
+//! tables), `initial` (the initial velocity field), `recording` ([`History`] and its
+//! columns), `direct` (the stepper path), `modal_damping` (modal damping inside the
+//! direct path), `superposition` (the modal path and its [`ModalSummary`]) and `error`
+//! (an integrator's error located at a node or mode). The children import one another
+//! and the layers below, never this root.
+//!
 //! # References
 //! N. M. Newmark, J. Eng. Mech. Div. ASCE 85 (1959) 67-94; H. M. Hilber, T. J. R. Hughes,
 //! R. L. Taylor, Earthq. Eng. Struct. Dyn. 5 (1977) 283-292; J. Chung, G. M. Hulbert,

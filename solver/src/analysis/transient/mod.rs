@@ -49,7 +49,7 @@
 //! `(scheme, dt)` and the stepper is kept in [`Context`] for the next transient case.
 //! The model's nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC
 //! SPRING`) are bound to the stepper as [`crate::integrate::PointLaw`]s on their free
-//! DOFs ([`Stepper::set_point_laws`]: an exact end-of-step correction, average
+//! DOFs ([`crate::integrate::Stepper::set_point_laws`]: an exact end-of-step correction, average
 //! acceleration only; other schemes are an error, and so is modal superposition).
 //!
 //! # Modal superposition

@@ -9,6 +9,9 @@
 //! `i_l` (at most one law per DOF). Units are the operator's (coil: mm, N, t, s).
 //!
 //! # Scheme: Newmark average acceleration (beta = 1/4, gamma = 1/2)
+//! The coefficients are [`super::scheme::AVERAGE_ACCELERATION`], derived with the other
+//! schemes' in `scheme`; the end-of-step law solve is [`point::solve_step`] and the
+//! initial friction hold `point::hold_at_rest`, both shared with the sparse stepper.
 //! N. M. Newmark, J. Eng. Mech. Div. ASCE 85 (1959) 67-94. Per step:
 //! - predictor `u* = u + dt v + (1/2 - beta) dt^2 a`, `v* = v + (1 - gamma) dt a`;
 //! - the linear solve `S a_lin = f - C v* - K u*`, with the effective matrix

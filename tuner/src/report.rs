@@ -1,9 +1,117 @@
-//! `report.md` and the terminal tables of `coil-tune paper`: Tables 3 and 4 beside the
+//! The paper report: `report.json`'s types ([`PaperReport`]), and `report.md` and the
+//! terminal tables of `coil-tune paper`: Tables 3 and 4 beside the
 //! paper's values, the loops, the grids and the valley, the variant predictions along the
 //! valley, the mesh bias in E, the direct-integration checks and the timings.
 
-use crate::paper::PaperReport;
+use crate::calibrate::Calibration;
+use crate::decay::Method;
+use crate::sweep::VariantResult;
+use serde::Serialize;
 use std::fmt::Write as _;
+
+/// Table 3 as `report.json` gives it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3 {
+    pub youngs_modulus_mpa: f64,
+    pub stiffness_n_mm: f64,
+    pub damping_ratio: f64,
+    pub period_s: f64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub mass_kg: f64,
+}
+
+/// One discretisation of the mesh study.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeshRow {
+    pub elements_per_coil: u32,
+    /// K at the paper's E (190708 MPa).
+    pub stiffness_at_paper_e_n_mm: f64,
+    /// E tuned to the target K.
+    pub tuned_youngs_modulus_mpa: f64,
+    pub iterations: usize,
+}
+
+/// The mesh bias in E.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshStudy {
+    pub paper_youngs_modulus_mpa: f64,
+    pub rows: Vec<MeshRow>,
+    /// Elements per coil at which the tuned E equals the paper's (interpolated in 1/n^2).
+    pub elements_per_coil_matching_paper: Option<f64>,
+    /// Richardson extrapolation of the tuned E to an exact helix.
+    pub converged_youngs_modulus_mpa: f64,
+    /// log2((E_24 - E_48) / (E_48 - E_96)): 2 for the assumed 1/n^2 convergence.
+    pub observed_order: f64,
+}
+
+/// zeta of every variant at one member of the (alpha, beta) family.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FamilyMember {
+    pub label: String,
+    pub alpha: f64,
+    pub beta: f64,
+    /// zeta of the paper's case at this point.
+    pub base_damping_ratio: f64,
+    /// (name, zeta, relative error against the paper).
+    pub variants: Vec<(String, f64, Option<f64>)>,
+}
+
+/// Timings (s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Timings {
+    pub calibration_s: f64,
+    pub grid_s: f64,
+    pub sweep_s: f64,
+    pub mesh_study_s: f64,
+    pub total_s: f64,
+}
+
+/// `report.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PaperReport {
+    pub case: String,
+    /// The case's tested springs (the paper's Table 1), whose means are the targets.
+    pub table1: Vec<crate::case::TestedSpring>,
+    pub method: Method,
+    pub table3: Table3,
+    pub table3_paper: Table3Paper,
+    pub table3_relative_error: Table3Errors,
+    /// Table 4: each variant with the paper's values and the relative errors.
+    pub table4: Vec<VariantResult>,
+    /// Variant predictions along the valley (why a variant's zeta can miss).
+    pub family: Vec<FamilyMember>,
+    /// Each variant's zeta under every damping law calibrated to the same decay.
+    pub damping_band: crate::law::Band,
+    pub mesh_study: MeshStudy,
+    pub calibration: Calibration,
+    pub timings: Timings,
+}
+
+/// The paper's Table 3 (and Table 2) values, as the case gives them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3Paper {
+    pub youngs_modulus_mpa: Option<f64>,
+    /// The experiment's K (Table 3, "Experiment").
+    pub stiffness_n_mm: f64,
+    pub damping_ratio: f64,
+    pub period_s: f64,
+    pub alpha: Option<f64>,
+    pub beta: Option<f64>,
+    /// The paper's FE model figures.
+    pub fe_stiffness_n_mm: Option<f64>,
+    pub fe_damping_ratio: Option<f64>,
+    pub stiffness_iterations: Option<f64>,
+    pub mass_iterations: Option<f64>,
+}
+
+/// coil against the experiment's targets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3Errors {
+    pub stiffness: f64,
+    pub damping_ratio: f64,
+    pub period: f64,
+}
 
 fn pct(x: f64) -> String {
     format!("{:+.4}%", 100.0 * x)

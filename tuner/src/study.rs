@@ -30,60 +30,14 @@
 //! whose tasks are not exactly its shard's. The merged table is the single run's, byte for
 //! byte (numbers are written with all their digits and read back exactly).
 
-use crate::case::Variant;
-use crate::decay::DecaySettings;
 use crate::error::{Result, TuneError};
-use crate::fe::{FeSettings, SpringState};
-use crate::output::exact;
+pub use crate::output::{csv_table, Cell};
+pub use crate::sweep::VariantSweep;
 use crate::tolerance::ToleranceStudy;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// One cell of a study's table.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Cell {
-    Text(String),
-    Number(f64),
-    /// An optional value that is absent (an empty CSV cell).
-    Missing,
-}
-
-impl From<Option<f64>> for Cell {
-    fn from(value: Option<f64>) -> Self {
-        value.map_or(Cell::Missing, Cell::Number)
-    }
-}
-
-impl Cell {
-    /// The CSV text: numbers with every digit needed to read them back exactly.
-    pub fn csv(&self) -> String {
-        match self {
-            Cell::Text(s) => s.clone(),
-            Cell::Number(x) => exact(*x),
-            Cell::Missing => String::new(),
-        }
-    }
-}
-
-/// CSV text of a table whose cells need no quoting (numbers, names without commas).
-pub fn csv_table(columns: &[&str], rows: impl IntoIterator<Item = Vec<Cell>>) -> String {
-    crate::output::csv(
-        columns,
-        rows.into_iter()
-            .map(|row| row.iter().map(Cell::csv).collect()),
-    )
-}
-
-/// Table 4's sweep as tasks: variant `k` with the validated material.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct VariantSweep {
-    pub material: SpringState,
-    pub variants: Vec<Variant>,
-    pub fe: FeSettings,
-    pub decay: DecaySettings,
-}
 
 /// A list of independent tasks with its table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

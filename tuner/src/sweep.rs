@@ -9,9 +9,18 @@ use crate::damping::Simulator;
 use crate::decay::{measure, DecaySettings};
 use crate::error::Result;
 use crate::fe::{self, FeSettings, SpringState};
-use crate::study::Cell;
+use crate::output::Cell;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+
+/// Table 4's sweep as tasks: variant `k` with the validated material.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VariantSweep {
+    pub material: SpringState,
+    pub variants: Vec<Variant>,
+    pub fe: FeSettings,
+    pub decay: DecaySettings,
+}
 
 /// One variant's figures.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -175,7 +184,7 @@ impl VariantResult {
 impl Sweep {
     /// The table as CSV.
     pub fn csv(&self) -> String {
-        crate::study::csv_table(&COLUMNS, self.variants.iter().map(|v| v.cells()))
+        crate::output::csv_table(&COLUMNS, self.variants.iter().map(|v| v.cells()))
     }
 
     /// The table for a terminal, paper beside coil.

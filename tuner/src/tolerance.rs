@@ -31,7 +31,8 @@
 //! Units: mm, MPa, kg, N/mm, s, as the column names say.
 
 use crate::error::{Result, TuneError};
-use crate::study::{Cell, VariantSweep};
+use crate::output::Cell;
+use crate::sweep::VariantSweep;
 use coil_postproc::plot::{self, Draw, Figure, FONT};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -680,7 +680,7 @@ fn read_calibrated_state(path: &std::path::Path) -> Result<crate::fe::SpringStat
     struct File {
         state: crate::fe::SpringState,
     }
-    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Procedure {
+    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Json {
         path: path.to_path_buf(),
         line: e.line(),
         message: format!(

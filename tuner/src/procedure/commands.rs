@@ -80,16 +80,18 @@ fn every_command_is_defined_once() {
 
 /// Parses one line's words (not empty) into its action.
 pub(crate) fn parse_line(w: &[String], parsing: &mut Parsing) -> Parsed<Box<dyn Action>> {
-    let command = COMMANDS.iter().find(|c| c.name == w[0]).ok_or_else(|| {
-        ProcedureError::UnknownCommand {
-            name: w[0].clone(),
-            known: COMMANDS
-                .iter()
-                .map(|c| c.name)
-                .collect::<Vec<_>>()
-                .join(", "),
-        }
-    })?;
+    let command =
+        COMMANDS
+            .iter()
+            .find(|c| c.name == w[0])
+            .ok_or_else(|| ProcedureError::UnknownCommand {
+                name: w[0].clone(),
+                known: COMMANDS
+                    .iter()
+                    .map(|c| c.name)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?;
     (command.parse)(command, w, parsing)
 }
 
@@ -137,7 +139,8 @@ impl Action for Case {
 const OUT: Command = Command {
     name: "out",
     usage: "out DIR",
-    meaning: "the output folder, relative to the working directory (`coil-tune run --out` overrides it)",
+    meaning:
+        "the output folder, relative to the working directory (`coil-tune run --out` overrides it)",
     parse: |c, w, _| {
         arity(w, 2, 2, c.usage)?;
         Ok(Box::new(Out(inside_name(

@@ -206,16 +206,18 @@ pub enum SetValue {
 
 /// Parses `set NAME VALUE`: the setting's name as the table spells it and its value.
 pub(crate) fn parse_setting(name: &str, value: &str) -> Parsed<(&'static str, SetValue)> {
-    let spec = SETTINGS.iter().find(|s| s.name == name).ok_or_else(|| {
-        ProcedureError::UnknownSetting {
-            name: name.to_string(),
-            known: SETTINGS
-                .iter()
-                .map(|s| s.name)
-                .collect::<Vec<_>>()
-                .join(", "),
-        }
-    })?;
+    let spec =
+        SETTINGS
+            .iter()
+            .find(|s| s.name == name)
+            .ok_or_else(|| ProcedureError::UnknownSetting {
+                name: name.to_string(),
+                known: SETTINGS
+                    .iter()
+                    .map(|s| s.name)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?;
     let bad = |expected: &str| ProcedureError::BadSetting {
         name: name.to_string(),
         value: value.to_string(),
@@ -280,8 +282,8 @@ pub(crate) fn apply(session: &mut Session, name: &str, value: &SetValue) -> Resu
     let switch = matches!(value, SetValue::Switch(true));
     let s = &mut session.settings;
     match name {
-        "youngs_modulus_mpa" | "poisson_ratio" | "density_kg_m3" | "mass_kg" | "alpha"
-        | "beta" | "active_coils" | "mean_diameter_mm" | "wire_diameter_mm" | "pitch_mm" => {
+        "youngs_modulus_mpa" | "poisson_ratio" | "density_kg_m3" | "mass_kg" | "alpha" | "beta"
+        | "active_coils" | "mean_diameter_mm" | "wire_diameter_mm" | "pitch_mm" => {
             let state = session.state()?;
             match name {
                 "youngs_modulus_mpa" => state.youngs_modulus_mpa = number,
@@ -323,8 +325,7 @@ pub(crate) fn apply(session: &mut Session, name: &str, value: &SetValue) -> Resu
         "duration_s" => s.damping.decay.duration_s = number,
         "initial_velocity_m_s" => s.damping.decay.initial_velocity_m_s = number,
         "velocity_field" => {
-            s.damping.decay.velocity_field = if matches!(value, SetValue::Word(w) if w == "nodal")
-            {
+            s.damping.decay.velocity_field = if matches!(value, SetValue::Word(w) if w == "nodal") {
                 VelocityField::Nodal
             } else {
                 VelocityField::QuasiStatic
@@ -369,7 +370,6 @@ pub(crate) fn apply(session: &mut Session, name: &str, value: &SetValue) -> Resu
     session.model_changed();
     Ok(())
 }
-
 
 #[cfg(test)]
 mod tests {

@@ -50,9 +50,10 @@ use std::f64::consts::TAU;
 use crate::error::{show, PostError, Result};
 use crate::filter;
 use crate::fit::least_squares;
-use crate::peaks::noise_rms;
-use crate::signal::{self, Detrend};
+use crate::offset::{remove_offset, Detrend};
+use crate::signal::Signal;
 use crate::spectrum::{self, SpectrumOptions};
+use crate::stats::noise_rms;
 
 /// Options of [`analyze`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,12 +161,8 @@ pub fn analytic_signal(x: &[f64]) -> Vec<Complex64> {
 }
 
 /// Envelope, instantaneous frequency and the backbone/damping curves of `values`.
-pub fn analyze(
-    time_s: &[f64],
-    values: &[f64],
-    options: &EnvelopeOptions,
-) -> Result<EnvelopeReport> {
-    let step_s = signal::uniform_step(time_s, values)?;
+pub fn analyze(signal: &Signal, options: &EnvelopeOptions) -> Result<EnvelopeReport> {
+    let (time_s, step_s) = (signal.time_s(), signal.step_s());
     let finite = |v: f64| v.is_finite() && v >= 0.0;
     if !(finite(options.window_periods)
         && options.window_periods > 0.0
@@ -180,12 +177,12 @@ pub fn analyze(
             show(options.extension_periods)
         )));
     }
-    let (mut y, offset_removed) = signal::remove_offset(time_s, values, options.detrend)?;
+    let (detrended, offset_removed) = remove_offset(signal, options.detrend)?;
     let spectrum_options = SpectrumOptions {
         detrend: Detrend::None,
         ..SpectrumOptions::default()
     };
-    let dominant = spectrum::amplitude_spectrum(time_s, &y, &spectrum_options)?
+    let dominant = spectrum::amplitude_spectrum(&detrended, &spectrum_options)?
         .dominant_peak()
         .filter(|peak| peak.frequency_hz > 0.0)
         .ok_or_else(|| PostError::TooFewPeaks {
@@ -195,6 +192,7 @@ pub fn analyze(
             hint: "the envelope needs an oscillation; the spectrum has no peak".to_string(),
         })?;
     let f0 = dominant.frequency_hz;
+    let (_, mut y) = detrended.into_parts();
     let noise = noise_rms(&y);
 
     let band_hz = match options.bandpass {
@@ -435,6 +433,10 @@ fn log_envelope_fit(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn sig(time_s: &[f64], values: &[f64]) -> Signal {
+        Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
+    }
     use crate::test_signals::{damped_sine, DampedSine};
 
     #[test]
@@ -464,7 +466,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 1000.0, 15.0);
-        let report = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
+        let report = analyze(&sig(&time, &x), &EnvelopeOptions::default()).unwrap();
         let sigma_error = (report.decay_rate_per_s / sine.sigma() - 1.0).abs();
         let zeta_error = (report.zeta_fit / sine.zeta - 1.0).abs();
         assert!(sigma_error < 2e-4, "sigma error {sigma_error:e}");
@@ -493,12 +495,12 @@ mod tests {
         for (t, v) in time.iter().zip(&mut x) {
             *v += 0.2 * (TAU * 61.3 * t).cos();
         }
-        let plain = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
+        let plain = analyze(&sig(&time, &x), &EnvelopeOptions::default()).unwrap();
         let banded = EnvelopeOptions {
             bandpass: Some(0.5),
             ..EnvelopeOptions::default()
         };
-        let report = analyze(&time, &x, &banded).unwrap();
+        let report = analyze(&sig(&time, &x), &banded).unwrap();
         let (low, high) = report.band_hz.unwrap();
         assert!((low - 0.5 * 4.35).abs() < 0.01 && (high - 1.5 * 4.35).abs() < 0.02);
         // The second mode beats with the first in the plain envelope: its windows scatter by
@@ -542,7 +544,7 @@ mod tests {
                     extension_periods,
                     ..EnvelopeOptions::default()
                 };
-                let report = analyze(&time, &x, &options).unwrap();
+                let report = analyze(&sig(&time, &x), &options).unwrap();
                 let errors: Vec<String> = report
                     .points
                     .iter()

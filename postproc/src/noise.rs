@@ -60,7 +60,7 @@ pub struct NoiseFloor {
 /// back to the fourth differences.
 pub fn noise_floor(x: &[f64]) -> NoiseFloor {
     let n = x.len();
-    let white_rms = crate::peaks::noise_rms(x);
+    let white_rms = crate::stats::noise_rms(x);
     if n < MIN_SEGMENT {
         return NoiseFloor {
             rms: white_rms,

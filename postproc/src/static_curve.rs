@@ -37,8 +37,7 @@ use serde::Serialize;
 
 use crate::error::{PostError, Result};
 use crate::fit::weighted_fit;
-use crate::peaks::noise_rms;
-use crate::signature::Estimate;
+use crate::stats::{noise_rms, Estimate};
 
 /// Fewest points of a static record.
 pub const MIN_STATIC_POINTS: usize = 8;

@@ -14,6 +14,7 @@ use coil_mesher::{
     AnalysisKind, SpringSpec, TransientScheme, VelocityField, WEIGHT_ACCEL_COLUMN, WEIGHT_NODE,
 };
 use coil_postproc::decrement::{analyze, DecrementOptions, DecrementReport, Lowpass};
+use coil_postproc::signal::Signal;
 use coil_postproc::PostError;
 use coil_solver::analysis::transient::{override_method, MethodOverride};
 use coil_solver::analysis::{modal, run, CaseSolution, Mode, System, TransientSolution};
@@ -98,9 +99,9 @@ fn decrement(
     lowpass_hz: Option<f64>,
 ) -> Result<DecrementReport, PostError> {
     let values = t.history.column(column).expect("recorded column");
+    let signal = Signal::new(t.history.time_s.clone(), values.to_vec())?;
     analyze(
-        &t.history.time_s,
-        values,
+        &signal,
         &DecrementOptions {
             every: 10,
             lowpass: lowpass_hz.map(|cutoff_hz| Lowpass {
@@ -559,10 +560,9 @@ fn history_files_read_in_coil_post_and_name_further_cases() {
     let first = dir.path().join("history.csv");
     assert!(dir.path().join("case2_history.csv").is_file());
     let signal = coil_postproc::signal::read_signal(&first, WEIGHT_ACCEL_COLUMN).expect("read");
-    assert_eq!(signal.time_s.len(), 501, "every 10th step of 5000");
+    assert_eq!(signal.time_s().len(), 501, "every 10th step of 5000");
     let report = analyze(
-        &signal.time_s,
-        &signal.values,
+        &signal,
         &DecrementOptions {
             every: 10,
             ..DecrementOptions::default()

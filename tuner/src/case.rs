@@ -897,7 +897,7 @@ mod tests {
         let statics = case.static_records().unwrap();
         assert_eq!(statics[0].force_n, vec![0.0, 3.9, 7.9]);
         let decays = case.decay_records().unwrap();
-        assert_eq!(decays[0].values.len(), 100);
+        assert_eq!(decays[0].values().len(), 100);
     }
 
     /// Each broken field is named with its line and what was expected.

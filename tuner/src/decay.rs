@@ -26,6 +26,7 @@ use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{AnalysisKind, WEIGHT_NODE};
 use coil_postproc::decrement::{self, DecrementOptions, Lowpass};
+use coil_postproc::signal::Signal;
 use coil_solver::analysis::{modal, System};
 use coil_solver::integrate::modal::{integrate_modal, ModalBasis, ModalState};
 use coil_solver::linalg::sym_upper_matvec;
@@ -159,12 +160,12 @@ pub struct DecayMeasure {
 
 /// The decrement of a record.
 pub fn measure(record: &DecayRecord, settings: &DecaySettings) -> Result<DecayMeasure> {
-    let r = decrement::analyze(&record.time_s, &record.accel_m_s2, &settings.options()).map_err(
-        |source| TuneError::Post {
+    let r = Signal::new(record.time_s.clone(), record.accel_m_s2.clone())
+        .and_then(|signal| decrement::analyze(&signal, &settings.options()))
+        .map_err(|source| TuneError::Post {
             context: "logarithmic decrement of the weight's acceleration".into(),
             source,
-        },
-    )?;
+        })?;
     Ok(DecayMeasure {
         zeta_mean: r.zeta_mean,
         zeta_fit: r.zeta_fit,

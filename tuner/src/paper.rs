@@ -115,13 +115,9 @@ fn reference_decay(
     model: &DecayRecord,
 ) -> Result<(String, DecayRecord)> {
     if let Some(signal) = case.decay_records()?.into_iter().next() {
-        return Ok((
-            format!("measured: {}", signal.source.display()),
-            DecayRecord {
-                time_s: signal.time_s,
-                accel_m_s2: signal.values,
-            },
-        ));
+        let label = format!("measured: {}", signal.source().display());
+        let (time_s, accel_m_s2) = signal.into_parts();
+        return Ok((label, DecayRecord { time_s, accel_m_s2 }));
     }
     let zeta = targets.damping_ratio;
     let omega_d = std::f64::consts::TAU / targets.period_s;

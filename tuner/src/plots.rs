@@ -19,6 +19,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
+/// The axes of the tuner's figures (names 18 pt, ticks 16 pt).
+const TUNER_AXES: plot::AxisText = plot::AxisText {
+    names: 18,
+    ticks: 16,
+};
+
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
 const GREEN: RGBColor = RGBColor(44, 160, 44);
@@ -145,14 +151,9 @@ fn iteration_chart<'a, DB: DrawingBackend>(
         .y_label_area_size(100)
         .build_cartesian_2d(0.5..n + 0.5, lo..hi)
         .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("iteration")
-        .y_desc(y_desc)
+    plot::axes(&mut chart.configure_mesh(), "iteration", &y_desc, TUNER_AXES)
         .x_label_formatter(&whole)
         .y_label_formatter(&short)
-        .axis_desc_style((FONT, 18))
-        .label_style((FONT, 16))
         .draw()
         .map_err(e)?;
     Ok(chart)
@@ -261,16 +262,16 @@ impl Figure for LoopsFigure<'_> {
                 .y_label_area_size(90)
                 .build_cartesian_2d(0.5..n + 0.5, (bottom..top).log_scale())
                 .map_err(e)?;
-            third
-                .configure_mesh()
-                .x_desc("iteration")
-                .y_desc("|relative error| [-]")
-                .x_label_formatter(&whole)
-                .y_label_formatter(&|y| format!("{y:.0e}"))
-                .axis_desc_style((FONT, 18))
-                .label_style((FONT, 16))
-                .draw()
-                .map_err(e)?;
+            plot::axes(
+                &mut third.configure_mesh(),
+                "iteration",
+                "|relative error| [-]",
+                TUNER_AXES,
+            )
+            .x_label_formatter(&whole)
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()
+            .map_err(e)?;
             third
                 .draw_series(LineSeries::new(
                     [(0.5, report.tolerance), (n + 0.5, report.tolerance)],
@@ -458,16 +459,16 @@ impl Figure for DecayFigure<'_> {
             .y_label_area_size(90)
             .build_cartesian_2d(t0..t1, y0..y1)
             .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("acceleration [m/s^2]")
-            .y_label_formatter(&short)
-            .axis_desc_style((FONT, 18))
-            .label_style((FONT, 16))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(e)?;
+        plot::axes(
+            &mut chart.configure_mesh(),
+            "time [s]",
+            "acceleration [m/s^2]",
+            TUNER_AXES,
+        )
+        .y_label_formatter(&short)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(e)?;
         let grey = RGBColor(90, 90, 90);
         let reference: Vec<(f64, f64)> = r
             .time_s
@@ -512,16 +513,16 @@ impl Figure for DecayFigure<'_> {
             .y_label_area_size(90)
             .build_cartesian_2d(t0..t1, -span..span)
             .map_err(e)?;
-        lower
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("residual [m/s^2]")
-            .y_label_formatter(&short)
-            .axis_desc_style((FONT, 18))
-            .label_style((FONT, 16))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(e)?;
+        plot::axes(
+            &mut lower.configure_mesh(),
+            "time [s]",
+            "residual [m/s^2]",
+            TUNER_AXES,
+        )
+        .y_label_formatter(&short)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(e)?;
         lower
             .draw_series(LineSeries::new(
                 thin(self.residual.to_vec()),

@@ -21,6 +21,7 @@ use coil_solver::analysis::{modal, run, CaseSolution, Mode, System, TransientSol
 use coil_solver::integrate::Scheme;
 use coil_solver::linalg::sym_upper_matvec;
 use coil_solver::model::{units, Analysis, Integrator, Model, PointLoad, Table, TransientMethod};
+use coil_tests::{paper_spec, through_deck as model_of};
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
@@ -31,25 +32,6 @@ const PEER_PERIOD_S: f64 = 0.23045;
 const PEER_ZETA_ALPHA_ON_WEIGHT: f64 = 0.0163;
 
 const WEIGHT_DISP_COLUMN: &str = "node1_uz_disp_m";
-
-fn paper_spec() -> SpringSpec {
-    SpringSpec {
-        youngs_modulus_mpa: 190_708.0,
-        poisson: 0.3,
-        density_kg_m3: 7850.0,
-        elements_per_coil: 24,
-        element: 98,
-        ..SpringSpec::default()
-    }
-}
-
-/// Meshes, writes the deck and reads it back, so the text path (including `INITIAL VEL,
-/// QUASI STATIC`) is part of every run.
-fn model_of(spec: &SpringSpec) -> Model {
-    let model = spec.build().expect("valid spec");
-    let text = coil_solver::deck::write(&model);
-    coil_solver::deck::read_str(&text, "transient.dat").expect("the deck reads back")
-}
 
 /// The model's static stiffness at the weight (N/mm) and the peer's weight mass (kg).
 fn stiffness_and_mass() -> (f64, f64) {

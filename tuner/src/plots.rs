@@ -151,11 +151,16 @@ fn iteration_chart<'a, DB: DrawingBackend>(
         .y_label_area_size(100)
         .build_cartesian_2d(0.5..n + 0.5, lo..hi)
         .map_err(e)?;
-    plot::axes(&mut chart.configure_mesh(), "iteration", &y_desc, TUNER_AXES)
-        .x_label_formatter(&whole)
-        .y_label_formatter(&short)
-        .draw()
-        .map_err(e)?;
+    plot::axes(
+        &mut chart.configure_mesh(),
+        "iteration",
+        &y_desc,
+        TUNER_AXES,
+    )
+    .x_label_formatter(&whole)
+    .y_label_formatter(&short)
+    .draw()
+    .map_err(e)?;
     Ok(chart)
 }
 

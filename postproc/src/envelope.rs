@@ -265,29 +265,14 @@ pub fn analyze(signal: &Signal, options: &EnvelopeOptions) -> Result<EnvelopeRep
     let (start, end) = (trim_samples, n - trim_samples);
     let floor = 10.0 * noise;
 
-    let mut points = Vec::new();
-    let hop = (window_samples / 2).max(1);
-    let mut first = start;
-    while first + window_samples <= end {
-        let range = first..first + window_samples;
-        first += hop;
-        if envelope[range.clone()].iter().any(|&e| e <= floor) {
-            continue;
-        }
-        let frequency_hz =
-            inst_frequency_hz[range.clone()].iter().sum::<f64>() / window_samples as f64;
-        let samples: Vec<usize> = range.collect();
-        let Some(fit) = log_envelope_fit(time_s, &envelope, &samples, frequency_hz, false) else {
-            continue;
-        };
-        points.push(EnvelopePoint {
-            time_s: fit.centre_s,
-            amplitude: fit.amplitude,
-            frequency_hz,
-            decay_rate_per_s: fit.sigma,
-            zeta: fit.sigma / (TAU * frequency_hz).hypot(fit.sigma),
-        });
-    }
+    let points = window_points(
+        time_s,
+        &envelope,
+        &inst_frequency_hz,
+        start..end,
+        window_samples,
+        floor,
+    );
 
     let kept: Vec<usize> = (start..end).filter(|&k| envelope[k] > floor).collect();
     if kept.len() < 8 {
@@ -324,6 +309,43 @@ pub fn analyze(signal: &Signal, options: &EnvelopeOptions) -> Result<EnvelopeRep
         envelope,
         inst_frequency_hz,
     })
+}
+
+/// The log-envelope fits over windows of `window_samples` (hopping by half a window)
+/// inside `span`; a window reaching down to `floor` is skipped.
+fn window_points(
+    time_s: &[f64],
+    envelope: &[f64],
+    inst_frequency_hz: &[f64],
+    span: std::ops::Range<usize>,
+    window_samples: usize,
+    floor: f64,
+) -> Vec<EnvelopePoint> {
+    let (start, end) = (span.start, span.end);
+    let mut points = Vec::new();
+    let hop = (window_samples / 2).max(1);
+    let mut first = start;
+    while first + window_samples <= end {
+        let range = first..first + window_samples;
+        first += hop;
+        if envelope[range.clone()].iter().any(|&e| e <= floor) {
+            continue;
+        }
+        let frequency_hz =
+            inst_frequency_hz[range.clone()].iter().sum::<f64>() / window_samples as f64;
+        let samples: Vec<usize> = range.collect();
+        let Some(fit) = log_envelope_fit(time_s, &envelope, &samples, frequency_hz, false) else {
+            continue;
+        };
+        points.push(EnvelopePoint {
+            time_s: fit.centre_s,
+            amplitude: fit.amplitude,
+            frequency_hz,
+            decay_rate_per_s: fit.sigma,
+            zeta: fit.sigma / (TAU * frequency_hz).hypot(fit.sigma),
+        });
+    }
+    points
 }
 
 /// Continues `y` by `count` samples before and after with the second-order linear

@@ -512,43 +512,7 @@ impl Loop3 {
             .collect();
         let plane = fit_plane(&triples);
 
-        let mut grids = Vec::new();
-        for (index, result) in results.iter().enumerate() {
-            let spec = &result.spec;
-            let heat_map = match out {
-                Some(out) => {
-                    let name = match index {
-                        0 => format!("fig8_{}.png", spec.name),
-                        1 => format!("fig9_{}.png", spec.name),
-                        _ => format!("fig_{}.png", spec.name),
-                    };
-                    let marks = HeatMapMarks {
-                        target_zeta,
-                        paper: paper_point,
-                        valley: plane.map(|p| (p.z0, p.a, p.b)),
-                    };
-                    plots::heat_map(result, &marks, &out.staged(&name)?)?;
-                    Some(name)
-                }
-                None => None,
-            };
-            grids.push(GridSummary {
-                name: spec.name.clone(),
-                alpha: spec.alpha.to_string(),
-                beta: spec.beta.to_string(),
-                runs: result.points.len(),
-                computed: result.computed,
-                resumed: result.resumed,
-                failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
-                elapsed_s: result.elapsed_s,
-                best: result
-                    .best(target_zeta)
-                    .cloned()
-                    .unwrap_or_else(|| best.clone()),
-                csv: format!("loop3_{}.csv", spec.name),
-                heat_map,
-            });
-        }
+        let grids = self.grid_summaries(&best, plane, paper_point)?;
 
         let state = &self.state;
         let fe = &self.fe;
@@ -646,81 +610,14 @@ impl Loop3 {
                     &out.staged("loop3_valley.png")?,
                 )?;
             }
-            // Decks of the transients that matter: the chosen point, the paper's point,
-            // the valley's points (a grid point's deck is the chosen one with its DAMPING
-            // line changed).
-            let mut decks = vec![("chosen".to_string(), best.alpha, best.beta)];
-            if let Some((a, b)) = paper_point {
-                decks.push(("paper_point".to_string(), a, b));
-            }
-            if let Some(v) = &valley {
-                for (k, p) in v.points.iter().enumerate() {
-                    decks.push((format!("valley_{:02}", k + 1), p.alpha, p.beta));
-                }
-            }
-            for (name, alpha, beta) in decks {
-                let model = decay_model(
-                    &SpringState {
-                        alpha,
-                        beta,
-                        ..*state
-                    },
-                    fe,
-                    decay,
-                )?;
-                out.write(
-                    format!("loop3/{name}.dat"),
-                    coil_solver::deck::write(&model).as_bytes(),
-                )?;
-            }
-            if chosen.direct.is_some() {
-                let direct = DecaySettings {
-                    method: Method::Direct,
-                    ..decay.clone()
-                };
-                let at = SpringState {
-                    alpha: best.alpha,
-                    beta: best.beta,
-                    ..*state
-                };
-                out.write(
-                    "loop3/chosen_direct.dat",
-                    coil_solver::deck::write(&decay_model(&at, fe, &direct)?).as_bytes(),
-                )?;
-            }
-            // The loop's log, the analogue of Fig. 7: every run with its relative error.
-            let mut rows = Vec::new();
-            for g in results {
-                for p in &g.points {
-                    rows.push(vec![
-                        g.spec.name.clone(),
-                        exact(p.alpha),
-                        exact(p.beta),
-                        p.zeta().map_or(String::new(), exact),
-                        p.zeta()
-                            .map_or(String::new(), |z| exact((z - target_zeta) / target_zeta)),
-                    ]);
-                }
-            }
-            if let Some(v) = &valley {
-                for p in &v.points {
-                    rows.push(vec![
-                        "valley".into(),
-                        exact(p.alpha),
-                        exact(p.beta),
-                        exact(p.zeta),
-                        exact((p.zeta - target_zeta) / target_zeta),
-                    ]);
-                }
-            }
-            out.write(
-                "loop3_log.csv",
-                csv(
-                    &["stage", "alpha", "beta", "zeta_mean", "relative_error"],
-                    rows,
-                )
-                .as_bytes(),
+            self.write_decks(
+                out,
+                &best,
+                paper_point,
+                valley.as_ref(),
+                chosen.direct.is_some(),
             )?;
+            write_log(out, results, valley.as_ref(), target_zeta)?;
         }
 
         Ok(DampingReport {
@@ -734,6 +631,153 @@ impl Loop3 {
             complete,
         })
     }
+
+    /// Each grid's summary, with its heat map drawn when there is an output folder.
+    fn grid_summaries(
+        &self,
+        best: &GridPoint,
+        plane: Option<Plane>,
+        paper_point: Option<(f64, f64)>,
+    ) -> Result<Vec<GridSummary>> {
+        let (target_zeta, out) = (self.target_zeta, self.out.as_ref());
+        let mut grids = Vec::new();
+        for (index, result) in self.results.iter().enumerate() {
+            let spec = &result.spec;
+            let heat_map = match out {
+                Some(out) => {
+                    let name = match index {
+                        0 => format!("fig8_{}.png", spec.name),
+                        1 => format!("fig9_{}.png", spec.name),
+                        _ => format!("fig_{}.png", spec.name),
+                    };
+                    let marks = HeatMapMarks {
+                        target_zeta,
+                        paper: paper_point,
+                        valley: plane.map(|p| (p.z0, p.a, p.b)),
+                    };
+                    plots::heat_map(result, &marks, &out.staged(&name)?)?;
+                    Some(name)
+                }
+                None => None,
+            };
+            grids.push(GridSummary {
+                name: spec.name.clone(),
+                alpha: spec.alpha.to_string(),
+                beta: spec.beta.to_string(),
+                runs: result.points.len(),
+                computed: result.computed,
+                resumed: result.resumed,
+                failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
+                elapsed_s: result.elapsed_s,
+                best: result
+                    .best(target_zeta)
+                    .cloned()
+                    .unwrap_or_else(|| best.clone()),
+                csv: format!("loop3_{}.csv", spec.name),
+                heat_map,
+            });
+        }
+        Ok(grids)
+    }
+
+    /// Writes the decks of the transients that matter (`loop3/*.dat`).
+    fn write_decks(
+        &self,
+        out: &OutDir,
+        best: &GridPoint,
+        paper_point: Option<(f64, f64)>,
+        valley: Option<&Valley>,
+        chosen_direct: bool,
+    ) -> Result<()> {
+        let (state, fe, decay) = (&self.state, &self.fe, &self.settings.decay);
+        // Decks of the transients that matter: the chosen point, the paper's point,
+        // the valley's points (a grid point's deck is the chosen one with its DAMPING
+        // line changed).
+        let mut decks = vec![("chosen".to_string(), best.alpha, best.beta)];
+        if let Some((a, b)) = paper_point {
+            decks.push(("paper_point".to_string(), a, b));
+        }
+        if let Some(v) = valley {
+            for (k, p) in v.points.iter().enumerate() {
+                decks.push((format!("valley_{:02}", k + 1), p.alpha, p.beta));
+            }
+        }
+        for (name, alpha, beta) in decks {
+            let model = decay_model(
+                &SpringState {
+                    alpha,
+                    beta,
+                    ..*state
+                },
+                fe,
+                decay,
+            )?;
+            out.write(
+                format!("loop3/{name}.dat"),
+                coil_solver::deck::write(&model).as_bytes(),
+            )?;
+        }
+        if chosen_direct {
+            let direct = DecaySettings {
+                method: Method::Direct,
+                ..decay.clone()
+            };
+            let at = SpringState {
+                alpha: best.alpha,
+                beta: best.beta,
+                ..*state
+            };
+            out.write(
+                "loop3/chosen_direct.dat",
+                coil_solver::deck::write(&decay_model(&at, fe, &direct)?).as_bytes(),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `loop3_log.csv`, the analogue of Fig. 7: every run of loop 3 with its relative
+/// error, then the valley's points.
+fn write_log(
+    out: &OutDir,
+    results: &[GridResult],
+    valley: Option<&Valley>,
+    target_zeta: f64,
+) -> Result<()> {
+    // The loop's log, the analogue of Fig. 7: every run with its relative error.
+    let mut rows = Vec::new();
+    for g in results {
+        for p in &g.points {
+            rows.push(vec![
+                g.spec.name.clone(),
+                exact(p.alpha),
+                exact(p.beta),
+                p.zeta().map_or(String::new(), exact),
+                p.zeta()
+                    .map_or(String::new(), |z| exact((z - target_zeta) / target_zeta)),
+            ]);
+        }
+    }
+    if let Some(v) = valley {
+        for p in &v.points {
+            rows.push(vec![
+                "valley".into(),
+                exact(p.alpha),
+                exact(p.beta),
+                exact(p.zeta),
+                exact((p.zeta - target_zeta) / target_zeta),
+            ]);
+        }
+    }
+    out.write(
+        "loop3_log.csv",
+        csv(
+            &["stage", "alpha", "beta", "zeta_mean", "relative_error"],
+            rows,
+        )
+        .as_bytes(),
+    )?;
+    Ok(())
 }
 
 /// Loop 3 with the settings' grids: sets `state.alpha` and `state.beta` to the best grid

@@ -43,6 +43,61 @@ pub struct PaperOptions {
     pub control: RunControl,
 }
 
+/// The paper's Table 3 (and Table 2) values, as the case gives them.
+fn table3_paper(case: &MeasuredCase, targets: &Targets) -> Table3Paper {
+    let paper = case.paper.clone().unwrap_or_default();
+    Table3Paper {
+        youngs_modulus_mpa: paper.youngs_modulus_mpa,
+        stiffness_n_mm: targets.stiffness_n_mm,
+        damping_ratio: targets.damping_ratio,
+        period_s: targets.period_s,
+        alpha: paper.rayleigh_alpha,
+        beta: paper.rayleigh_beta,
+        fe_stiffness_n_mm: paper.stiffness_n_mm,
+        fe_damping_ratio: paper.damping_ratio,
+        stiffness_iterations: paper.stiffness_iterations,
+        mass_iterations: paper.mass_iterations,
+    }
+}
+
+/// Fig. 10's analogue: the reference decay (measured, or the paper's model) beside the
+/// validated model's.
+fn fig10(
+    state: &SpringState,
+    settings: &CalibrateSettings,
+    (reference_label, reference): (&str, &DecayRecord),
+    validated_record: &DecayRecord,
+    period_s: f64,
+    out: &OutDir,
+) -> Result<()> {
+    let decay = &settings.damping.decay;
+    let model_label = format!(
+        "coil: alpha = {}, beta = {} ({})",
+        state.alpha,
+        state.beta,
+        if decay.method == Method::Direct || settings.damping.check_direct {
+            "direct integration"
+        } else {
+            "modal superposition"
+        }
+    );
+    crate::plots::decay_figure(
+        &crate::plots::DecayTrace {
+            label: reference_label,
+            time_s: &reference.time_s,
+            accel_m_s2: &reference.accel_m_s2,
+        },
+        &crate::plots::DecayTrace {
+            label: &model_label,
+            time_s: &validated_record.time_s,
+            accel_m_s2: &validated_record.accel_m_s2,
+        },
+        period_s,
+        &out.staged("fig10_decay.png")?,
+    )?;
+    Ok(())
+}
+
 /// Loop 1 at each discretisation of [`MESH_STUDY`].
 pub fn mesh_study(
     case: &MeasuredCase,
@@ -244,32 +299,15 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         decay.initial_velocity_m_s,
         &validated_record,
     )?;
-    let model_label = format!(
-        "coil: alpha = {}, beta = {} ({})",
-        state.alpha,
-        state.beta,
-        if decay.method == Method::Direct || settings.damping.check_direct {
-            "direct integration"
-        } else {
-            "modal superposition"
-        }
-    );
-    crate::plots::decay_figure(
-        &crate::plots::DecayTrace {
-            label: &reference_label,
-            time_s: &reference.time_s,
-            accel_m_s2: &reference.accel_m_s2,
-        },
-        &crate::plots::DecayTrace {
-            label: &model_label,
-            time_s: &validated_record.time_s,
-            accel_m_s2: &validated_record.accel_m_s2,
-        },
+    fig10(
+        &state,
+        settings,
+        (&reference_label, &reference),
+        &validated_record,
         targets.period_s,
-        &out.staged("fig10_decay.png")?,
+        out,
     )?;
 
-    let paper = case.paper.clone().unwrap_or_default();
     let table3 = Table3 {
         youngs_modulus_mpa: state.youngs_modulus_mpa,
         stiffness_n_mm: calibration.stiffness.result,
@@ -279,18 +317,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         beta: state.beta,
         mass_kg: state.mass_kg,
     };
-    let table3_paper = Table3Paper {
-        youngs_modulus_mpa: paper.youngs_modulus_mpa,
-        stiffness_n_mm: targets.stiffness_n_mm,
-        damping_ratio: targets.damping_ratio,
-        period_s: targets.period_s,
-        alpha: paper.rayleigh_alpha,
-        beta: paper.rayleigh_beta,
-        fe_stiffness_n_mm: paper.stiffness_n_mm,
-        fe_damping_ratio: paper.damping_ratio,
-        stiffness_iterations: paper.stiffness_iterations,
-        mass_iterations: paper.mass_iterations,
-    };
+    let table3_paper = table3_paper(&case, &targets);
     let rel = |a: f64, b: f64| (a - b) / b;
     let report = PaperReport {
         case: case.name.clone(),

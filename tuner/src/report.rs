@@ -244,9 +244,17 @@ pub fn family(r: &PaperReport) -> String {
 
 /// The whole report.
 pub fn markdown(r: &PaperReport) -> String {
+    let mut s = String::new();
+    calibration_sections(&mut s, r);
+    grid_sections(&mut s, r);
+    prediction_sections(&mut s, r);
+    s
+}
+
+/// The header, Tables 1 and 3 and loops 1 and 2.
+fn calibration_sections(s: &mut String, r: &PaperReport) {
     let c = &r.calibration;
     let d = &c.damping;
-    let mut s = String::new();
     let _ = writeln!(s, "# coil-tune paper: {}\n", r.case);
     let _ = writeln!(
         s,
@@ -328,7 +336,11 @@ pub fn markdown(r: &PaperReport) -> String {
         c.state.mass_kg,
         c.nominal.mass_kg
     );
+}
 
+/// Loop 3: the grids, the chosen point, the paper's point and the valley past the grid.
+fn grid_sections(s: &mut String, r: &PaperReport) {
+    let d = &r.calibration.damping;
     let _ = writeln!(s, "## Loop 3: the grids (Figs. 8 and 9)\n");
     let _ = writeln!(s, "| grid | alpha | beta | runs | run now | from journal | failed | best (alpha, beta) | zeta | time (s) | heat map |");
     let _ = writeln!(s, "|---|---|---|---:|---:|---:|---:|---|---:|---:|---|");
@@ -425,7 +437,11 @@ pub fn markdown(r: &PaperReport) -> String {
             100.0 * d.chosen.beta_share
         );
     }
+}
 
+/// Table 4, why a variant can miss, the damping-law band, the mesh bias, the timings and
+/// the files.
+fn prediction_sections(s: &mut String, r: &PaperReport) {
     let _ = writeln!(
         s,
         "\n## Table 4: the variants with the validated material\n"
@@ -536,5 +552,4 @@ pub fn markdown(r: &PaperReport) -> String {
          `loop2_period.csv` + `loop2_period/*.dat`, `loop3_*.csv`, `loop3_*.journal.jsonl`, \
          `loop3_log.csv`, `loop3_valley.csv`, `loop3/*.dat` (the chosen point, the paper's point, the valley), `sweep.csv`."
     );
-    s
 }

@@ -18,6 +18,8 @@
 //!
 //! Unix only (symlink and file-type checks use `std::os::unix`).
 
+#![warn(missing_docs)]
+
 pub mod confine;
 pub mod progress;
 pub mod set;

@@ -54,7 +54,9 @@ use crate::signal::Signal;
 /// A zero-phase Butterworth low-pass applied before crest picking.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Lowpass {
+    /// Cutoff frequency, Hz.
     pub cutoff_hz: f64,
+    /// Butterworth order.
     pub order: usize,
 }
 
@@ -63,9 +65,13 @@ pub struct Lowpass {
 pub struct DecrementOptions {
     /// Crest intervals per decrement span (the paper: 10).
     pub every: usize,
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How crests are located between samples.
     pub peak_fit: PeakFit,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
+    /// Zero-phase low-pass before crest picking, if any.
     pub lowpass: Option<Lowpass>,
 }
 
@@ -84,9 +90,13 @@ impl Default for DecrementOptions {
 /// One span of Eq. 2: crests `first` and `last` (0-based, `last - first = every`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Span {
+    /// The first (1-based).
     pub first: usize,
+    /// The last (0-based index of the crest).
     pub last: usize,
+    /// Logarithmic decrement (-).
     pub delta: f64,
+    /// Damping ratio (-).
     pub zeta: f64,
 }
 
@@ -121,13 +131,17 @@ pub struct DecrementReport {
     pub peaks_rejected: usize,
     /// The crests used (time, amplitude, fractional sample index).
     pub peaks: Vec<Peak>,
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How crests are located between samples.
     pub peak_fit: PeakFit,
     /// Half-width of the least-squares crest window, samples.
     pub fit_half_width: usize,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
     /// The constant subtracted before analysis, signal unit.
     pub offset_removed: f64,
+    /// Zero-phase low-pass before crest picking, if any.
     pub lowpass: Option<Lowpass>,
     /// Robust white-noise estimate of the analysed signal, signal unit.
     pub noise_rms: f64,

@@ -58,6 +58,7 @@ use crate::stats::noise_rms;
 /// Options of [`analyze`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnvelopeOptions {
+    /// Offset removed before analysis.
     pub detrend: Detrend,
     /// Relative half-width `b` of a band-pass around the dominant peak, if any.
     pub bandpass: Option<f64>,
@@ -95,6 +96,7 @@ pub struct EnvelopePoint {
     pub frequency_hz: f64,
     /// Local decay rate sigma, 1/s.
     pub decay_rate_per_s: f64,
+    /// Damping ratio (-).
     pub zeta: f64,
 }
 
@@ -117,7 +119,9 @@ pub struct EnvelopeReport {
     pub window_samples: usize,
     /// Robust white-noise estimate of the analysed signal.
     pub noise_rms: f64,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
+    /// The constant subtracted before analysis, signal unit.
     pub offset_removed: f64,
     /// Backbone and damping curve, one point per window.
     pub points: Vec<EnvelopePoint>,

@@ -26,6 +26,8 @@
 //!   binary only parses arguments, calls these and prints).
 //! - [`output`]: temp-file-and-rename writing.
 
+#![warn(missing_docs)]
+
 pub mod decrement;
 pub mod differentiate;
 pub mod envelope;

@@ -73,7 +73,9 @@ pub const LSQ_HALF_WINDOW_PERIODS: f64 = 1.0 / 8.0;
 #[serde(rename_all = "snake_case")]
 pub enum Polarity {
     #[default]
+    /// Crests (maxima).
     Crests,
+    /// Troughs (minima, reported as positive magnitudes).
     Troughs,
 }
 
@@ -103,7 +105,9 @@ pub enum PeakFit {
 /// Options of [`find_peaks`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PeakOptions {
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How it was fitted.
     pub fit: PeakFit,
     /// Half-width of the least-squares window, periods (default [`LSQ_HALF_WINDOW_PERIODS`]).
     pub half_window_periods: f64,

@@ -87,24 +87,31 @@ pub struct Trace<'a> {
     pub label: &'a str,
     /// Unit of the values, e.g. `m/s^2` (see [`unit_of`]).
     pub unit: &'a str,
+    /// Time, s.
     pub time_s: &'a [f64],
+    /// The values.
     pub values: &'a [f64],
 }
 
 /// One spectrum and its listed peaks.
 #[derive(Debug, Clone, Copy)]
 pub struct SpectrumTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
+    /// The spectrum.
     pub spectrum: &'a Spectrum,
+    /// Its peaks.
     pub peaks: &'a [SpectralPeak],
 }
 
 /// One envelope analysis.
 #[derive(Debug, Clone, Copy)]
 pub struct EnvelopeTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
     /// Unit of the signal, for the amplitude axis (e.g. `m/s^2`).
     pub unit: &'a str,
+    /// The report.
     pub report: &'a EnvelopeReport,
 }
 
@@ -212,6 +219,7 @@ fn ensure_font() -> Result<()> {
 /// A picture that can be drawn on any plotters backend; [`render`] writes it as PNG or
 /// SVG. Other crates (the tuner's figures) implement it to share the font and output.
 pub trait Figure {
+    /// Draws the figure into `root`.
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
 }
 

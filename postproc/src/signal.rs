@@ -415,7 +415,9 @@ pub fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
 
 /// Named columns of a CSV file, every cell checked, with the physical line of each row.
 pub struct Fields {
+    /// Every header name in file order.
     pub header: Vec<String>,
+    /// Line of the header.
     pub header_line: u64,
     /// One vector per requested name, in the order requested.
     pub values: Vec<Vec<f64>>,

@@ -85,9 +85,11 @@ pub const MAX_FFT_LENGTH: usize = 1 << 28;
 /// Options of [`amplitude_spectrum`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpectrumOptions {
+    /// Taper applied before the transform.
     pub window: Window,
     /// The transform length is the next power of two of `zero_pad * n` (at least 1).
     pub zero_pad: usize,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
 }
 
@@ -114,15 +116,20 @@ pub struct Spectrum {
     pub native_bin_hz: f64,
     /// `1 / (n_fft dt)`: the grid spacing, Hz.
     pub grid_bin_hz: f64,
+    /// Taper applied before the transform.
     pub window: Window,
+    /// Number of samples.
     pub samples: usize,
+    /// Transform length.
     pub fft_length: usize,
 }
 
 /// An interpolated spectral peak.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SpectralPeak {
+    /// Frequency, Hz.
     pub frequency_hz: f64,
+    /// Amplitude, signal unit.
     pub amplitude: f64,
 }
 

@@ -37,7 +37,9 @@ pub(crate) fn median(values: &[f64]) -> Option<f64> {
 /// A value with its standard error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Estimate {
+    /// The value.
     pub value: f64,
+    /// Its standard error.
     pub std_error: f64,
 }
 

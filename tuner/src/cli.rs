@@ -48,6 +48,7 @@ stdout (| head) ends the printing, not the run."
 )]
 pub struct Cli {
     #[command(subcommand)]
+    /// The command to run.
     pub command: Command,
 }
 
@@ -90,6 +91,7 @@ impl ModelArgs {
         s
     }
 
+    /// How long grids may run.
     pub fn control(&self) -> RunControl {
         RunControl {
             max_new_points: self.max_points,
@@ -153,18 +155,22 @@ pub struct MaterialArgs {
 }
 
 #[derive(Debug, Subcommand)]
+/// The commands of `coil-tune`.
 pub enum Command {
     /// Loops 1-3 of the paper's Figure 6 on a case (folder or case.json).
     Calibrate {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// Output folder for decks, logs, grids and figures.
         #[arg(long, default_value = "out/calibrate")]
         out: PathBuf,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// K and zeta of spring variants with the validated material (Table 4).
     Sweep {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// The variants file (e.g. cases/160ect/table4.json).
         #[arg(long)]
@@ -173,18 +179,21 @@ pub enum Command {
         #[arg(long, default_value = "out/sweep")]
         out: PathBuf,
         #[command(flatten)]
+        /// Where the validated material comes from.
         material: MaterialArgs,
         /// Run only shard I of N (round robin over the variants) and write
         /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
         #[arg(long, value_name = "I/N")]
         shard: Option<crate::study::Shard>,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// K and zeta distributions of the variants as manufactured: each spring sampled
     /// within tolerances (wire and coil diameter, coils, E, mass), seeded
     /// (docs/scale-out.md).
     Tolerance {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// The variants file (e.g. cases/160ect/table4.json).
         #[arg(long)]
@@ -193,6 +202,7 @@ pub enum Command {
         #[arg(long, default_value = "out/tolerance")]
         out: PathBuf,
         #[command(flatten)]
+        /// The tolerances sampled.
         tolerance: ToleranceArgs,
         /// Run only shard I of N (round robin over the tasks) and write
         /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
@@ -202,8 +212,10 @@ pub enum Command {
         #[arg(long)]
         no_plots: bool,
         #[command(flatten)]
+        /// Where the validated material comes from.
         material: MaterialArgs,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// Join the parts of a sharded `sweep` or `tolerance` into the table a single run
@@ -232,6 +244,7 @@ pub enum Command {
         #[arg(long, default_value = "cases/160ect/table4.json")]
         variants: PathBuf,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
@@ -278,6 +291,7 @@ pub enum Command {
     },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
+        /// The procedure file.
         procedure: PathBuf,
         /// Output folder (overrides the file's `out`; default out/<procedure name>).
         #[arg(long)]

@@ -52,6 +52,7 @@ use serde::Serialize;
 /// Settings of loop 3.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DampingSettings {
+    /// Decay-transient settings.
     pub decay: DecaySettings,
     /// The grids, in order (the paper's two domains by default).
     pub grids: Vec<GridSpec>,
@@ -83,10 +84,15 @@ impl Default for DampingSettings {
 /// Runs decay transients of one model (geometry, E, mass) for any alpha and beta.
 #[derive(Debug)]
 pub enum Simulator {
+    /// Modal superposition.
     Modal(Box<ModalDecay>),
+    /// Direct integration.
     Direct {
+        /// The model values.
         state: SpringState,
+        /// Mesh and solver settings.
         fe: FeSettings,
+        /// Decay-transient settings.
         decay: DecaySettings,
     },
 }
@@ -203,6 +209,7 @@ pub fn direct_decay(
 /// The least-squares plane `zeta = z0 + a alpha + b beta` through measured points.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Plane {
+    /// zeta at alpha = beta = 0 (-).
     pub z0: f64,
     /// d zeta / d alpha (s).
     pub a: f64,
@@ -210,6 +217,7 @@ pub struct Plane {
     pub b: f64,
     /// RMS of the residuals relative to the RMS zeta.
     pub relative_rms_residual: f64,
+    /// Points fitted.
     pub points: usize,
 }
 
@@ -256,35 +264,49 @@ pub fn fit_plane(points: &[(f64, f64, f64)]) -> Option<Plane> {
 /// One finished grid, summarised.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridSummary {
+    /// The grid's name.
     pub name: String,
+    /// Rayleigh alpha, 1/s.
     pub alpha: String,
+    /// Rayleigh beta, s.
     pub beta: String,
+    /// Transient runs.
     pub runs: usize,
+    /// Points run now.
     pub computed: usize,
+    /// Points read from the journal.
     pub resumed: usize,
     /// Points whose decrement failed (with the reason in the CSV).
     pub failed: usize,
+    /// Wall time, s.
     pub elapsed_s: f64,
+    /// The grid's point closest to the target.
     pub best: GridPoint,
+    /// The grid's CSV file.
     pub csv: String,
+    /// The heat map, if drawn.
     pub heat_map: Option<String>,
 }
 
 /// A point of the valley, found by transient runs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ValleyPoint {
+    /// Rayleigh alpha, 1/s.
     pub alpha: f64,
+    /// Rayleigh beta, s.
     pub beta: f64,
     /// Measured zeta (span mean).
     pub zeta: f64,
     /// Share of zeta from alpha (a alpha / zeta, with the fitted a).
     pub alpha_share: f64,
+    /// Transient runs.
     pub runs: usize,
 }
 
 /// The family of (alpha, beta) pairs with the target zeta.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Valley {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// The plane fitted to all grid points.
     pub plane: Plane,
@@ -296,6 +318,7 @@ pub struct Valley {
     pub alpha_alone: f64,
     /// d beta / d alpha along the valley (s^2): -a / b.
     pub beta_per_alpha: f64,
+    /// Points fitted.
     pub points: Vec<ValleyPoint>,
     /// What a single decay identifies, in words with the numbers.
     pub identifiable: String,
@@ -304,11 +327,17 @@ pub struct Valley {
 /// A checked point: zeta by the grid's method and by direct integration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CheckedPoint {
+    /// Rayleigh alpha, 1/s.
     pub alpha: f64,
+    /// Rayleigh beta, s.
     pub beta: f64,
+    /// How decay transients run.
     pub method: Method,
+    /// Damping ratio (-).
     pub zeta: f64,
+    /// Damped period of the decay, s.
     pub period_s: f64,
+    /// Damping ratio of the exponential fit (-).
     pub zeta_fit: f64,
     /// The same by direct integration, when run.
     pub direct: Option<DecayMeasure>,
@@ -316,19 +345,24 @@ pub struct CheckedPoint {
     pub direct_relative_difference: Option<f64>,
     /// Share of zeta from alpha at this point (fitted slopes).
     pub alpha_share: f64,
+    /// Share of zeta from beta (-).
     pub beta_share: f64,
 }
 
 /// Loop 3's result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DampingReport {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
+    /// How decay transients run.
     pub method: Method,
+    /// The grids.
     pub grids: Vec<GridSummary>,
     /// The chosen (grid-best) point, checked.
     pub chosen: CheckedPoint,
     /// The paper's point, if given, measured the same way.
     pub paper_point: Option<CheckedPoint>,
+    /// The valley past the grid, if traced.
     pub valley: Option<Valley>,
     /// Modal period (s) of the axial mode against the transient's measured period.
     pub transient_period_s: f64,

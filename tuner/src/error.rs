@@ -16,37 +16,53 @@ pub enum TuneError {
     /// The solver refused or failed a run.
     #[error("{context}: {source}")]
     Solve {
+        /// What was being done.
         context: String,
         #[source]
+        /// The underlying error.
         source: Box<coil_solver::analysis::SolveError>,
     },
     /// A time integration failed.
     #[error("{context}: {source}")]
     Integrate {
+        /// What was being done.
         context: String,
         #[source]
+        /// The underlying error.
         source: coil_solver::integrate::IntegrateError,
     },
     /// The post-processor could not analyse a history.
     #[error("{context}: {source}")]
     Post {
+        /// What was being done.
         context: String,
         #[source]
+        /// The underlying error.
         source: coil_postproc::PostError,
     },
     /// A run did not produce what the loop needs (no stiffness, no axial mode).
     #[error("{context}: {what}")]
-    Missing { context: String, what: String },
+    Missing {
+        /// What was being done.
+        context: String,
+        /// What is wrong.
+        what: String,
+    },
     /// A loop did not reach its tolerance.
     #[error(
         "{name}: no convergence after {iterations} iterations (last relative error {last_error:.3e}, \
          tolerance {tolerance:.1e}); {hint}"
     )]
     NotConverged {
+        /// The loop.
         name: String,
+        /// Iterations run.
         iterations: usize,
+        /// The last relative error.
         last_error: f64,
+        /// Relative tolerance.
         tolerance: f64,
+        /// What to do next.
         hint: String,
     },
     /// An option or setting out of its range.
@@ -55,8 +71,10 @@ pub enum TuneError {
     /// Writing or reading an output file failed.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
         #[source]
+        /// The underlying error.
         source: std::io::Error,
     },
     /// The output folder is held by another run, or a file cannot be put there.
@@ -71,9 +89,13 @@ pub enum TuneError {
     /// A grid journal that cannot be resumed.
     #[error("{}:{line}: {problem}; {hint}", path.display())]
     Journal {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: usize,
+        /// What is wrong.
         problem: String,
+        /// What to do next.
         hint: String,
     },
     /// A procedure file that does not parse, at a line.
@@ -100,21 +122,31 @@ pub enum TuneError {
     /// A procedure step that failed, with its line.
     #[error("{}:{line}: {source}", path.display())]
     AtLine {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: usize,
         #[source]
+        /// The underlying error.
         source: Box<TuneError>,
     },
     /// A diagnosis step that failed after the case's records were read and checked.
     #[error("{}: {source}", case.display())]
     InCase {
+        /// The case file.
         case: PathBuf,
         #[source]
+        /// The underlying error.
         source: Box<TuneError>,
     },
     /// A plot could not be drawn.
     #[error("{}: cannot draw the plot: {message}", path.display())]
-    Plot { path: PathBuf, message: String },
+    Plot {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and what was expected.
+        message: String,
+    },
 }
 
 /// Why a line of a procedure file does not parse (`docs/procedures.md`). The file and line

@@ -96,7 +96,9 @@ pub fn exact(x: f64) -> String {
 /// One cell of a study's table.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Cell {
+    /// Text.
     Text(String),
+    /// A number.
     Number(f64),
     /// An optional value that is absent (an empty CSV cell).
     Missing,

@@ -37,9 +37,13 @@ pub const MESH_STUDY: [u32; 5] = [8, 16, 24, 48, 96];
 /// Inputs of the paper command.
 #[derive(Debug, Clone)]
 pub struct PaperOptions {
+    /// The measured case (a folder with case.json, or the file).
     pub case: PathBuf,
+    /// The variants file (the paper's Table 4).
     pub variants: PathBuf,
+    /// The settings.
     pub settings: CalibrateSettings,
+    /// Run control.
     pub control: RunControl,
 }
 

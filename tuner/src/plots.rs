@@ -306,8 +306,11 @@ impl Figure for LoopsFigure<'_> {
 /// One decay record to compare (acceleration of the weight, m/s^2).
 #[derive(Debug, Clone, Copy)]
 pub struct DecayTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
+    /// Time, s.
     pub time_s: &'a [f64],
+    /// Acceleration, m/s^2.
     pub accel_m_s2: &'a [f64],
 }
 
@@ -581,6 +584,7 @@ pub fn loops_figure(loops: &[&LoopReport], path: &Path) -> Result<()> {
 /// What to mark on a heat map besides the cells.
 #[derive(Debug, Clone, Default)]
 pub struct HeatMapMarks {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// The paper's (alpha, beta), drawn when inside the grid.
     pub paper: Option<(f64, f64)>,
@@ -737,11 +741,13 @@ pub fn heat_map(grid: &GridResult, marks: &HeatMapMarks, path: &Path) -> Result<
 /// The valley to draw: the line, the measured points and the zeta shares.
 #[derive(Debug, Clone)]
 pub struct ValleyPlot<'a> {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// (z0, a, b) of the fitted plane `zeta = z0 + a alpha + b beta`.
     pub plane: (f64, f64, f64),
     /// Measured valley points (alpha, beta, zeta).
     pub points: &'a [(f64, f64, f64)],
+    /// Largest alpha drawn, 1/s.
     pub alpha_max: f64,
 }
 

@@ -12,30 +12,41 @@ use std::fmt::Write as _;
 /// Table 3 as `report.json` gives it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Table3 {
+    /// Young's modulus E, MPa.
     pub youngs_modulus_mpa: f64,
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: f64,
+    /// Damping ratio zeta (-).
     pub damping_ratio: f64,
+    /// Period of the axial mode, s.
     pub period_s: f64,
+    /// Rayleigh alpha (mass-proportional), 1/s.
     pub alpha: f64,
+    /// Rayleigh beta (stiffness-proportional), s.
     pub beta: f64,
+    /// The weight's mass, kg.
     pub mass_kg: f64,
 }
 
 /// One discretisation of the mesh study.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MeshRow {
+    /// Beams per coil.
     pub elements_per_coil: u32,
     /// K at the paper's E (190708 MPa).
     pub stiffness_at_paper_e_n_mm: f64,
     /// E tuned to the target K.
     pub tuned_youngs_modulus_mpa: f64,
+    /// Iterations of loop 1.
     pub iterations: usize,
 }
 
 /// The mesh bias in E.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MeshStudy {
+    /// The paper's E, MPa.
     pub paper_youngs_modulus_mpa: f64,
+    /// One row per discretisation.
     pub rows: Vec<MeshRow>,
     /// Elements per coil at which the tuned E equals the paper's (interpolated in 1/n^2).
     pub elements_per_coil_matching_paper: Option<f64>,
@@ -48,8 +59,11 @@ pub struct MeshStudy {
 /// zeta of every variant at one member of the (alpha, beta) family.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FamilyMember {
+    /// Which (alpha, beta) point of the family.
     pub label: String,
+    /// Rayleigh alpha (mass-proportional), 1/s.
     pub alpha: f64,
+    /// Rayleigh beta (stiffness-proportional), s.
     pub beta: f64,
     /// zeta of the paper's case at this point.
     pub base_damping_ratio: f64,
@@ -60,22 +74,32 @@ pub struct FamilyMember {
 /// Timings (s).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Timings {
+    /// Calibration, s.
     pub calibration_s: f64,
+    /// Loop 3 grids, s.
     pub grid_s: f64,
+    /// Table 4 sweep, s.
     pub sweep_s: f64,
+    /// Mesh study, s.
     pub mesh_study_s: f64,
+    /// Everything, s.
     pub total_s: f64,
 }
 
 /// `report.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PaperReport {
+    /// The case's name.
     pub case: String,
     /// The case's tested springs (the paper's Table 1), whose means are the targets.
     pub table1: Vec<crate::case::TestedSpring>,
+    /// How decay transients run.
     pub method: Method,
+    /// Table 3.
     pub table3: Table3,
+    /// The paper's Table 3.
     pub table3_paper: Table3Paper,
+    /// Table 3 against the targets.
     pub table3_relative_error: Table3Errors,
     /// Table 4: each variant with the paper's values and the relative errors.
     pub table4: Vec<VariantResult>,
@@ -83,33 +107,47 @@ pub struct PaperReport {
     pub family: Vec<FamilyMember>,
     /// Each variant's zeta under every damping law calibrated to the same decay.
     pub damping_band: crate::law::Band,
+    /// The mesh bias in E.
     pub mesh_study: MeshStudy,
+    /// The calibration.
     pub calibration: Calibration,
+    /// Timings.
     pub timings: Timings,
 }
 
 /// The paper's Table 3 (and Table 2) values, as the case gives them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Table3Paper {
+    /// The paper's E, MPa, if the case gives it.
     pub youngs_modulus_mpa: Option<f64>,
     /// The experiment's K (Table 3, "Experiment").
     pub stiffness_n_mm: f64,
+    /// Damping ratio zeta (-).
     pub damping_ratio: f64,
+    /// Period of the axial mode, s.
     pub period_s: f64,
+    /// The paper's alpha, 1/s, if given.
     pub alpha: Option<f64>,
+    /// The paper's beta, s, if given.
     pub beta: Option<f64>,
     /// The paper's FE model figures.
     pub fe_stiffness_n_mm: Option<f64>,
+    /// The paper's FE zeta (-).
     pub fe_damping_ratio: Option<f64>,
+    /// The paper's iterations of loop 1.
     pub stiffness_iterations: Option<f64>,
+    /// The paper's iterations of loop 2.
     pub mass_iterations: Option<f64>,
 }
 
 /// coil against the experiment's targets.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Table3Errors {
+    /// K against the target (-).
     pub stiffness: f64,
+    /// Damping ratio zeta (-).
     pub damping_ratio: f64,
+    /// T against the target (-).
     pub period: f64,
 }
 

@@ -43,7 +43,9 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "study", rename_all = "lowercase")]
 pub enum Study {
+    /// Table 4's sweep.
     Sweep(VariantSweep),
+    /// A tolerance study.
     Tolerance(ToleranceStudy),
 }
 
@@ -138,7 +140,9 @@ impl Study {
 /// Shard `index` of `count` (1-based), written `I/N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Shard {
+    /// This shard (1-based).
     pub index: usize,
+    /// Number of shards.
     pub count: usize,
 }
 
@@ -221,9 +225,13 @@ pub fn run_shard(study: &Study, shard: Shard, folder: &Path) -> Result<PathBuf> 
 /// One part file as read.
 #[derive(Debug, Clone)]
 pub struct Part {
+    /// The part file.
     pub path: PathBuf,
+    /// The shard.
     pub shard: Shard,
+    /// The study as JSON.
     pub study_json: String,
+    /// The study.
     pub study: Study,
     /// (task, the row's CSV cells without the task column).
     pub rows: Vec<(usize, Vec<String>)>,
@@ -368,8 +376,11 @@ pub fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
 /// The merged study: its table's columns and rows (CSV cells) in task order.
 #[derive(Debug, Clone)]
 pub struct Merged {
+    /// The study.
     pub study: Study,
+    /// The column names.
     pub columns: Vec<&'static str>,
+    /// The rows as CSV cells.
     pub rows: Vec<Vec<String>>,
 }
 

@@ -44,7 +44,9 @@ pub struct BackboneFit {
     pub b_per_m2: Estimate,
     /// `b A_max^2`: the relative change of `f^2` over the record.
     pub shift_at_largest: f64,
+    /// Smallest and largest amplitude, m.
     pub amplitude_range_m: (f64, f64),
+    /// Cycles used.
     pub cycles: usize,
     /// Residual RMS of `f` about the fit, Hz.
     pub residual_rms_hz: f64,

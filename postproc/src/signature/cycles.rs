@@ -79,6 +79,7 @@ impl Default for CycleOptions {
 pub struct Cycle {
     /// Upward zero crossings bounding the cycle, s.
     pub start_s: f64,
+    /// End, s.
     pub end_s: f64,
     /// Centre, s.
     pub time_s: f64,
@@ -86,9 +87,11 @@ pub struct Cycle {
     pub frequency_hz: f64,
     /// Fundamental acceleration amplitude (gain-corrected), m/s^2.
     pub accel_amplitude: f64,
+    /// Its standard error, m/s^2.
     pub accel_std_error: f64,
     /// Displacement amplitude `accel / (2 pi f)^2`, m.
     pub amplitude_m: f64,
+    /// Its standard error, m.
     pub amplitude_std_error_m: f64,
 }
 
@@ -99,6 +102,7 @@ pub struct CycleSeries {
     pub dominant_frequency_hz: f64,
     /// Pass band applied, Hz.
     pub band_hz: Option<(f64, f64)>,
+    /// Butterworth order of each band edge.
     pub filter_order: usize,
     /// Robust white-noise estimate of the record, m/s^2.
     pub noise_rms: f64,
@@ -106,6 +110,7 @@ pub struct CycleSeries {
     pub edge_guard_s: f64,
     /// Candidate cycles dropped (irregular length, below the noise floor).
     pub rejected: usize,
+    /// The cycles.
     pub cycles: Vec<Cycle>,
 }
 

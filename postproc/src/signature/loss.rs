@@ -48,12 +48,14 @@ pub struct LossPoint {
     pub amplitude_m: f64,
     /// Amplitude loss per cycle, m.
     pub loss_m: f64,
+    /// Its standard error, m.
     pub loss_std_error_m: f64,
 }
 
 /// A one-term fit `dA = a_j phi_j(A)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TermFit {
+    /// The coefficient.
     pub coefficient: Estimate,
     /// Weighted residual per degree of freedom (1 when the term explains the loss to the
     /// noise).
@@ -82,10 +84,13 @@ pub struct LossFit {
     pub a2_per_m: Estimate,
     /// Weighted residual of the three-term fit per degree of freedom.
     pub reduced_chi2: f64,
+    /// Cycles per window.
     pub cycles_per_window: usize,
     /// Smallest and largest window amplitude, m.
     pub amplitude_range_m: (f64, f64),
+    /// The one-term fits.
     pub single: SingleTermFits,
+    /// The windows of the fit.
     pub points: Vec<LossPoint>,
 }
 

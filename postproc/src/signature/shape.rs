@@ -49,6 +49,7 @@ pub enum EnvelopeKind {
 /// Result of [`envelope_shape`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EnvelopeShape {
+    /// What the envelope looks like.
     pub kind: EnvelopeKind,
     /// `R^2` (weighted, in `A`) of `ln A = c - sigma t`.
     pub r2_exponential: f64,

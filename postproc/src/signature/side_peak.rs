@@ -29,6 +29,7 @@ pub const SIDE_THRESHOLD: f64 = 0.02;
 /// The second line beside the axial one.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SidePeak {
+    /// Frequency, Hz.
     pub frequency_hz: f64,
     /// Amplitude, m/s^2.
     pub amplitude: f64,

@@ -469,7 +469,7 @@ mod tests {
                 lowpass,
                 ..DecrementOptions::default()
             };
-            analyze(&sig(&time, &signal), &options).unwrap()
+            analyze(&sig(&time, signal), &options).unwrap()
         };
         let reference = run(PeakFit::LeastSquares, None, &clean);
         let filtered_clean = run(PeakFit::LeastSquares, lowpass, &clean);

@@ -338,7 +338,7 @@ fn window_points(
         let frequency_hz =
             inst_frequency_hz[range.clone()].iter().sum::<f64>() / window_samples as f64;
         let samples: Vec<usize> = range.collect();
-        let Some(fit) = log_envelope_fit(time_s, &envelope, &samples, frequency_hz, false) else {
+        let Some(fit) = log_envelope_fit(time_s, envelope, &samples, frequency_hz, false) else {
             continue;
         };
         points.push(EnvelopePoint {

@@ -37,8 +37,11 @@ pub struct Command {
     /// What it does, for the reference.
     pub meaning: &'static str,
     /// Parses a line's words (the name first) into what the line does.
-    parse: fn(&Command, &[String], &mut Parsing) -> Parsed<Box<dyn Action>>,
+    parse: ParseFn,
 }
+
+/// How a command parses a line's words (its name first) into what the line does.
+type ParseFn = fn(&Command, &[String], &mut Parsing) -> Parsed<Box<dyn Action>>;
 
 /// What a parsed line does when the procedure runs.
 pub(crate) trait Action: std::fmt::Debug {

@@ -102,13 +102,7 @@ impl Signal {
     /// the first bad index. It has no file or column name until [`Signal::named`].
     pub fn new(time_s: Vec<f64>, values: Vec<f64>) -> Result<Signal> {
         let step_s = uniform_step(&time_s, &values)?;
-        Ok(Signal {
-            source: PathBuf::new(),
-            column: String::new(),
-            time_s,
-            step_s,
-            values,
-        })
+        Ok(Signal::unnamed(time_s, step_s, values))
     }
 
     /// A signal sampled at `start_s + i * step_s` (exactly that grid): checks a finite
@@ -118,7 +112,7 @@ impl Signal {
             return Err(PostError::InvalidSignal {
                 index: 0,
                 what: format!(
-                    "start {start_s} s, step {step_s} s: expected a finite start and a                      positive step"
+                    "start {start_s} s, step {step_s} s: expected a finite start and a positive step"
                 ),
             });
         }
@@ -132,13 +126,18 @@ impl Signal {
             .map(|i| start_s + i as f64 * step_s)
             .collect();
         check_finite(&time_s, &values)?;
-        Ok(Signal {
+        Ok(Signal::unnamed(time_s, step_s, values))
+    }
+
+    /// A checked axis and values without a file or column name.
+    fn unnamed(time_s: Vec<f64>, step_s: f64, values: Vec<f64>) -> Signal {
+        Signal {
             source: PathBuf::new(),
             column: String::new(),
             time_s,
             step_s,
             values,
-        })
+        }
     }
 
     /// The same signal, named by the file and column it stands for (for messages).
@@ -180,7 +179,7 @@ impl Signal {
             return Err(PostError::InvalidSignal {
                 index: range.start.min(n),
                 what: format!(
-                    "samples {}..{} of {n}; expected a range of at least {MIN_SAMPLES} inside                      the record",
+                    "samples {}..{} of {n}; expected a range of at least {MIN_SAMPLES} inside the record",
                     range.start, range.end
                 ),
             });

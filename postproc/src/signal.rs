@@ -1,5 +1,5 @@
-//! Uniformly sampled signals: reading them from CSV, checking their time axis, removing
-//! their offset.
+//! Uniformly sampled signals: reading them from CSV and checking their time axis once, into
+//! a [`Signal`] that every analysis takes.
 //!
 //! # File format
 //! Any comma-separated file whose first line is a header naming the columns, one of them
@@ -20,8 +20,8 @@
 //! sample (a step of twice the median) or a change of sampling rate is reported with its line.
 //!
 //! # Offsets
-//! [`Detrend`] says what constant is removed before analysis; see its variants for what each
-//! choice does to a decaying oscillation.
+//! [`crate::offset::Detrend`] says what constant is removed before analysis; see its
+//! variants for what each choice does to a decaying oscillation.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -36,7 +36,7 @@
 //! Frequency against amplitude is the backbone (flat for a linear spring, bending for a
 //! cubic one), zeta against amplitude the damping curve (flat for viscous damping, rising
 //! as the amplitude falls for dry friction). Windows whose amplitude is below 10 times the
-//! robust noise estimate of [`crate::peaks::noise_rms`] are left out.
+//! robust noise estimate of [`crate::stats::noise_rms`] are left out.
 //!
 //! An optional zero-phase band-pass around the dominant spectral peak (from
 //! `(1 - b) f_0` to `(1 + b) f_0`) isolates one mode first; like every linear time-invariant

@@ -10,7 +10,7 @@
 //! centred moving mean of half-width `h = max(2, n / 50)` points, and the point is loading
 //! (`s = +1`) when the smoothed compression `h` points later exceeds that `h` points earlier
 //! by more than `3 sigma_x sqrt(2 / (2h + 1))` (the noise of that difference, `sigma_x` the
-//! robust noise estimate of [`crate::peaks::noise_rms`]), unloading (`s = -1`) when it falls
+//! robust noise estimate of [`crate::stats::noise_rms`]), unloading (`s = -1`) when it falls
 //! by as much, and left out otherwise (dwells, turning points). A record without loading
 //! points is an error ([`PostError::NoLoadingBranch`]): one that only unloads or stays flat.
 //!

@@ -1,5 +1,5 @@
 //! The `coil-tune` command line: argument parsing and dispatch. The binary only calls
-//! [`main`] and maps its error to the exit code (1 for an error in the data or a run, 2 for
+//! `main` and maps its error to the exit code (1 for an error in the data or a run, 2 for
 //! a usage error, as clap does).
 
 use crate::calibrate::{calibrate, CalibrateSettings, Targets};
@@ -293,7 +293,7 @@ pub enum Command {
     Run {
         /// The procedure file.
         procedure: PathBuf,
-        /// Output folder (overrides the file's `out`; default out/<procedure name>).
+        /// Output folder (overrides the file's `out`; default `out/<procedure name>`).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Only parse and check the file.

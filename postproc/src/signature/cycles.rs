@@ -22,7 +22,7 @@
 //! length of either end ([`crate::filter::Butterworth::settle_samples`]), cycles whose length
 //! is more than 25% from the median, and cycles below 5 standard errors are dropped. The
 //! standard error of an amplitude is `s sqrt(2 / n)` for `n` samples of white noise of
-//! deviation `s` (the robust estimate of [`crate::peaks::noise_rms`]); band-passing does not
+//! deviation `s` (the robust estimate of [`crate::stats::noise_rms`]); band-passing does not
 //! change it, since the noise near `f` passes the filter.
 //!
 //! With dry friction the fundamental also has a quadrature part `4 F / (pi m)`, which raises

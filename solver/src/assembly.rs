@@ -24,7 +24,7 @@
 //! [`crate::linalg::sym_upper_matvec`] for products.
 
 use crate::dof::DofMap;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 /// One slot: block entry `(i, j)` (`i <= j`) times `coefficient`.

@@ -27,8 +27,8 @@
 //! ties, and nodes that no element or tie touches (their free DOFs are mechanisms) are
 //! reported with the node and DOF.
 
-use crate::error::SolveError;
-pub use crate::error::{dof_name, DOF_NAMES};
+use crate::error::solve::SolveError;
+pub use crate::error::solve::{dof_name, DOF_NAMES};
 use crate::linalg::FactorError;
 use crate::model::{Model, NodeId, DOFS_PER_NODE};
 

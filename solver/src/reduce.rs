@@ -56,7 +56,7 @@
 
 use crate::analysis::{modal, System};
 use crate::dof::{dof_name, DofMap, DofStatus};
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::sym_upper_matvec;
 use crate::model::{FixedDisp, Model, NodeId};
 use faer::sparse::SparseColMat;

@@ -21,7 +21,7 @@
 //! # Modules
 //! [`system`] (the assembled system and the load tables), [`static_analysis`],
 //! [`modal`], [`transient`]; this root only runs a model's load cases in order. The
-//! error type is [`crate::error::SolveError`] (re-exported here), below every layer
+//! error type is [`crate::error::solve::SolveError`] (re-exported here), below every layer
 //! that returns it, so `assembly`, `dof` and `linalg` never import `analysis`.
 //!
 //! # Damping
@@ -43,7 +43,7 @@ pub mod static_analysis;
 pub mod system;
 pub mod transient;
 
-pub use crate::error::SolveError;
+pub use crate::error::solve::SolveError;
 pub use modal::{ModalSolution, Mode};
 pub use static_analysis::{LoadedDof, Reaction, StaticSolution};
 pub use system::{table_factor, table_points, System};

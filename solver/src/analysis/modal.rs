@@ -29,7 +29,7 @@
 //! Units: omega in rad/s, frequency in Hz, mass in t (kg only in result files).
 
 use super::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::{sym_upper_matvec, Cholesky, ShiftInvert};
 use crate::model::DOFS_PER_NODE;
 use faer::dyn_stack::{MemBuffer, MemStack};

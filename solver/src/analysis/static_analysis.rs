@@ -29,7 +29,7 @@
 //! hysteresis of a slow load cycle) is not modelled in a static load case.
 
 use super::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::Cholesky;
 use crate::model::{LoadCase, Model, NodeId, DOFS_PER_NODE};
 

@@ -5,7 +5,7 @@
 use crate::assembly::Assembler;
 use crate::dof::{dof_name, DofMap};
 use crate::element::{self, Matrix12};
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::{Cholesky, SymbolicFactor};
 use crate::model::{Dashpot, Model, NodeId, PointLoad, PointMass, DOFS_PER_NODE};
 use faer::sparse::SparseColMat;

@@ -60,7 +60,7 @@
 use super::operator::{MergedOperators, C, K, M};
 use super::scheme::Coefficients;
 use super::state::State;
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 use crate::linalg::blocked::{self, Blocks, Chunk, FactorPanels, Tile};
 use crate::linalg::profile::{
     choose_ordering, has_fma, scatter_lower, vectorized, Ordering, ProfileCholesky,

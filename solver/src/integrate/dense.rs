@@ -53,7 +53,7 @@
 
 use super::point::{self, PointLaw, MAX_SWEEPS};
 use super::scheme::{check_dt, Coefficients, AVERAGE_ACCELERATION};
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 use crate::linalg::dense_spd::spd_inverse;
 use nalgebra::DMatrix;
 

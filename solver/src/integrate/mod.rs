@@ -51,7 +51,7 @@ pub mod stepper;
 #[cfg(test)]
 pub(crate) mod tests;
 
-pub use crate::error::IntegrateError;
+pub use crate::error::integrate::IntegrateError;
 pub use dense::{DenseError, DenseStepper};
 pub use operator::Operators;
 pub use point::{PointLaw, PointSolve};

@@ -50,7 +50,7 @@ use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
 use super::scheme::check_dt;
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 
 /// Displacement and velocity of one modal coordinate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -13,7 +13,7 @@
 
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 
 /// The structural operators of `M a + C v + K u = f(t)`.
 #[derive(Debug, Clone, Copy)]

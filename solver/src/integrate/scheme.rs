@@ -7,7 +7,7 @@
 //! stepper (the sparse operator [`super::Stepper`] with its banded and sparse engines,
 //! and the dense [`super::DenseStepper`]) takes its coefficients from here.
 
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 
 /// A time integration scheme. [`Scheme::default`] is average acceleration.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -8,7 +8,7 @@
 use super::operator::MergedOperators;
 use super::scheme::Coefficients;
 use super::state::State;
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 use crate::linalg::sparse_spd::SpdFactor;
 
 #[derive(Debug)]

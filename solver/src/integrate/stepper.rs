@@ -141,7 +141,7 @@ use super::point::{self, PointLaw};
 use super::scheme::{check_dt, Coefficients, Scheme};
 use super::sparse::SparseEngine;
 use super::state::State;
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 use crate::linalg::sparse_spd::SpdFactor;
 
 /// Most Gauss-Seidel sweeps over several point laws in one step.

@@ -4,7 +4,7 @@
 //! `D = diag(A)^-1/2`, so that the mixed units of reduced coordinates (mm, rad, modal)
 //! do not spoil it.
 
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 use nalgebra::DMatrix;
 
 /// Inverse of a symmetric positive definite matrix through the Cholesky factor of its

@@ -74,7 +74,7 @@ pub(crate) mod dense_spd;
 pub(crate) mod profile;
 pub(crate) mod sparse_spd;
 
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::matrix_free::LinOp;

@@ -45,7 +45,7 @@
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::traits::pulp;
 
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 
 /// A bandwidth-reducing ordering: `perm[k]` is the caller's index of internal
 /// unknown `k`.

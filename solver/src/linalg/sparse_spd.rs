@@ -29,7 +29,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Par, Side};
 
-use crate::error::IntegrateError;
+use crate::error::integrate::IntegrateError;
 
 /// An SPD factor `P A P^T = L L^T` whose symbolic part is reused across values.
 pub(crate) struct SpdFactor {

@@ -8,7 +8,7 @@ use super::loads::LoadPatterns;
 use super::modal_damping::ModalDampingTerm;
 use super::recording::Recorder;
 use crate::analysis::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::integrate::{Operators, Scheme, State, Stepper};
 use crate::linalg::Cholesky;
 use crate::model::Integrator;

@@ -3,7 +3,7 @@
 
 use crate::analysis::system::System;
 use crate::dof::dof_name;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::integrate::IntegrateError;
 
 /// An integrator error with the free DOF (or mode) it names turned into a node label.

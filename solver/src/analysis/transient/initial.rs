@@ -4,7 +4,7 @@
 
 use crate::analysis::system::System;
 use crate::dof::{dof_name, DofStatus};
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::Cholesky;
 use crate::model::InitialVelocity;
 

@@ -2,7 +2,7 @@
 //! constant pattern and one pattern per table (the "Loads" section of [`super`]).
 
 use crate::analysis::system::{interpolate, table_points, System};
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::model::{LoadCase, PointLoad};
 
 /// The free-DOF load `f(t) = f_c + sum_k s_k(t) f_k`: a constant pattern (untabled loads

@@ -117,7 +117,7 @@ use superposition::run_modal;
 
 use super::static_analysis::StaticSolution;
 use super::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::Cholesky;
 use crate::model::{Analysis, Integrator, LoadCase, Model, TransientMethod};
 

@@ -5,7 +5,7 @@
 use super::error::integrate_error;
 use crate::analysis::modal;
 use crate::analysis::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::integrate::{State, Stepper};
 use crate::linalg::{sym_upper_matvec, Cholesky};
 

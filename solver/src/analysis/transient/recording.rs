@@ -4,7 +4,7 @@
 
 use crate::analysis::system::System;
 use crate::dof::dof_name;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::model::{units, Quantity};
 use faer::Mat;
 use std::fmt::Write as _;

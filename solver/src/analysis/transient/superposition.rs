@@ -7,7 +7,7 @@ use super::loads::LoadPatterns;
 use super::recording::Recorder;
 use crate::analysis::modal;
 use crate::analysis::system::System;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::integrate::modal_superposition::{integrate_modal, ModalBasis, ModalState};
 use crate::linalg::{sym_upper_matvec, Cholesky};
 use faer::sparse::SparseColMat;

@@ -7,7 +7,7 @@ use crate::analysis::system::System;
 use crate::analysis::test_support::tied_frame;
 use crate::analysis::{run, CaseSolution};
 use crate::dof::DofStatus;
-use crate::error::SolveError;
+use crate::error::solve::SolveError;
 use crate::linalg::sym_upper_matvec;
 use crate::model::{
     Analysis, InitialVelocity, Integrator, LoadCase, Model, PointLoad, Quantity, TransientMethod,

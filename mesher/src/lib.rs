@@ -39,8 +39,9 @@ pub mod closed_form;
 
 use coil_solver::model::{
     units, Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry,
-    InitialVelocity, Integrator, LoadCase, Material, Model, Node, NodeSet, OutputRequest,
-    PointElement, PointLoad, PointMass, Quantity, RigidTie, Section, TransientMethod,
+    InitialVelocity, Integrator, LoadCase, Material, Model, ModelParts, Node, NodeSet,
+    OutputRequest, PointElement, PointLoad, PointMass, Quantity, RigidTie, Section,
+    TransientMethod,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -619,7 +620,7 @@ impl SpringSpec {
             }
         }
 
-        Ok(Model {
+        let parts = ModelParts {
             title: self.title.clone(),
             element_types: vec![kind],
             lumped_mass: self.lumped_mass,
@@ -675,6 +676,13 @@ impl SpringSpec {
             point_laws,
             dashpots: vec![],
             modal_damping: Default::default(),
+        };
+        // The spec was validated above, so this fails only on a mesher bug; it still
+        // goes through the model's checks like every other model.
+        Model::try_new(parts).map_err(|e| SpecError {
+            field: "model",
+            value: e.to_string(),
+            expected: "a spec whose mesh is a valid model",
         })
     }
 }
@@ -692,17 +700,17 @@ mod tests {
         };
         let model = spec.build().unwrap();
         let r = 12.0;
-        assert_eq!(model.elements.len(), 25); // round(3.5 * 7) = 24.5 -> 25 (round half away)
-        for node in model.nodes.iter().skip(1) {
+        assert_eq!(model.elements().len(), 25); // round(3.5 * 7) = 24.5 -> 25 (round half away)
+        for node in model.nodes().iter().skip(1) {
             let [x, y, z] = node.xyz;
             assert!(((x * x + y * y).sqrt() - r).abs() < 1e-12);
             // Angle recovered from z must match the angle of (x, y).
             let t = 2.0 * PI * z / 6.2;
             assert!((r * t.cos() - x).abs() < 1e-9 && (r * t.sin() - y).abs() < 1e-9);
         }
-        let top = model.nodes.last().unwrap().xyz;
+        let top = model.nodes().last().unwrap().xyz;
         assert!((top[2] - 3.5 * 6.2).abs() < 1e-12);
-        assert_eq!(model.nodes[0].xyz, [0.0, 0.0, 3.5 * 6.2]);
+        assert_eq!(model.nodes()[0].xyz, [0.0, 0.0, 3.5 * 6.2]);
     }
 
     #[test]
@@ -725,11 +733,11 @@ mod tests {
     #[test]
     fn ids_are_sorted_and_elements_chain() {
         let model = SpringSpec::default().build().unwrap();
-        assert!(model.nodes.windows(2).all(|w| w[0].id < w[1].id));
-        for e in &model.elements {
+        assert!(model.nodes().windows(2).all(|w| w[0].id < w[1].id));
+        for e in model.elements() {
             assert_eq!(e.nodes[1], e.nodes[0] + 1);
         }
-        assert_eq!(model.elements.len(), 14 * 24);
+        assert_eq!(model.elements().len(), 14 * 24);
     }
 
     #[test]
@@ -824,11 +832,11 @@ mod tests {
         };
         let model = spec.build().unwrap();
         assert!(
-            model.initial_velocities[0].quasi_static,
+            model.initial_velocities()[0].quasi_static,
             "the default field"
         );
         assert_eq!(
-            model.load_cases[0].analysis,
+            model.load_cases()[0].analysis,
             Analysis::Transient {
                 dt: 1e-3,
                 total_time: 20.0,
@@ -843,10 +851,10 @@ mod tests {
         }
         .build()
         .unwrap();
-        assert!(!model.initial_velocities[0].quasi_static);
-        assert_eq!(model.damping[0].mass_nodes, [WEIGHT_NODE]);
+        assert!(!model.initial_velocities()[0].quasi_static);
+        assert_eq!(model.damping()[0].mass_nodes, [WEIGHT_NODE]);
         assert!(matches!(
-            model.load_cases[0].analysis,
+            model.load_cases()[0].analysis,
             Analysis::Transient {
                 method: TransientMethod::Direct(Integrator::Hht { alpha }),
                 ..
@@ -891,9 +899,9 @@ mod tests {
             ..SpringSpec::default()
         };
         let model = spec.build().unwrap();
-        assert_eq!(model.damping.len(), 1);
-        assert!(model.damping[0].mass_nodes.is_empty());
-        assert_eq!(model.point_masses[0].mass, 5e-3);
+        assert_eq!(model.damping().len(), 1);
+        assert!(model.damping()[0].mass_nodes.is_empty());
+        assert_eq!(model.point_masses()[0].mass, 5e-3);
     }
 
     #[test]
@@ -908,21 +916,21 @@ mod tests {
             ..SpringSpec::default()
         };
         let model = spec.build().unwrap();
-        assert_eq!(model.point_laws.len(), 1);
-        let e = model.point_laws[0];
+        assert_eq!(model.point_laws().len(), 1);
+        let e = model.point_laws()[0];
         assert_eq!((e.node, e.dof), (WEIGHT_NODE, 3));
         assert_eq!(e.friction, 0.4);
         // 3 N s^2/m^2 = 3e-6 N s^2/mm^2; 2e9 N/m^3 = 2 N/mm^3.
         assert!((e.quadratic - 3e-6).abs() < 1e-20);
         assert!((e.cubic - 2.0).abs() < 1e-15);
-        assert_eq!(model.point_masses[0].inertia, [0.0, 0.0, 2.0]);
+        assert_eq!(model.point_masses()[0].inertia, [0.0, 0.0, 2.0]);
         let text = coil_solver::deck::write(&model);
         assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
         let text = coil_solver::deck::write_mentat(&model);
         assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
         // Old specs (no such fields) still read, and get no cards.
         let old: SpringSpec = serde_json::from_str(r#"{"coils": 10.0}"#).unwrap();
-        assert!(old.build().unwrap().point_laws.is_empty());
+        assert!(old.build().unwrap().point_laws().is_empty());
         for bad in [
             SpringSpec {
                 friction_n: -1.0,

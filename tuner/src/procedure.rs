@@ -975,7 +975,7 @@ impl Session<'_> {
                     .write(&name, coil_solver::deck::write(&model).as_bytes())?;
                 say(&format!(
                     "mesh: {} elements -> {}",
-                    model.elements.len(),
+                    model.elements().len(),
                     path.display()
                 ));
             }

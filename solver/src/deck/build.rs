@@ -1,17 +1,16 @@
-//! Stage two of reading: the located [`RawDeck`] -> a validated [`Model`].
+//! Stage two of reading: the located [`RawDeck`] -> [`ModelParts`] -> a validated
+//! [`Model`] through [`Model::try_new`].
 //!
-//! Resolves ids, ranges and set names to sorted, unique id lists and checks what
-//! involves more than one card: unique ids and names, declared element types, the
-//! SIZING bounds, existing nodes and elements, no zero-length element, a material and
-//! a geometry for every element, orientations not parallel to their elements, the
-//! shear coefficient of type-98 sections, point masses under damped nodes, tables that
-//! exist, each DOF prescribed once and not both tied and prescribed, rigid ties
-//! that neither overlap nor chain, and nonlinear point elements on existing, free
-//! DOFs (one line per card, node and DOF; the cards on one DOF combine). Every error names the line of the card at fault.
-//!
-//! Sets and tables must be defined on an earlier line than the list that uses them,
-//! so a set can never contain itself.
-
+//! The deck does what needs its text: it resolves ids, ranges and set names to sorted,
+//! unique id lists (sets and tables must be defined on an earlier line than the list
+//! that uses them, so a set can never contain itself), and it refuses what it can name
+//! by line: a repeated id or name ("first at line N"), the SIZING bounds, a second
+//! point mass on a node, a DOF given twice, ties that overlap, chain or meet a
+//! prescribed DOF, nonlinear point elements on prescribed or tied DOFs, Mentat's load
+//! case names. Everything else about a valid model (declared types, existing nodes,
+//! no zero-length element, a material and a geometry for every element, orientations,
+//! shear coefficients, damped point masses, ...) is [`crate::model::check`]'s; its
+//! [`ModelError`] names a [`Site`] that [`locate`] maps back to the card and line.
 use std::collections::HashMap;
 
 use super::error::{DeckError, Loc};
@@ -19,17 +18,12 @@ use super::lexer::ListItem;
 use super::raw::{
     PointLawKind, RawDeck, RawDofValues, RawList, RawLoadCase, RawPointLoad, SetKind,
 };
+use crate::model::check::{cross, norm, sub};
 use crate::model::{
-    Analysis, Damping, Dashpot, Element, ElementSet, ElementType, FixedDisp, Geometry,
-    InitialVelocity, LoadCase, Material, ModalDamping, Model, Node, NodeSet, OutputRequest,
-    PointElement, PointLoad, PointMass, RigidTie, Table,
+    Analysis, Damping, Dashpot, Element, ElementSet, FixedDisp, Geometry, InitialVelocity,
+    LoadCase, Material, ModalDamping, Model, ModelError, ModelParts, Node, NodeSet, OutputRequest,
+    PointElement, PointLoad, PointMass, RigidTie, Site, Table,
 };
-
-/// Relative tolerance under which an element counts as zero-length: its length over
-/// the model's largest coordinate. Far above round-off (1e-16), far below any mesh.
-const ZERO_LENGTH: f64 = 1e-12;
-/// |v x e| <= PARALLEL |v| |e|: the orientation fixes no plane (angle below 1e-6 rad).
-const PARALLEL: f64 = 1e-6;
 
 struct Builder<'a> {
     file: &'a str,
@@ -257,19 +251,29 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             .map(|s| (s.kind, s.name.clone(), s.loc))
             .collect(),
     };
+    let mut parts = ModelParts {
+        title: raw.title.clone().map(|t| t.0).unwrap_or_default(),
+        element_types: raw.element_types.iter().map(|t| t.0).collect(),
+        lumped_mass: raw.lump.is_some(),
+        ..ModelParts::default()
+    };
+    mesh(&mut b, &raw, &mut parts)?;
+    sets(&mut b, &raw, &mut parts)?;
+    properties(&b, &raw, &mut parts)?;
+    masses_and_damping(&b, &raw, &mut parts)?;
+    let prescribed = constraints(&b, &raw, &mut parts)?;
+    point_elements(&b, &raw, &prescribed, &mut parts)?;
+    loads_and_cases(&b, &raw, &mut parts)?;
+    let keys = PointKeys::of(&parts);
+    Model::try_new(parts).map_err(|e| locate(&b, &raw, &keys, e))
+}
 
-    // Nodes and elements, sorted by id, each id once.
+/// Nodes and elements, sorted by id, each id once; the SIZING bounds.
+fn mesh(b: &mut Builder<'_>, raw: &RawDeck, parts: &mut ModelParts) -> Result<(), DeckError> {
     let nodes = b.sorted_by_id(&raw.nodes, |n| (n.id, n.loc), "COORDINATES", "node")?;
     let elements = b.sorted_by_id(&raw.elements, |e| (e.id, e.loc), "CONNECTIVITY", "element")?;
     b.node_ids = nodes.iter().map(|n| n.id).collect();
     b.element_ids = elements.iter().map(|e| e.id).collect();
-    let xyz_of = |id: u32| -> Option<[f64; 3]> {
-        nodes
-            .binary_search_by_key(&id, |n| n.id)
-            .ok()
-            .map(|i| nodes[i].xyz)
-    };
-
     if let Some((max_elements, max_nodes, loc)) = raw.sizing {
         for (count, max, what) in [
             (elements.len(), max_elements, "elements"),
@@ -285,70 +289,26 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             }
         }
     }
-
-    // Elements: declared type, existing distinct nodes, non-zero length.
-    let declared: Vec<ElementType> = raw.element_types.iter().map(|t| t.0).collect();
-    let scale = nodes
+    parts.nodes = nodes
         .iter()
-        .flat_map(|n| n.xyz)
-        .fold(0.0_f64, |m, x| m.max(x.abs()));
-    for e in &raw.elements {
-        if !declared.contains(&e.kind) {
-            return Err(b.err(
-                e.type_loc,
-                "CONNECTIVITY",
-                format!("element type {} is not declared", e.kind.number()),
-                format!("ELEMENTS, {} in the parameter section", e.kind.number()),
-            ));
-        }
-        let mut ends = [[0.0; 3]; 2];
-        for (k, (n, loc)) in e.nodes.iter().enumerate() {
-            ends[k] = xyz_of(*n).ok_or_else(|| {
-                b.err(
-                    *loc,
-                    "CONNECTIVITY",
-                    format!("element {} refers to node {n}, which does not exist", e.id),
-                    "a node defined in COORDINATES",
-                )
-            })?;
-        }
-        if e.nodes[0].0 == e.nodes[1].0 {
-            return Err(b.err(
-                e.nodes[1].1,
-                "CONNECTIVITY",
-                format!("element {} joins node {} to itself", e.id, e.nodes[0].0),
-                "two different nodes",
-            ));
-        }
-        let length = norm(sub(ends[1], ends[0]));
-        if length <= ZERO_LENGTH * scale {
-            return Err(b.err(
-                e.loc,
-                "CONNECTIVITY",
-                format!(
-                    "element {} has zero length (nodes {} and {} coincide)",
-                    e.id, e.nodes[0].0, e.nodes[1].0
-                ),
-                "an element of non-zero length",
-            ));
-        }
-    }
-    let element_axis = |id: u32| -> [f64; 3] {
-        let e = &elements[elements.binary_search_by_key(&id, |e| e.id).unwrap_or(0)];
-        let a = xyz_of(e.nodes[0].0).unwrap_or_default();
-        let c = xyz_of(e.nodes[1].0).unwrap_or_default();
-        sub(c, a)
-    };
-    let kind_of = |id: u32| {
-        elements
-            .binary_search_by_key(&id, |e| e.id)
-            .map(|i| elements[i].kind)
-            .ok()
-    };
+        .map(|n| Node {
+            id: n.id,
+            xyz: n.xyz,
+        })
+        .collect();
+    parts.elements = elements
+        .iter()
+        .map(|e| Element {
+            id: e.id,
+            kind: e.kind,
+            nodes: [e.nodes[0].0, e.nodes[1].0],
+        })
+        .collect();
+    Ok(())
+}
 
-    // Sets, in deck order (a set may use the sets before it).
-    let mut node_sets = Vec::new();
-    let mut element_sets = Vec::new();
+/// Sets, in deck order (a set may use the sets before it).
+fn sets(b: &mut Builder<'_>, raw: &RawDeck, parts: &mut ModelParts) -> Result<(), DeckError> {
     for s in &raw.sets {
         if let Some((_, _, first, _)) = b
             .sets
@@ -369,25 +329,28 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         }
         let ids = b.resolve(&s.list, s.kind, "DEFINE")?;
         match s.kind {
-            SetKind::Node => node_sets.push(NodeSet {
+            SetKind::Node => parts.node_sets.push(NodeSet {
                 name: s.name.clone(),
                 nodes: ids.clone(),
             }),
-            SetKind::Element => element_sets.push(ElementSet {
+            SetKind::Element => parts.element_sets.push(ElementSet {
                 name: s.name.clone(),
                 elements: ids.clone(),
             }),
         }
         b.sets.push((s.kind, s.name.clone(), s.loc, ids));
     }
+    Ok(())
+}
 
-    // Tables.
+/// Tables, materials and geometries: unique names and ids, element lists resolved.
+fn properties(b: &Builder<'_>, raw: &RawDeck, parts: &mut ModelParts) -> Result<(), DeckError> {
     b.unique(
         "TABLE",
         "table name",
         raw.tables.iter().map(|t| (t.name.as_str(), t.loc)),
     )?;
-    let tables: Vec<Table> = raw
+    parts.tables = raw
         .tables
         .iter()
         .map(|t| Table {
@@ -395,8 +358,6 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             points: t.points.clone(),
         })
         .collect();
-
-    // Materials.
     b.unique(
         "ISOTROPIC",
         "material name",
@@ -410,11 +371,10 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             .map(String::as_str)
             .zip(raw.materials.iter().map(|m| m.loc)),
     )?;
-    let mut materials = Vec::new();
     for m in &raw.materials {
         let list = b.resolve(&m.elements, SetKind::Element, "ISOTROPIC")?;
         let elements = b.non_empty(list, &m.elements, "ISOTROPIC", "elements")?;
-        materials.push(Material {
+        parts.materials.push(Material {
             name: m.name.clone(),
             youngs_modulus: m.youngs_modulus,
             poisson: m.poisson,
@@ -422,8 +382,6 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             elements,
         });
     }
-
-    // Geometries.
     b.unique(
         "GEOMETRY",
         "geometry name",
@@ -442,71 +400,27 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         "geometry id",
         gids.iter().map(|(s, l)| (s.as_str(), *l)),
     )?;
-    let mut geometries = Vec::new();
     for g in &raw.geometries {
         let list = b.resolve(&g.elements, SetKind::Element, "GEOMETRY")?;
         let elements = b.non_empty(list, &g.elements, "GEOMETRY", "elements")?;
-        for &id in &elements {
-            if !g.has_shear_coefficient && kind_of(id) == Some(ElementType::Beam98) {
-                return Err(b.err(g.section_loc, "GEOMETRY", format!("element {id} is of type 98 (Timoshenko), which needs the shear coefficient"), "A, I1, I2, J, shear coefficient"));
-            }
-            let axis = element_axis(id);
-            let v = g.orientation;
-            if norm(cross(v, axis)) <= PARALLEL * norm(v) * norm(axis) {
-                return Err(b.err(
-                    g.orientation_loc,
-                    "GEOMETRY",
-                    format!("the orientation vector {v:?} is parallel to element {id}"),
-                    "a vector not parallel to any listed element",
-                ));
-            }
-        }
-        geometries.push(Geometry {
+        parts.geometries.push(Geometry {
             name: g.name.clone(),
             section: g.section.clone(),
             orientation: g.orientation,
             elements,
         });
     }
+    Ok(())
+}
 
-    // Every element has a material and a geometry.
-    for e in &raw.elements {
-        if !materials
-            .iter()
-            .any(|m| m.elements.binary_search(&e.id).is_ok())
-        {
-            return Err(b.err(
-                e.loc,
-                "CONNECTIVITY",
-                format!("element {} has no material", e.id),
-                "the element in the list of an ISOTROPIC material",
-            ));
-        }
-        if !geometries
-            .iter()
-            .any(|g| g.elements.binary_search(&e.id).is_ok())
-        {
-            return Err(b.err(
-                e.loc,
-                "CONNECTIVITY",
-                format!("element {} has no geometry", e.id),
-                "the element in the list of a GEOMETRY",
-            ));
-        }
-    }
-
-    // Point masses.
-    let mut point_masses = Vec::new();
+/// Point masses (one per node) and Rayleigh damping groups.
+fn masses_and_damping(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
     let mut mass_at: HashMap<u32, Loc> = HashMap::new();
     for p in &raw.point_masses {
-        if b.node_ids.binary_search(&p.node).is_err() {
-            return Err(b.err(
-                p.node_loc,
-                "POINT MASS",
-                format!("node {} does not exist", p.node),
-                "a node defined in COORDINATES",
-            ));
-        }
         if let Some(first) = mass_at.insert(p.node, p.node_loc) {
             return Err(b.err(
                 p.node_loc,
@@ -518,48 +432,39 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
                 "one point mass per node",
             ));
         }
-        point_masses.push(PointMass {
+        parts.point_masses.push(PointMass {
             node: p.node,
             mass: p.mass,
             inertia: p.inertia,
         });
     }
-
-    // Damping.
-    let mut damping = Vec::new();
     for d in &raw.damping {
         let elements = b.resolve(&d.elements, SetKind::Element, "DAMPING")?;
         let mass_nodes = match &d.mass_nodes {
-            Some(list) => {
-                let ids = b.resolve(list, SetKind::Node, "DAMPING")?;
-                if let Some(n) = ids.iter().find(|n| !mass_at.contains_key(n)) {
-                    return Err(b.err(
-                        list.loc,
-                        "DAMPING",
-                        format!("node {n} has no POINT MASS to damp"),
-                        "nodes that carry a POINT MASS",
-                    ));
-                }
-                ids
-            }
+            Some(list) => b.resolve(list, SetKind::Node, "DAMPING")?,
             None => Vec::new(),
         };
-        damping.push(Damping {
+        parts.damping.push(Damping {
             alpha: d.alpha,
             beta: d.beta,
             elements,
             mass_nodes,
         });
     }
+    Ok(())
+}
 
-    // Prescribed DOFs (each once).
+/// Prescribed DOFs (each once) and rigid ties; returns where each DOF was prescribed.
+fn constraints(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<HashMap<(u32, u8), Loc>, DeckError> {
     let mut prescribed: HashMap<(u32, u8), Loc> = HashMap::new();
-    let fixed_disp = dof_groups(&b, &raw.fixed_disp, "FIXED DISP", &mut prescribed)?
+    parts.fixed_disp = dof_groups(b, &raw.fixed_disp, "FIXED DISP", &mut prescribed)?
         .into_iter()
         .map(|(dofs, nodes)| FixedDisp { dofs, nodes })
         .collect();
-
-    // Rigid ties.
     b.unique(
         "RBE2",
         "tie name",
@@ -573,28 +478,14 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             .map(String::as_str)
             .zip(raw.rigid_ties.iter().map(|t| t.loc)),
     )?;
-    let mut rigid_ties: Vec<RigidTie> = Vec::new();
     let mut tied_by: HashMap<u32, (String, Loc)> = HashMap::new();
     for t in &raw.rigid_ties {
-        if b.node_ids.binary_search(&t.reference).is_err() {
-            return Err(b.err(
-                t.reference_loc,
-                "RBE2",
-                format!("the reference node {} does not exist", t.reference),
-                "a node defined in COORDINATES",
-            ));
-        }
         let tied = b.resolve(&t.tied, SetKind::Node, "RBE2")?;
         let tied = b.non_empty(tied, &t.tied, "RBE2", "tied nodes")?;
-        if tied.binary_search(&t.reference).is_ok() {
-            return Err(b.err(
-                t.tied.loc,
-                "RBE2",
-                format!("the reference node {} is in its own tied list", t.reference),
-                "tied nodes other than the reference",
-            ));
-        }
         for &n in &tied {
+            if n == t.reference {
+                continue;
+            }
             if let Some((other, at)) = tied_by.get(&n) {
                 return Err(b.err(
                     t.tied.loc,
@@ -618,7 +509,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
                 }
             }
         }
-        rigid_ties.push(RigidTie {
+        parts.rigid_ties.push(RigidTie {
             name: t.name.clone(),
             reference: t.reference,
             dofs: t.dofs.clone(),
@@ -638,21 +529,21 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             ));
         }
     }
+    Ok(prescribed)
+}
 
-    // Nonlinear point elements: free DOFs only, one line per card, node and DOF.
-    let mut point_laws: Vec<PointElement> = Vec::new();
-    let mut dashpots: Vec<Dashpot> = Vec::new();
+/// Nonlinear point elements and dashpots: free DOFs only, one line per card, node and
+/// DOF (the cards on one DOF combine); the modal damping of `LOSS FACTOR` and `MODAL
+/// DAMPING`.
+fn point_elements(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    prescribed: &HashMap<(u32, u8), Loc>,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
     let mut law_lines: HashMap<(u32, u8, PointLawKind), Loc> = HashMap::new();
     for p in &raw.point_laws {
         let card = p.kind.card();
-        if b.node_ids.binary_search(&p.node).is_err() {
-            return Err(b.err(
-                p.node_loc,
-                card,
-                format!("node {} does not exist", p.node),
-                "a node defined in COORDINATES",
-            ));
-        }
         if let Some(at) = prescribed.get(&(p.node, p.dof)) {
             return Err(b.err(
                 p.dof_loc,
@@ -667,7 +558,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         let tie = raw
             .rigid_ties
             .iter()
-            .zip(&rigid_ties)
+            .zip(&parts.rigid_ties)
             .find(|(_, t)| t.dofs.contains(&p.dof) && t.tied.binary_search(&p.node).is_ok());
         if let Some((raw_tie, tie)) = tie {
             return Err(b.err(
@@ -693,30 +584,28 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             ));
         }
         if p.kind == PointLawKind::Dashpot {
-            dashpots.push(Dashpot {
+            parts.dashpots.push(Dashpot {
                 node: p.node,
                 dof: p.dof,
                 c: p.value,
             });
             continue;
         }
-        let at = match point_laws
-            .iter()
-            .position(|e| (e.node, e.dof) == (p.node, p.dof))
-        {
+        let laws = &mut parts.point_laws;
+        let at = match laws.iter().position(|e| (e.node, e.dof) == (p.node, p.dof)) {
             Some(i) => i,
             None => {
-                point_laws.push(PointElement {
+                laws.push(PointElement {
                     node: p.node,
                     dof: p.dof,
                     cubic: 0.0,
                     quadratic: 0.0,
                     friction: 0.0,
                 });
-                point_laws.len() - 1
+                laws.len() - 1
             }
         };
-        let e = &mut point_laws[at];
+        let e = &mut laws[at];
         match p.kind {
             PointLawKind::Friction => e.friction = p.value,
             PointLawKind::Quadratic => e.quadratic = p.value,
@@ -724,8 +613,6 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             PointLawKind::Dashpot => {}
         }
     }
-    point_laws.sort_by_key(|e| (e.node, e.dof));
-    dashpots.sort_by_key(|d| (d.node, d.dof));
     let mut modal_damping = ModalDamping::default();
     if let Some((eta, modes, _)) = raw.loss_factor {
         modal_damping.loss_factor = eta;
@@ -741,25 +628,37 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     while modal_damping.ratios.last() == Some(&0.0) {
         modal_damping.ratios.pop();
     }
+    parts.modal_damping = modal_damping;
+    Ok(())
+}
 
-    // Loads, initial velocities, outputs.
-    let mut point_loads = raw
+/// Loads (Mentat's named loads per load case where a `LOADCASE` lists them, else
+/// global), initial velocities, outputs and load cases.
+fn loads_and_cases(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    parts.point_loads = raw
         .point_loads
         .iter()
-        .map(|p| point_load(&b, p, &raw))
+        .map(|p| point_load(b, p, raw))
         .collect::<Result<Vec<_>, _>>()?;
-    // Mentat's named loads: per load case where a LOADCASE lists them, else global.
     let mut named_loads: Vec<(&str, Vec<PointLoad>)> = Vec::new();
     for (name, p) in &raw.named_loads {
-        named_loads.push((name, vec![point_load(&b, p, &raw)?]));
+        named_loads.push((name, vec![point_load(b, p, raw)?]));
     }
+    let xyz_of = |id: u32| {
+        let i = parts.nodes.binary_search_by_key(&id, |n| n.id).ok()?;
+        Some(parts.nodes[i].xyz)
+    };
     for d in &raw.dist_loads {
         let els = b.resolve(&d.elements, SetKind::Element, "DIST LOADS")?;
         let els = b.non_empty(els, &d.elements, "DIST LOADS", "elements")?;
         let mut loads = Vec::new();
         for id in els {
-            let e = &elements[elements.partition_point(|e| e.id < id)];
-            let (a, z) = (e.nodes[0].0, e.nodes[1].0);
+            let e = &parts.elements[parts.elements.partition_point(|e| e.id < id)];
+            let [a, z] = e.nodes;
             let (Some(xa), Some(xb)) = (xyz_of(a), xyz_of(z)) else {
                 continue;
             };
@@ -768,16 +667,16 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
         named_loads.push((&d.name, loads));
     }
     if let Some(names) = &raw.model_loadcase {
-        active_names_exist(&b, names, &raw)?;
+        active_names_exist(b, names, raw)?;
     }
     let per_case = raw.load_cases.iter().any(|c| c.active.is_some());
     if !per_case {
         for (_, loads) in &named_loads {
-            point_loads.extend(loads.iter().cloned());
+            parts.point_loads.extend(loads.iter().cloned());
         }
     }
     let mut given: HashMap<(u32, u8), Loc> = HashMap::new();
-    let initial_velocities = dof_groups(&b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
+    parts.initial_velocities = dof_groups(b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
         .into_iter()
         .zip(&raw.initial_velocities)
         .map(|((dofs, nodes), g)| InitialVelocity {
@@ -786,84 +685,156 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
             quasi_static: g.quasi_static,
         })
         .collect();
-    let mut outputs = Vec::new();
     for o in &raw.outputs {
         let nodes = b.resolve(&o.nodes, SetKind::Node, "HISTORY OUTPUT")?;
         let nodes = b.non_empty(nodes, &o.nodes, "HISTORY OUTPUT", "nodes")?;
-        outputs.push(OutputRequest {
+        parts.outputs.push(OutputRequest {
             nodes,
             dofs: o.dofs.clone(),
             quantities: o.quantities.clone(),
             every: o.every,
         });
     }
-
-    let mut load_cases = Vec::new();
     for c in &raw.load_cases {
-        let mut case = load_case(&b, c, &raw)?;
+        let mut case = load_case(b, c, raw)?;
         if let Some(active) = &c.active {
-            active_names_exist(&b, active, &raw)?;
-            for (name, _) in active {
-                for (n, loads) in &named_loads {
-                    if n == name {
-                        case.point_loads.extend(loads.iter().cloned());
-                    }
-                }
-            }
-            let begun = c.loc.unwrap_or(Loc::new(1, 1));
-            for (name, at, support) in &raw.named {
-                if *support && !active.iter().any(|(n, _)| n == name) {
-                    return Err(b.err(
-                        begun,
-                        "LOADCASE",
-                        format!(
-                            "the support `{name}` (line {}) is not active in this load case",
-                            at.line
-                        ),
-                        "every FIXED DISP active in every load case (coil's supports do not change between load cases)",
-                    ));
-                }
+            active_loads(b, raw, c, active, &named_loads, &mut case)?;
+        }
+        parts.load_cases.push(case);
+    }
+    Ok(())
+}
+
+/// The named loads a Mentat `LOADCASE` activates, added to its load case; every
+/// support must be active (coil's supports do not change between load cases).
+fn active_loads(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    c: &RawLoadCase,
+    active: &[(String, Loc)],
+    named_loads: &[(&str, Vec<PointLoad>)],
+    case: &mut LoadCase,
+) -> Result<(), DeckError> {
+    active_names_exist(b, active, raw)?;
+    for (name, _) in active {
+        for (n, loads) in named_loads {
+            if n == name {
+                case.point_loads.extend(loads.iter().cloned());
             }
         }
-        load_cases.push(case);
     }
+    let begun = c.loc.unwrap_or(Loc::new(1, 1));
+    for (name, at, support) in &raw.named {
+        if *support && !active.iter().any(|(n, _)| n == name) {
+            return Err(b.err(
+                begun,
+                "LOADCASE",
+                format!(
+                    "the support `{name}` (line {}) is not active in this load case",
+                    at.line
+                ),
+                "every FIXED DISP active in every load case (coil's supports do not change between load cases)",
+            ));
+        }
+    }
+    Ok(())
+}
 
-    Ok(Model {
-        title: raw.title.map(|t| t.0).unwrap_or_default(),
-        element_types: declared,
-        lumped_mass: raw.lump.is_some(),
-        nodes: nodes
+/// The (node, DOF) of each point element and dashpot the deck built, to map a
+/// [`Site::PointLaw`] or [`Site::Dashpot`] back to its line.
+struct PointKeys {
+    laws: Vec<(u32, u8)>,
+    dashpots: Vec<(u32, u8)>,
+}
+
+impl PointKeys {
+    fn of(parts: &ModelParts) -> PointKeys {
+        let mut laws: Vec<(u32, u8)> = parts.point_laws.iter().map(|e| (e.node, e.dof)).collect();
+        let mut dashpots: Vec<(u32, u8)> = parts.dashpots.iter().map(|d| (d.node, d.dof)).collect();
+        laws.sort_unstable();
+        dashpots.sort_unstable();
+        PointKeys { laws, dashpots }
+    }
+}
+
+/// A [`ModelError`] as a [`DeckError`] at the card and line that produced its item.
+fn locate(b: &Builder<'_>, raw: &RawDeck, keys: &PointKeys, e: ModelError) -> DeckError {
+    let element = |id: u32| raw.elements.iter().find(|x| x.id == id);
+    let node_set = |i: usize| raw.sets.iter().filter(|s| s.kind == SetKind::Node).nth(i);
+    let element_set = |i: usize| {
+        raw.sets
             .iter()
-            .map(|n| Node {
-                id: n.id,
-                xyz: n.xyz,
-            })
-            .collect(),
-        elements: elements
+            .filter(|s| s.kind == SetKind::Element)
+            .nth(i)
+    };
+    let point = |key: Option<&(u32, u8)>, dashpot: bool| {
+        let (node, dof) = *key?;
+        let p = raw.point_laws.iter().find(|p| {
+            (p.node, p.dof) == (node, dof) && (p.kind == PointLawKind::Dashpot) == dashpot
+        })?;
+        Some((p.kind.card(), p.node_loc))
+    };
+    let at: Option<(&str, Loc)> = match e.site {
+        Site::Model => None,
+        Site::Node(id) => raw
+            .nodes
             .iter()
-            .map(|e| Element {
-                id: e.id,
-                kind: e.kind,
-                nodes: [e.nodes[0].0, e.nodes[1].0],
-            })
-            .collect(),
-        node_sets,
-        element_sets,
-        materials,
-        geometries,
-        damping,
-        point_masses,
-        rigid_ties,
-        fixed_disp,
-        point_loads,
-        tables,
-        initial_velocities,
-        outputs,
-        load_cases,
-        point_laws,
-        dashpots,
-        modal_damping,
-    })
+            .find(|n| n.id == id)
+            .map(|n| ("COORDINATES", n.loc)),
+        Site::Element(id) => element(id).map(|x| ("CONNECTIVITY", x.loc)),
+        Site::ElementType(id) => element(id).map(|x| ("CONNECTIVITY", x.type_loc)),
+        Site::ElementNode(id, k) => element(id).map(|x| ("CONNECTIVITY", x.nodes[k.min(1)].1)),
+        Site::NodeSet(i) => node_set(i).map(|s| ("DEFINE", s.loc)),
+        Site::ElementSet(i) => element_set(i).map(|s| ("DEFINE", s.loc)),
+        Site::Material(i) => raw.materials.get(i).map(|m| ("ISOTROPIC", m.loc)),
+        Site::Geometry(i) => raw.geometries.get(i).map(|g| ("GEOMETRY", g.loc)),
+        Site::GeometrySection(i) => raw.geometries.get(i).map(|g| ("GEOMETRY", g.section_loc)),
+        Site::GeometryOrientation(i) => raw
+            .geometries
+            .get(i)
+            .map(|g| ("GEOMETRY", g.orientation_loc)),
+        Site::Damping(i) => raw.damping.get(i).map(|d| ("DAMPING", d.loc)),
+        Site::DampingMassNodes(i) => raw.damping.get(i).map(|d| {
+            let list = d.mass_nodes.as_ref().map_or(d.loc, |l| l.loc);
+            ("DAMPING", list)
+        }),
+        Site::PointMass(i) => raw.point_masses.get(i).map(|p| ("POINT MASS", p.node_loc)),
+        Site::RigidTie(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.loc)),
+        Site::RigidTieReference(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.reference_loc)),
+        Site::RigidTieTied(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.tied.loc)),
+        Site::FixedDisp(i) => raw.fixed_disp.get(i).map(|f| ("FIXED DISP", f.loc)),
+        Site::PointLoad(i) => raw.point_loads.get(i).map(|p| ("POINT LOAD", p.loc)),
+        Site::CasePointLoad { case, load } => raw
+            .load_cases
+            .get(case)
+            .and_then(|c| c.point_loads.get(load))
+            .map(|p| ("POINT LOAD", p.loc)),
+        Site::Table(i) => raw.tables.get(i).map(|t| ("TABLE", t.loc)),
+        Site::InitialVelocity(i) => raw
+            .initial_velocities
+            .get(i)
+            .map(|v| ("INITIAL VEL", v.loc)),
+        Site::Output(i) => raw.outputs.get(i).map(|o| ("HISTORY OUTPUT", o.loc)),
+        Site::LoadCase(i) => raw
+            .load_cases
+            .get(i)
+            .and_then(|c| c.end.or(c.loc))
+            .map(|l| ("CONTINUE", l)),
+        Site::PointLaw(i) => point(keys.laws.get(i), false),
+        Site::Dashpot(i) => point(keys.dashpots.get(i), true),
+        Site::ModalDamping => raw
+            .loss_factor
+            .map(|(_, _, l)| ("LOSS FACTOR", l))
+            .or_else(|| {
+                raw.modal_ratios
+                    .first()
+                    .map(|(_, _, l)| ("MODAL DAMPING", *l))
+            }),
+    };
+    match at {
+        Some((card, loc)) => b.err(loc, card, e.message, e.expected),
+        None => DeckError::file_level(b.file, e.to_string(), e.expected),
+    }
 }
 
 /// Resolves `values / DOFs / nodes` groups; each (node, DOF) once across `seen`.
@@ -958,22 +929,6 @@ fn load_case(b: &Builder<'_>, c: &RawLoadCase, raw: &RawDeck) -> Result<LoadCase
         analysis,
         point_loads,
     })
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// Fails unless every name a `LOADCASE` lists names a Mentat block.

@@ -23,6 +23,11 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod check;
+pub mod units;
+
+pub use check::{ModelError, Site};
+
 /// Number of DOFs per node (3 translations, 3 rotations).
 pub const DOFS_PER_NODE: usize = 6;
 
@@ -330,41 +335,108 @@ pub struct LoadCase {
 }
 
 /// The complete, validated model.
+///
+/// Built only by [`Model::try_new`] (or [`ModelParts::build`]), which checks everything a
+/// model must satisfy (see [`check`]); read through its accessors; changed only by taking
+/// it apart ([`Model::into_parts`]) and building again. Deserialising validates too.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "ModelParts")]
 pub struct Model {
+    /// The model's title (`TITLE`).
+    pub(crate) title: String,
+    /// Element types declared in the parameter section (`ELEMENTS`).
+    pub(crate) element_types: Vec<ElementType>,
+    /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
+    pub(crate) lumped_mass: bool,
+    /// The nodes, sorted by id, each id once.
+    pub(crate) nodes: Vec<Node>,
+    /// The beam elements, sorted by id, each id once.
+    pub(crate) elements: Vec<Element>,
+    /// Named node sets (kept so that a written deck reads back equal).
+    pub(crate) node_sets: Vec<NodeSet>,
+    /// Named element sets (kept so that a written deck reads back equal).
+    pub(crate) element_sets: Vec<ElementSet>,
+    /// Materials; every element has one (the last listing it wins).
+    pub(crate) materials: Vec<Material>,
+    /// Beam geometries; every element has one (the last listing it wins).
+    pub(crate) geometries: Vec<Geometry>,
+    /// Rayleigh damping groups.
+    pub(crate) damping: Vec<Damping>,
+    /// Point masses, at most one per node.
+    pub(crate) point_masses: Vec<PointMass>,
+    /// Rigid ties; they neither overlap nor chain.
+    pub(crate) rigid_ties: Vec<RigidTie>,
+    /// Prescribed displacements; each (node, DOF) once.
+    pub(crate) fixed_disp: Vec<FixedDisp>,
+    /// Model-definition point loads (active in every load case).
+    pub(crate) point_loads: Vec<PointLoad>,
+    /// Load-factor tables against time.
+    pub(crate) tables: Vec<Table>,
+    /// Initial velocities of transients; each (node, DOF) once.
+    pub(crate) initial_velocities: Vec<InitialVelocity>,
+    /// History output requests.
+    pub(crate) outputs: Vec<OutputRequest>,
+    /// The load cases, in order.
+    pub(crate) load_cases: Vec<LoadCase>,
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    #[serde(default)]
+    pub(crate) point_laws: Vec<PointElement>,
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    #[serde(default)]
+    pub(crate) dashpots: Vec<Dashpot>,
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    #[serde(default)]
+    pub(crate) modal_damping: ModalDamping,
+}
+
+/// The pieces of a [`Model`] before validation: every field public, so a caller (the
+/// deck, the mesher, a test) fills them and then calls [`ModelParts::build`]. Field
+/// meanings are those of the accessors of [`Model`] with the same names.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ModelParts {
+    /// The model's title (`TITLE`).
     pub title: String,
     /// Element types declared in the parameter section (`ELEMENTS`).
     pub element_types: Vec<ElementType>,
     /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
     pub lumped_mass: bool,
-    /// Sorted by id.
+    /// The nodes, sorted by id, each id once.
     pub nodes: Vec<Node>,
-    /// Sorted by id.
+    /// The beam elements, sorted by id, each id once.
     pub elements: Vec<Element>,
+    /// Named node sets (kept so that a written deck reads back equal).
     pub node_sets: Vec<NodeSet>,
+    /// Named element sets (kept so that a written deck reads back equal).
     pub element_sets: Vec<ElementSet>,
+    /// Materials; every element has one (the last listing it wins).
     pub materials: Vec<Material>,
+    /// Beam geometries; every element has one (the last listing it wins).
     pub geometries: Vec<Geometry>,
+    /// Rayleigh damping groups.
     pub damping: Vec<Damping>,
+    /// Point masses, at most one per node.
     pub point_masses: Vec<PointMass>,
+    /// Rigid ties; they neither overlap nor chain.
     pub rigid_ties: Vec<RigidTie>,
+    /// Prescribed displacements; each (node, DOF) once.
     pub fixed_disp: Vec<FixedDisp>,
+    /// Model-definition point loads (active in every load case).
     pub point_loads: Vec<PointLoad>,
+    /// Load-factor tables against time.
     pub tables: Vec<Table>,
+    /// Initial velocities of transients; each (node, DOF) once.
     pub initial_velocities: Vec<InitialVelocity>,
+    /// History output requests.
     pub outputs: Vec<OutputRequest>,
+    /// The load cases, in order.
     pub load_cases: Vec<LoadCase>,
-    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`;
-    /// added for issue 5, append-only): one entry per (node, DOF), the cards on it
-    /// combined. Sorted by (node, DOF). See [`PointElement`].
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub point_laws: Vec<PointElement>,
-    /// Linear dashpots to ground (`DASHPOT`; added for issue 10, append-only), sorted by
-    /// (node, DOF). See [`Dashpot`].
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub dashpots: Vec<Dashpot>,
-    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; added for issue 10). See
-    /// [`ModalDamping`].
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub modal_damping: ModalDamping,
 }
@@ -462,6 +534,199 @@ impl PointElement {
 }
 
 impl Model {
+    /// Validates `parts` and makes them a model: ids and references resolved, values in
+    /// range, constraints consistent (see [`check`] for the full list). Id lists are
+    /// sorted and de-duplicated, nodes and elements sorted by id.
+    pub fn try_new(parts: ModelParts) -> Result<Model, ModelError> {
+        let p = check::check(parts)?;
+        Ok(Model {
+            title: p.title,
+            element_types: p.element_types,
+            lumped_mass: p.lumped_mass,
+            nodes: p.nodes,
+            elements: p.elements,
+            node_sets: p.node_sets,
+            element_sets: p.element_sets,
+            materials: p.materials,
+            geometries: p.geometries,
+            damping: p.damping,
+            point_masses: p.point_masses,
+            rigid_ties: p.rigid_ties,
+            fixed_disp: p.fixed_disp,
+            point_loads: p.point_loads,
+            tables: p.tables,
+            initial_velocities: p.initial_velocities,
+            outputs: p.outputs,
+            load_cases: p.load_cases,
+            point_laws: p.point_laws,
+            dashpots: p.dashpots,
+            modal_damping: p.modal_damping,
+        })
+    }
+
+    /// Changes the model through its parts and validates the result: on an error the
+    /// model is left as it was. `model.edit(|p| p.lumped_mass = true)?`.
+    pub fn edit(&mut self, change: impl FnOnce(&mut ModelParts)) -> Result<(), ModelError> {
+        let mut parts = self.clone().into_parts();
+        change(&mut parts);
+        *self = Model::try_new(parts)?;
+        Ok(())
+    }
+
+    /// The model's pieces, to change and build again with [`Model::try_new`].
+    pub fn into_parts(self) -> ModelParts {
+        ModelParts {
+            title: self.title,
+            element_types: self.element_types,
+            lumped_mass: self.lumped_mass,
+            nodes: self.nodes,
+            elements: self.elements,
+            node_sets: self.node_sets,
+            element_sets: self.element_sets,
+            materials: self.materials,
+            geometries: self.geometries,
+            damping: self.damping,
+            point_masses: self.point_masses,
+            rigid_ties: self.rigid_ties,
+            fixed_disp: self.fixed_disp,
+            point_loads: self.point_loads,
+            tables: self.tables,
+            initial_velocities: self.initial_velocities,
+            outputs: self.outputs,
+            load_cases: self.load_cases,
+            point_laws: self.point_laws,
+            dashpots: self.dashpots,
+            modal_damping: self.modal_damping,
+        }
+    }
+
+    /// The model's title (`TITLE`).
+    pub fn title(&self) -> &str {
+        &self.title
+    }
+
+    /// Element types declared in the parameter section (`ELEMENTS`).
+    pub fn element_types(&self) -> &[ElementType] {
+        &self.element_types
+    }
+
+    /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
+    pub fn lumped_mass(&self) -> bool {
+        self.lumped_mass
+    }
+
+    /// The nodes, sorted by id, each id once.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The beam elements, sorted by id, each id once.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// Named node sets (kept so that a written deck reads back equal).
+    pub fn node_sets(&self) -> &[NodeSet] {
+        &self.node_sets
+    }
+
+    /// Named element sets (kept so that a written deck reads back equal).
+    pub fn element_sets(&self) -> &[ElementSet] {
+        &self.element_sets
+    }
+
+    /// Materials; every element has one (the last listing it wins).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Beam geometries; every element has one (the last listing it wins).
+    pub fn geometries(&self) -> &[Geometry] {
+        &self.geometries
+    }
+
+    /// Rayleigh damping groups.
+    pub fn damping(&self) -> &[Damping] {
+        &self.damping
+    }
+
+    /// Point masses, at most one per node.
+    pub fn point_masses(&self) -> &[PointMass] {
+        &self.point_masses
+    }
+
+    /// Rigid ties; they neither overlap nor chain.
+    pub fn rigid_ties(&self) -> &[RigidTie] {
+        &self.rigid_ties
+    }
+
+    /// Prescribed displacements; each (node, DOF) once.
+    pub fn fixed_disp(&self) -> &[FixedDisp] {
+        &self.fixed_disp
+    }
+
+    /// Model-definition point loads (active in every load case).
+    pub fn point_loads(&self) -> &[PointLoad] {
+        &self.point_loads
+    }
+
+    /// Load-factor tables against time.
+    pub fn tables(&self) -> &[Table] {
+        &self.tables
+    }
+
+    /// Initial velocities of transients; each (node, DOF) once.
+    pub fn initial_velocities(&self) -> &[InitialVelocity] {
+        &self.initial_velocities
+    }
+
+    /// History output requests.
+    pub fn outputs(&self) -> &[OutputRequest] {
+        &self.outputs
+    }
+
+    /// The load cases, in order.
+    pub fn load_cases(&self) -> &[LoadCase] {
+        &self.load_cases
+    }
+
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    pub fn point_laws(&self) -> &[PointElement] {
+        &self.point_laws
+    }
+
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    pub fn dashpots(&self) -> &[Dashpot] {
+        &self.dashpots
+    }
+
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    pub fn modal_damping(&self) -> &ModalDamping {
+        &self.modal_damping
+    }
+}
+
+impl ModelParts {
+    /// [`Model::try_new`] of these parts.
+    pub fn build(self) -> Result<Model, ModelError> {
+        Model::try_new(self)
+    }
+}
+
+impl TryFrom<ModelParts> for Model {
+    type Error = ModelError;
+    fn try_from(parts: ModelParts) -> Result<Model, ModelError> {
+        Model::try_new(parts)
+    }
+}
+
+impl From<Model> for ModelParts {
+    fn from(model: Model) -> ModelParts {
+        model.into_parts()
+    }
+}
+
+impl Model {
     /// Index of a node id in `nodes`.
     pub fn node_index(&self, id: NodeId) -> Option<usize> {
         self.nodes.binary_search_by_key(&id, |n| n.id).ok()
@@ -491,91 +756,6 @@ impl Model {
             .iter()
             .rev()
             .find(|g| g.elements.binary_search(&id).is_ok())
-    }
-}
-
-/// Conversions between the model's units (mm, N, t, s) and SI.
-pub mod units {
-    /// mm per m.
-    pub const MM_PER_M: f64 = 1000.0;
-    /// kg per tonne.
-    pub const KG_PER_T: f64 = 1000.0;
-
-    /// kg/m^3 -> t/mm^3.
-    pub fn density_from_si(kg_m3: f64) -> f64 {
-        kg_m3 / 1e12
-    }
-    /// t/mm^3 -> kg/m^3.
-    pub fn density_to_si(t_mm3: f64) -> f64 {
-        t_mm3 * 1e12
-    }
-    /// kg -> t.
-    pub fn mass_from_si(kg: f64) -> f64 {
-        kg / KG_PER_T
-    }
-    /// t -> kg.
-    pub fn mass_to_si(t: f64) -> f64 {
-        t * KG_PER_T
-    }
-    /// kg m^2 -> t mm^2.
-    pub fn inertia_from_si(kg_m2: f64) -> f64 {
-        kg_m2 * 1e3
-    }
-    /// t mm^2 -> kg m^2.
-    pub fn inertia_to_si(t_mm2: f64) -> f64 {
-        t_mm2 / 1e3
-    }
-    /// m (or m/s, m/s^2) -> mm (mm/s, mm/s^2).
-    pub fn length_from_si(m: f64) -> f64 {
-        m * MM_PER_M
-    }
-    /// mm (mm/s, mm/s^2) -> m (m/s, m/s^2).
-    pub fn length_to_si(mm: f64) -> f64 {
-        mm / MM_PER_M
-    }
-    /// Cubic stiffness N/m^3 -> N/mm^3: `k3 u^3` with `u` in m is `k3 (u_mm/1e3)^3`,
-    /// so 1 N/m^3 = 1e-9 N/mm^3.
-    pub fn cubic_stiffness_from_si(n_m3: f64) -> f64 {
-        n_m3 * 1e-9
-    }
-    /// Cubic stiffness N/mm^3 -> N/m^3 (1 N/mm^3 = 1e9 N/m^3).
-    pub fn cubic_stiffness_to_si(n_mm3: f64) -> f64 {
-        n_mm3 * 1e9
-    }
-    /// Velocity-squared damping N s^2/m^2 -> N s^2/mm^2: `c2 v^2` with `v` in m/s is
-    /// `c2 (v_mm/1e3)^2`, so 1 N s^2/m^2 = 1e-6 N s^2/mm^2.
-    pub fn quadratic_damping_from_si(n_s2_m2: f64) -> f64 {
-        n_s2_m2 * 1e-6
-    }
-    /// Velocity-squared damping N s^2/mm^2 -> N s^2/m^2 (1 N s^2/mm^2 = 1e6 N s^2/m^2).
-    pub fn quadratic_damping_to_si(n_s2_mm2: f64) -> f64 {
-        n_s2_mm2 * 1e6
-    }
-
-    #[cfg(test)]
-    mod tests {
-        use super::*;
-
-        #[test]
-        fn round_trips_are_identities() {
-            for x in [1.0, 7850.0, 5.3, 1e-4] {
-                assert!((density_to_si(density_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((mass_to_si(mass_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((inertia_to_si(inertia_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((length_to_si(length_from_si(x)) - x).abs() <= 1e-12 * x);
-                let k3 = cubic_stiffness_to_si(cubic_stiffness_from_si(x));
-                assert!((k3 - x).abs() <= 1e-12 * x);
-                let c2 = quadratic_damping_to_si(quadratic_damping_from_si(x));
-                assert!((c2 - x).abs() <= 1e-12 * x);
-            }
-            // 7850 kg/m^3 is 7.85e-9 t/mm^3, 1 kg m^2 is 1e3 t mm^2 (1e-3 t * 1e6 mm^2).
-            assert!((density_from_si(7850.0) - 7.85e-9).abs() < 1e-20);
-            assert!((inertia_from_si(1.0) - 1e3).abs() < 1e-12);
-            // 1 mm of a 1e9 N/m^3 cubic spring: 1e9 * (1e-3)^3 = 1 N = k3_mm * 1^3.
-            assert!((cubic_stiffness_from_si(1e9) - 1.0).abs() < 1e-15);
-            // 1 m/s (1000 mm/s) through 1 N s^2/m^2: 1 N = c2_mm * 1000^2.
-            assert!((quadratic_damping_from_si(1.0) * 1e6 - 1.0).abs() < 1e-15);
-        }
     }
 }
 

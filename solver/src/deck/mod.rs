@@ -7,7 +7,8 @@
 //! then a history of load cases each closed by `CONTINUE`. Keywords are
 //! case-insensitive, `$` starts a comment line, fields are separated by commas and/or
 //! blanks, and multi-word keywords keep their blank (`FIXED DISP`). Every card is one
-//! entry of [`keywords::KEYWORDS`]; docs/deck.md is generated from that table.
+//! entry of [`cards::KEYWORDS`], defined beside its parse function and tests; docs/deck.md
+//! is generated from that table.
 //!
 //! # Units and DOFs
 //! Marc's consistent units: mm, N, tonne, s (E in MPa, density in t/mm^3, rotary
@@ -16,7 +17,7 @@
 //!
 //! # Reading in two stages
 //! 1. [`lexer`]: text -> lines of located fields (file, line, column).
-//! 2. [`reader`] + [`keywords`]: lines -> cards, each field checked where it is read,
+//! 2. [`reader`] + [`cards`]: lines -> cards, each field checked where it is read,
 //!    into a located raw deck; [`build`]: raw deck -> [`Model`], ids and sets
 //!    resolved and everything that involves several cards validated.
 //!
@@ -24,16 +25,17 @@
 //! and what was expected. No input makes the reader panic.
 
 mod build;
+mod card;
+pub mod cards;
 mod error;
-pub mod keywords;
 mod lexer;
-mod mentat;
 mod raw;
 mod reader;
 mod writer;
 
+pub use card::{DeckSection, Keyword, Origin};
+pub use cards::{reference_markdown, KEYWORDS};
 pub use error::{DeckError, Loc};
-pub use keywords::{reference_markdown, DeckSection, Keyword, Origin, KEYWORDS};
 
 use crate::model::Model;
 use std::path::Path;

@@ -270,6 +270,14 @@ impl SpringSpec {
     /// Checks every field; the deck reader would catch most of these later, but the
     /// message is clearer in the spec's own terms.
     pub fn validate(&self) -> Result<(), SpecError> {
+        self.validate_geometry()?;
+        self.validate_material_and_loads()?;
+        self.validate_analyses()
+    }
+
+    /// The helix and its mesh: coils, diameters, spring index, pitch, element count
+    /// and type.
+    fn validate_geometry(&self) -> Result<(), SpecError> {
         check(
             self.coils >= MIN_COILS,
             "coils",
@@ -334,6 +342,11 @@ impl SpringSpec {
                 expected: "98 (Timoshenko) or 52 (Euler-Bernoulli)",
             });
         }
+        Ok(())
+    }
+
+    /// Material, weight, load and point-law values.
+    fn validate_material_and_loads(&self) -> Result<(), SpecError> {
         check(
             self.youngs_modulus_mpa > 0.0,
             "youngs_modulus_mpa",
@@ -398,6 +411,11 @@ impl SpringSpec {
             self.initial_velocity_m_s,
             "a finite velocity",
         )?;
+        Ok(())
+    }
+
+    /// The analyses: modes, time step, duration, scheme parameters.
+    fn validate_analyses(&self) -> Result<(), SpecError> {
         if self.analyses.contains(&AnalysisKind::Modal) && self.modes == 0 {
             return Err(SpecError {
                 field: "modes",
@@ -555,70 +573,7 @@ impl SpringSpec {
             Vec::new()
         };
 
-        let mut initial_velocities = Vec::new();
-        let mut outputs = Vec::new();
-        let mut load_cases = Vec::new();
-        for analysis in &self.analyses {
-            match analysis {
-                AnalysisKind::Static => load_cases.push(LoadCase {
-                    title: format!("static axial force {} N", self.force_n),
-                    analysis: Analysis::Static {
-                        steps: 1,
-                        time: 1.0,
-                    },
-                    point_loads: vec![PointLoad {
-                        dofs: vec![(3, -self.force_n)],
-                        nodes: vec![WEIGHT_NODE],
-                        table: None,
-                    }],
-                }),
-                AnalysisKind::Modal => load_cases.push(LoadCase {
-                    title: format!("lowest {} modes", self.modes),
-                    analysis: Analysis::Modal { modes: self.modes },
-                    point_loads: vec![],
-                }),
-                // INITIAL VEL and HISTORY OUTPUT are model-level: one of each serves every
-                // transient case.
-                AnalysisKind::Transient => {
-                    if self.initial_velocity_m_s != 0.0 && initial_velocities.is_empty() {
-                        initial_velocities.push(InitialVelocity {
-                            dofs: vec![(3, units::length_from_si(self.initial_velocity_m_s))],
-                            nodes: vec![WEIGHT_NODE],
-                            quasi_static: self.initial_velocity_field == VelocityField::QuasiStatic,
-                        });
-                    }
-                    if outputs.is_empty() {
-                        outputs.push(OutputRequest {
-                            nodes: vec![WEIGHT_NODE],
-                            dofs: vec![3],
-                            quantities: vec![
-                                Quantity::Displacement,
-                                Quantity::Velocity,
-                                Quantity::Acceleration,
-                            ],
-                            every: self.output_every,
-                        });
-                        if self.snapshot_every > 0 {
-                            outputs.push(OutputRequest {
-                                nodes: (1..=self.element_count() as u32 + 2).collect(),
-                                dofs: vec![1, 2, 3],
-                                quantities: vec![Quantity::Displacement],
-                                every: self.snapshot_every,
-                            });
-                        }
-                    }
-                    load_cases.push(LoadCase {
-                        title: "free decay".into(),
-                        analysis: Analysis::Transient {
-                            dt: self.dt_s,
-                            total_time: self.duration_s,
-                            method: self.transient_method(),
-                        },
-                        point_loads: vec![],
-                    });
-                }
-            }
-        }
+        let (initial_velocities, outputs, load_cases) = self.history();
 
         let parts = ModelParts {
             title: self.title.clone(),
@@ -684,6 +639,76 @@ impl SpringSpec {
             value: e.to_string(),
             expected: "a spec whose mesh is a valid model",
         })
+    }
+
+    /// The load cases of [`SpringSpec::analyses`] in order, with the initial velocity
+    /// and history outputs the transient cases share.
+    fn history(&self) -> (Vec<InitialVelocity>, Vec<OutputRequest>, Vec<LoadCase>) {
+        let mut initial_velocities = Vec::new();
+        let mut outputs = Vec::new();
+        let mut load_cases = Vec::new();
+        for analysis in &self.analyses {
+            match analysis {
+                AnalysisKind::Static => load_cases.push(LoadCase {
+                    title: format!("static axial force {} N", self.force_n),
+                    analysis: Analysis::Static {
+                        steps: 1,
+                        time: 1.0,
+                    },
+                    point_loads: vec![PointLoad {
+                        dofs: vec![(3, -self.force_n)],
+                        nodes: vec![WEIGHT_NODE],
+                        table: None,
+                    }],
+                }),
+                AnalysisKind::Modal => load_cases.push(LoadCase {
+                    title: format!("lowest {} modes", self.modes),
+                    analysis: Analysis::Modal { modes: self.modes },
+                    point_loads: vec![],
+                }),
+                // INITIAL VEL and HISTORY OUTPUT are model-level: one of each serves every
+                // transient case.
+                AnalysisKind::Transient => {
+                    if self.initial_velocity_m_s != 0.0 && initial_velocities.is_empty() {
+                        initial_velocities.push(InitialVelocity {
+                            dofs: vec![(3, units::length_from_si(self.initial_velocity_m_s))],
+                            nodes: vec![WEIGHT_NODE],
+                            quasi_static: self.initial_velocity_field == VelocityField::QuasiStatic,
+                        });
+                    }
+                    if outputs.is_empty() {
+                        outputs.push(OutputRequest {
+                            nodes: vec![WEIGHT_NODE],
+                            dofs: vec![3],
+                            quantities: vec![
+                                Quantity::Displacement,
+                                Quantity::Velocity,
+                                Quantity::Acceleration,
+                            ],
+                            every: self.output_every,
+                        });
+                        if self.snapshot_every > 0 {
+                            outputs.push(OutputRequest {
+                                nodes: (1..=self.element_count() as u32 + 2).collect(),
+                                dofs: vec![1, 2, 3],
+                                quantities: vec![Quantity::Displacement],
+                                every: self.snapshot_every,
+                            });
+                        }
+                    }
+                    load_cases.push(LoadCase {
+                        title: "free decay".into(),
+                        analysis: Analysis::Transient {
+                            dt: self.dt_s,
+                            total_time: self.duration_s,
+                            method: self.transient_method(),
+                        },
+                        point_loads: vec![],
+                    });
+                }
+            }
+        }
+        (initial_velocities, outputs, load_cases)
     }
 }
 

@@ -204,8 +204,8 @@ fn anchor(name: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::deck::cards::testing::first_line;
     use crate::deck::card::reserved_in;
+    use crate::deck::cards::testing::first_line;
     use crate::deck::lexer::LIST_WORDS;
 
     #[test]

@@ -35,6 +35,8 @@
 //! The spec's names carry SI or engineering units (`_mm`, `_mpa`, `_kg`, `_m_s`); the deck
 //! is in mm, N, t, s (see `coil_solver::model`). Conversions happen here, once.
 
+#![warn(missing_docs)]
+
 pub mod closed_form;
 
 use coil_solver::model::{
@@ -73,8 +75,11 @@ pub enum Top {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum AnalysisKind {
+    /// A static load case: the axial force on the weight.
     Static,
+    /// A modal load case: the lowest `modes` modes.
     Modal,
+    /// A free-decay transient from the initial velocity.
     Transient,
 }
 
@@ -110,22 +115,33 @@ pub enum VelocityField {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SpringSpec {
+    /// Title of the deck (`TITLE`).
     pub title: String,
+    /// Number of coils (active turns), at least 1.
     pub coils: f64,
+    /// Mean coil diameter D (mm).
     pub mean_diameter_mm: f64,
+    /// Wire diameter d (mm).
     pub wire_diameter_mm: f64,
+    /// Pitch: axial rise per coil (mm).
     pub pitch_mm: f64,
+    /// Beam elements per coil (at least 3).
     pub elements_per_coil: u32,
     /// Marc element type: 98 (Timoshenko) or 52 (Euler-Bernoulli).
     pub element: u32,
+    /// Lumped instead of consistent mass (`LUMP`).
     pub lumped_mass: bool,
+    /// Young's modulus E (MPa).
     pub youngs_modulus_mpa: f64,
+    /// Poisson's ratio nu (-).
     pub poisson: f64,
+    /// Wire density (kg/m^3).
     pub density_kg_m3: f64,
     /// The weight's mass (kg); 0 = no weight.
     pub mass_kg: f64,
     /// The weight's rotary inertia about the spring axis (kg m^2).
     pub rotary_inertia_kg_m2: f64,
+    /// How the top reference node (the weight) is supported.
     pub top: Top,
     /// Load cases, in order.
     pub analyses: Vec<AnalysisKind>,
@@ -229,8 +245,11 @@ pub const SPRING_INDEX: (f64, f64) = (3.0, 100.0);
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{field} = {value}: expected {expected}")]
 pub struct SpecError {
+    /// The spec field at fault.
     pub field: &'static str,
+    /// Its value.
     pub value: String,
+    /// What was expected instead.
     pub expected: &'static str,
 }
 
@@ -981,17 +1000,25 @@ mod tests {
 /// Reading a spec file failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadSpecError {
+    /// The spec file cannot be read.
     #[error("{path}: {source}")]
     Io {
+        /// The spec file.
         path: String,
+        /// The underlying error.
         #[source]
         source: std::io::Error,
     },
+    /// The spec file is not a JSON spring spec.
     #[error("{path}:{line}:{column}: {message}; expected a JSON object with the fields of a spring spec (see docs/mesher.md)")]
     Json {
+        /// The spec file.
         path: String,
+        /// Line of the JSON error (1-based).
         line: usize,
+        /// Column of the JSON error (1-based).
         column: usize,
+        /// What the JSON reader found.
         message: String,
     },
 }

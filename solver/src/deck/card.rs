@@ -19,6 +19,7 @@ pub enum DeckSection {
 }
 
 impl DeckSection {
+    /// The section in words, as error messages name it.
     pub fn describe(self) -> &'static str {
         match self {
             DeckSection::Parameters => "parameter section",
@@ -48,6 +49,7 @@ pub struct Keyword {
     pub name: &'static str,
     /// Where the card may appear.
     pub sections: &'static [DeckSection],
+    /// Whose layout the card follows.
     pub origin: Origin,
     /// What the card means, in one or two sentences.
     pub meaning: &'static str,

@@ -50,7 +50,9 @@ pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
 /// lists these once in its log.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct NotNeeded {
+    /// The card's keyword.
     pub card: String,
+    /// Line of its first appearance.
     pub line: usize,
 }
 

@@ -67,29 +67,38 @@ impl ElementType {
 /// A node: its id and coordinates (mm).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Node {
+    /// The node id.
     pub id: NodeId,
+    /// Coordinates x, y, z (mm).
     pub xyz: [f64; 3],
 }
 
 /// A two-node beam element.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Element {
+    /// The element id.
     pub id: ElementId,
+    /// Its formulation.
     pub kind: ElementType,
+    /// Node 1 and node 2 (local x runs from 1 to 2).
     pub nodes: [NodeId; 2],
 }
 
 /// A named node set (`DEFINE NODE SET`). Ids sorted and unique.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NodeSet {
+    /// Its name.
     pub name: String,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
 }
 
 /// A named element set (`DEFINE ELEMENT SET`). Ids sorted and unique.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ElementSet {
+    /// Its name.
     pub name: String,
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
 }
 
@@ -121,7 +130,10 @@ pub enum Section {
     /// A solid circular wire of the given diameter (mm). Area, second moments and the
     /// torsion constant follow from it; the Timoshenko shear coefficient is
     /// kappa = 6 (1 + nu) / (7 + 6 nu) (Cowper 1966).
-    SolidCircle { diameter: f64 },
+    SolidCircle {
+        /// Wire diameter d (mm).
+        diameter: f64,
+    },
     /// A general section given by its properties.
     General {
         /// Area A (mm^2).
@@ -141,10 +153,15 @@ pub enum Section {
 /// Derived section properties, the same for both section kinds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SectionProperties {
+    /// Area A (mm^2).
     pub area: f64,
+    /// Second moment about local y (mm^4).
     pub iyy: f64,
+    /// Second moment about local z (mm^4).
     pub izz: f64,
+    /// Torsion constant J (mm^4).
     pub torsion: f64,
+    /// Timoshenko shear coefficient kappa (-).
     pub shear_coefficient: f64,
 }
 
@@ -185,12 +202,15 @@ impl Section {
 /// Beam geometry (`GEOMETRY`): section and orientation for a list of elements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Geometry {
+    /// Its name.
     pub name: String,
+    /// The cross-section.
     pub section: Section,
     /// A vector (global axes) that, with the element axis, fixes the local frame:
     /// local x runs from node 1 to node 2, local y is the part of `orientation`
     /// normal to x, local z = x cross y. Must not be parallel to any of its elements.
     pub orientation: [f64; 3],
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
 }
 
@@ -202,6 +222,7 @@ pub struct Damping {
     pub alpha: f64,
     /// Stiffness-proportional coefficient beta (s).
     pub beta: f64,
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
     /// Nodes whose point masses receive alpha (beta has no meaning for a point mass).
     pub mass_nodes: Vec<NodeId>,
@@ -210,6 +231,7 @@ pub struct Damping {
 /// A point mass with rotary inertia at a node (`POINT MASS`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PointMass {
+    /// The node.
     pub node: NodeId,
     /// Translational mass (t), on DOFs 1-3.
     pub mass: f64,
@@ -221,10 +243,13 @@ pub struct PointMass {
 /// reference node as a rigid body: u_s = u_r + theta_r x (x_s - x_r), theta_s = theta_r.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RigidTie {
+    /// Its name.
     pub name: String,
+    /// The reference (master) node.
     pub reference: NodeId,
     /// Tied DOFs of the tied nodes (1..=6, sorted, unique).
     pub dofs: Vec<u8>,
+    /// The tied (slave) nodes (sorted, unique).
     pub tied: Vec<NodeId>,
 }
 
@@ -234,6 +259,7 @@ pub struct RigidTie {
 pub struct FixedDisp {
     /// (dof 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
 }
 
@@ -243,6 +269,7 @@ pub struct FixedDisp {
 pub struct PointLoad {
     /// (dof 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
     /// Name of a [`Table`] giving the load factor against time; `None` = constant 1.
     pub table: Option<String>,
@@ -251,14 +278,18 @@ pub struct PointLoad {
 /// A piecewise-linear table of (time s, factor) points, sorted by time (`TABLE`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Table {
+    /// Its name.
     pub name: String,
+    /// (time s, factor) points, strictly increasing in time.
     pub points: Vec<(f64, f64)>,
 }
 
 /// Initial velocities (`INITIAL VEL`): each listed DOF of each node (mm/s or rad/s).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InitialVelocity {
+    /// (DOF 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
     /// `INITIAL VEL, QUASI STATIC` (added for transients, append-only): the listed
     /// velocities are extended over every free DOF by the quasi-static shape, the static
@@ -273,8 +304,11 @@ pub struct InitialVelocity {
 /// What a history output records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Quantity {
+    /// Displacement (mm or rad).
     Displacement,
+    /// Velocity (mm/s or rad/s).
     Velocity,
+    /// Acceleration (mm/s^2 or rad/s^2).
     Acceleration,
 }
 
@@ -282,9 +316,13 @@ pub enum Quantity {
 /// listed DOFs of the listed nodes, every `every`-th step of a transient.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OutputRequest {
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
+    /// DOFs 1..=6.
     pub dofs: Vec<u8>,
+    /// What is recorded.
     pub quantities: Vec<Quantity>,
+    /// Record every `every`-th step (>= 1).
     pub every: u32,
 }
 
@@ -294,9 +332,15 @@ pub enum Integrator {
     /// Newmark average acceleration (beta = 1/4, gamma = 1/2): no numerical damping.
     AverageAcceleration,
     /// Hilber-Hughes-Taylor with alpha in [-1/3, 0].
-    Hht { alpha: f64 },
+    Hht {
+        /// alpha in [-1/3, 0].
+        alpha: f64,
+    },
     /// Chung-Hulbert generalised-alpha with spectral radius at infinity rho_inf in [0, 1].
-    GeneralizedAlpha { rho_inf: f64 },
+    GeneralizedAlpha {
+        /// Spectral radius at infinite frequency, in [0, 1].
+        rho_inf: f64,
+    },
 }
 
 /// How a transient is solved.
@@ -305,7 +349,10 @@ pub enum TransientMethod {
     /// Direct integration of the full system.
     Direct(Integrator),
     /// Modal superposition over the lowest `modes` modes, each integrated exactly.
-    Modal { modes: u32 },
+    Modal {
+        /// Number of modes (>= 1).
+        modes: u32,
+    },
 }
 
 /// The analysis a load case runs.
@@ -313,13 +360,24 @@ pub enum TransientMethod {
 pub enum Analysis {
     /// Linear static (`AUTO LOAD` / `TIME STEP`). `steps` and `time` are kept for
     /// Marc compatibility; a linear solve applies the full load once.
-    Static { steps: u32, time: f64 },
+    Static {
+        /// Marc increments (kept for the deck; a linear solve applies the load once).
+        steps: u32,
+        /// Marc load-case time (s).
+        time: f64,
+    },
     /// Lowest `modes` eigenpairs of K phi = omega^2 M phi (`MODAL SHAPE`).
-    Modal { modes: u32 },
+    Modal {
+        /// Number of modes (>= 1).
+        modes: u32,
+    },
     /// Transient (`DYNAMIC CHANGE`): fixed step `dt` (s) up to `total_time` (s).
     Transient {
+        /// Time step (s).
         dt: f64,
+        /// Duration (s).
         total_time: f64,
+        /// How it is solved.
         method: TransientMethod,
     },
 }
@@ -327,7 +385,9 @@ pub enum Analysis {
 /// One load case of the history section, closed by `CONTINUE`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LoadCase {
+    /// Its title.
     pub title: String,
+    /// The analysis it runs.
     pub analysis: Analysis,
     /// Loads added in this load case (history-definition `POINT LOAD`), on top of the
     /// model-definition loads.
@@ -446,6 +506,7 @@ pub struct ModelParts {
 /// damping matrix `C` (one diagonal entry), so every transient method and scheme runs it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Dashpot {
+    /// The node.
     pub node: NodeId,
     /// 1..=6; the DOF must be free (neither prescribed nor tied).
     pub dof: u8,
@@ -511,6 +572,7 @@ impl ModalDamping {
 /// convert SI values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PointElement {
+    /// The node.
     pub node: NodeId,
     /// 1..=6; the DOF must be free (neither prescribed nor tied).
     pub dof: u8,

@@ -18,8 +18,15 @@
 //! # Reading in two stages
 //! 1. [`lexer`]: text -> lines of located fields (file, line, column).
 //! 2. [`reader`] + [`cards`]: lines -> cards, each field checked where it is read,
-//!    into a located raw deck; [`build`]: raw deck -> [`Model`], ids and sets
-//!    resolved and everything that involves several cards validated.
+//!    into a located raw deck ([`raw`]); [`build`]: raw deck -> [`Model`], each card
+//!    family's build function resolving ids and sets ([`resolve`]) into the model's
+//!    parts, which [`Model::try_new`] validates; its errors are mapped back to lines.
+//!
+//! # Modules, lowest first (no import circle)
+//! [`error`] (locations, [`DeckError`]) <- [`lexer`] <- [`raw`] <- [`card`] (the
+//! [`Keyword`] entry type and the card context) and [`resolve`] (list resolution) <-
+//! [`cards`] (one module per family: entries, parse and build functions, tests; the
+//! registry [`KEYWORDS`]) <- [`reader`] and [`build`]; [`writer`] reads only the model.
 //!
 //! Every error is a [`DeckError`] naming `file:line:column`, the card, what is wrong
 //! and what was expected. No input makes the reader panic.
@@ -31,6 +38,7 @@ mod error;
 mod lexer;
 mod raw;
 mod reader;
+mod resolve;
 mod writer;
 
 pub use card::{DeckSection, Keyword, Origin};

@@ -3,10 +3,17 @@
 //! closed by `CONTINUE`.
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
 
+use super::loads::point_load;
+use super::mentat::active_names_exist;
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
-use crate::deck::error::DeckError;
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
+use crate::model::{Analysis, LoadCase, ModelParts, PointLoad};
 use crate::model::{Integrator, TransientMethod};
 use DeckSection::{History, Model};
 
@@ -280,6 +287,91 @@ fn parse_continue(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 }
 
 // The deck reference, generated from the table.
+
+/// The load cases, each with the named loads its `LOADCASE` activates.
+pub(crate) fn build(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    named_loads: &[(&str, Vec<PointLoad>)],
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    for c in &raw.load_cases {
+        let mut case = load_case(b, c, raw)?;
+        if let Some(active) = &c.active {
+            active_loads(b, raw, c, active, named_loads, &mut case)?;
+        }
+        parts.load_cases.push(case);
+    }
+    Ok(())
+}
+
+fn load_case(b: &Builder<'_>, c: &RawLoadCase, raw: &RawDeck) -> Result<LoadCase, DeckError> {
+    let end = c.end.or(c.loc).unwrap_or(Loc::new(1, 1));
+    let analysis = if let Some((modes, _)) = c.modal {
+        Analysis::Modal { modes }
+    } else if let Some((dt, total_time, method, _)) = c.dynamic {
+        Analysis::Transient {
+            dt,
+            total_time,
+            method,
+        }
+    } else if let (Some((steps, _)), Some((time, _))) = (c.auto_load, c.time_step) {
+        Analysis::Static { steps, time }
+    } else {
+        // The CONTINUE card already refuses this; kept as an error, not a panic.
+        return Err(b.err(
+            end,
+            "CONTINUE",
+            "the load case has no analysis",
+            "AUTO LOAD with TIME STEP, MODAL SHAPE, or DYNAMIC CHANGE",
+        ));
+    };
+    let point_loads = c
+        .point_loads
+        .iter()
+        .map(|p| point_load(b, p, raw))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(LoadCase {
+        title: c.title.as_ref().map(|t| t.0.clone()).unwrap_or_default(),
+        analysis,
+        point_loads,
+    })
+}
+
+/// The named loads a Mentat `LOADCASE` activates, added to its load case; every
+/// support must be active (coil's supports do not change between load cases).
+fn active_loads(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    c: &RawLoadCase,
+    active: &[(String, Loc)],
+    named_loads: &[(&str, Vec<PointLoad>)],
+    case: &mut LoadCase,
+) -> Result<(), DeckError> {
+    active_names_exist(b, active, raw)?;
+    for (name, _) in active {
+        for (n, loads) in named_loads {
+            if n == name {
+                case.point_loads.extend(loads.iter().cloned());
+            }
+        }
+    }
+    let begun = c.loc.unwrap_or(Loc::new(1, 1));
+    for (name, at, support) in &raw.named {
+        if *support && !active.iter().any(|(n, _)| n == name) {
+            return Err(b.err(
+                begun,
+                "LOADCASE",
+                format!(
+                    "the support `{name}` (line {}) is not active in this load case",
+                    at.line
+                ),
+                "every FIXED DISP active in every load case (coil's supports do not change between load cases)",
+            ));
+        }
+    }
+    Ok(())
+}
 
 #[cfg(test)]
 mod tests {

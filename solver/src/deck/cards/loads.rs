@@ -3,13 +3,20 @@
 //! `HISTORY OUTPUT`.
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
+
+use std::collections::HashMap;
 
 use crate::deck::card::{no_groups, plural, reserved_in, CardCtx, DeckSection, Keyword, Origin};
-use crate::deck::error::DeckError;
+use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self};
 use crate::deck::raw::*;
+use crate::deck::resolve::{dof_groups, Builder};
+use crate::model::check::{cross, norm, sub};
 use crate::model::Quantity;
+use crate::model::{FixedDisp, InitialVelocity, ModelParts, OutputRequest, PointLoad, Table};
 use DeckSection::{History, Model, Parameters};
 
 use super::mentat;
@@ -390,6 +397,185 @@ fn parse_history_output(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         return Err(no_groups(c, "k / quantities / DOFs / nodes"));
     }
     Ok(())
+}
+
+/// Tables: unique names.
+pub(crate) fn build_tables(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    b.unique(
+        "TABLE",
+        "table name",
+        raw.tables.iter().map(|t| (t.name.as_str(), t.loc)),
+    )?;
+    parts.tables = raw
+        .tables
+        .iter()
+        .map(|t| Table {
+            name: t.name.clone(),
+            points: t.points.clone(),
+        })
+        .collect();
+    Ok(())
+}
+
+/// Prescribed DOFs (each once); returns where each DOF was prescribed.
+pub(crate) fn build_supports(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<HashMap<(u32, u8), Loc>, DeckError> {
+    let mut prescribed: HashMap<(u32, u8), Loc> = HashMap::new();
+    parts.fixed_disp = dof_groups(b, &raw.fixed_disp, "FIXED DISP", &mut prescribed)?
+        .into_iter()
+        .map(|(dofs, nodes)| FixedDisp { dofs, nodes })
+        .collect();
+    Ok(prescribed)
+}
+
+/// Loads (Mentat's named loads are returned, for the load cases whose `LOADCASE`
+/// lists them, else added to the model's loads), initial velocities and outputs.
+pub(crate) fn build<'r>(
+    b: &Builder<'_>,
+    raw: &'r RawDeck,
+    parts: &mut ModelParts,
+) -> Result<Vec<(&'r str, Vec<PointLoad>)>, DeckError> {
+    parts.point_loads = raw
+        .point_loads
+        .iter()
+        .map(|p| point_load(b, p, raw))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut named_loads: Vec<(&str, Vec<PointLoad>)> = Vec::new();
+    for (name, p) in &raw.named_loads {
+        named_loads.push((name, vec![point_load(b, p, raw)?]));
+    }
+    let xyz_of = |id: u32| {
+        let i = parts.nodes.binary_search_by_key(&id, |n| n.id).ok()?;
+        Some(parts.nodes[i].xyz)
+    };
+    for d in &raw.dist_loads {
+        let els = b.resolve(&d.elements, SetKind::Element, "DIST LOADS")?;
+        let els = b.non_empty(els, &d.elements, "DIST LOADS", "elements")?;
+        let mut loads = Vec::new();
+        for id in els {
+            let e = &parts.elements[parts.elements.partition_point(|e| e.id < id)];
+            let [a, z] = e.nodes;
+            let (Some(xa), Some(xb)) = (xyz_of(a), xyz_of(z)) else {
+                continue;
+            };
+            loads.extend(consistent_beam_loads(d.q, a, xa, z, xb));
+        }
+        named_loads.push((&d.name, loads));
+    }
+    if let Some(names) = &raw.model_loadcase {
+        mentat::active_names_exist(b, names, raw)?;
+    }
+    let per_case = raw.load_cases.iter().any(|c| c.active.is_some());
+    if !per_case {
+        for (_, loads) in &named_loads {
+            parts.point_loads.extend(loads.iter().cloned());
+        }
+    }
+    let mut given: HashMap<(u32, u8), Loc> = HashMap::new();
+    parts.initial_velocities = dof_groups(b, &raw.initial_velocities, "INITIAL VEL", &mut given)?
+        .into_iter()
+        .zip(&raw.initial_velocities)
+        .map(|((dofs, nodes), g)| InitialVelocity {
+            dofs,
+            nodes,
+            quasi_static: g.quasi_static,
+        })
+        .collect();
+    for o in &raw.outputs {
+        let nodes = b.resolve(&o.nodes, SetKind::Node, "HISTORY OUTPUT")?;
+        let nodes = b.non_empty(nodes, &o.nodes, "HISTORY OUTPUT", "nodes")?;
+        parts.outputs.push(OutputRequest {
+            nodes,
+            dofs: o.dofs.clone(),
+            quantities: o.quantities.clone(),
+            every: o.every,
+        });
+    }
+    Ok(named_loads)
+}
+
+pub(crate) fn point_load(
+    b: &Builder<'_>,
+    p: &RawPointLoad,
+    raw: &RawDeck,
+) -> Result<PointLoad, DeckError> {
+    let nodes = b.resolve(&p.nodes, SetKind::Node, "POINT LOAD")?;
+    let nodes = b.non_empty(nodes, &p.nodes, "POINT LOAD", "nodes")?;
+    if let Some((name, loc)) = &p.table {
+        let found = raw.tables.iter().find(|t| &t.name == name);
+        match found {
+            Some(t) if t.loc.line < loc.line => {}
+            Some(t) => {
+                return Err(b.err(
+                    *loc,
+                    "POINT LOAD",
+                    format!("the table `{name}` is defined later (line {})", t.loc.line),
+                    "tables defined before they are used",
+                ))
+            }
+            None => {
+                return Err(b.err(
+                    *loc,
+                    "POINT LOAD",
+                    format!("no table named `{name}`"),
+                    "a TABLE defined in the model definition",
+                ))
+            }
+        }
+    }
+    Ok(PointLoad {
+        dofs: p.dofs.clone(),
+        nodes,
+        table: p.table.as_ref().map(|t| t.0.clone()),
+    })
+}
+
+/// The consistent nodal loads of a uniform load per unit length `q` (global, N/mm)
+/// on a straight beam from node `a` at `xa` to node `z` at `xb`: qL/2 at each node and
+/// the moments +-(L^2/12) e x q (e the unit vector from a to z), the cubic Hermite
+/// interpolation's work-equivalent loads (exact nodal displacements for
+/// Euler-Bernoulli beams).
+fn consistent_beam_loads(
+    q: [f64; 3],
+    a: u32,
+    xa: [f64; 3],
+    z: u32,
+    xb: [f64; 3],
+) -> Vec<PointLoad> {
+    let d = sub(xb, xa);
+    let l = norm(d);
+    let e = [d[0] / l, d[1] / l, d[2] / l];
+    let m = cross(e, q);
+    let mut out = Vec::new();
+    for (node, sign) in [(a, 1.0), (z, -1.0)] {
+        let mut dofs = Vec::new();
+        for (k, qk) in q.iter().enumerate() {
+            if *qk != 0.0 {
+                dofs.push((k as u8 + 1, qk * l / 2.0));
+            }
+        }
+        for (k, mk) in m.iter().enumerate() {
+            let mk = sign * mk * l * l / 12.0;
+            if mk != 0.0 {
+                dofs.push((k as u8 + 4, mk));
+            }
+        }
+        if !dofs.is_empty() {
+            out.push(PointLoad {
+                dofs,
+                nodes: vec![node],
+                table: None,
+            });
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -2,11 +2,17 @@
 //! list and point-mass nodes), `POINT MASS` (t, t mm^2) and `RBE2` (rigid ties).
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
+
+use std::collections::HashMap;
 
 use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
-use crate::deck::error::DeckError;
+use crate::deck::error::{DeckError, Loc};
 use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
+use crate::model::{Damping, ModelParts, PointMass, RigidTie};
 use DeckSection::Model;
 
 /// The `DAMPING` card.
@@ -192,6 +198,121 @@ fn parse_rbe2(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     }
     if done == 0 {
         return Err(no_groups(c, "id, name / reference node, DOFs / tied nodes"));
+    }
+    Ok(())
+}
+
+/// Point masses (one per node) and Rayleigh damping groups.
+pub(crate) fn build(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    let mut mass_at: HashMap<u32, Loc> = HashMap::new();
+    for p in &raw.point_masses {
+        if let Some(first) = mass_at.insert(p.node, p.node_loc) {
+            return Err(b.err(
+                p.node_loc,
+                "POINT MASS",
+                format!(
+                    "node {} already has a point mass (line {})",
+                    p.node, first.line
+                ),
+                "one point mass per node",
+            ));
+        }
+        parts.point_masses.push(PointMass {
+            node: p.node,
+            mass: p.mass,
+            inertia: p.inertia,
+        });
+    }
+    for d in &raw.damping {
+        let elements = b.resolve(&d.elements, SetKind::Element, "DAMPING")?;
+        let mass_nodes = match &d.mass_nodes {
+            Some(list) => b.resolve(list, SetKind::Node, "DAMPING")?,
+            None => Vec::new(),
+        };
+        parts.damping.push(Damping {
+            alpha: d.alpha,
+            beta: d.beta,
+            elements,
+            mass_nodes,
+        });
+    }
+    Ok(())
+}
+
+/// Rigid ties: unique names and ids, no overlap, no chain, no tied DOF prescribed.
+pub(crate) fn build_ties(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    prescribed: &HashMap<(u32, u8), Loc>,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    b.unique(
+        "RBE2",
+        "tie name",
+        raw.rigid_ties.iter().map(|t| (t.name.as_str(), t.loc)),
+    )?;
+    let tids: Vec<String> = raw.rigid_ties.iter().map(|t| t.id.to_string()).collect();
+    b.unique(
+        "RBE2",
+        "tie id",
+        tids.iter()
+            .map(String::as_str)
+            .zip(raw.rigid_ties.iter().map(|t| t.loc)),
+    )?;
+    let mut tied_by: HashMap<u32, (String, Loc)> = HashMap::new();
+    for t in &raw.rigid_ties {
+        let tied = b.resolve(&t.tied, SetKind::Node, "RBE2")?;
+        let tied = b.non_empty(tied, &t.tied, "RBE2", "tied nodes")?;
+        for &n in &tied {
+            if n == t.reference {
+                continue;
+            }
+            if let Some((other, at)) = tied_by.get(&n) {
+                return Err(b.err(
+                    t.tied.loc,
+                    "RBE2",
+                    format!("node {n} is already tied by `{other}` (line {})", at.line),
+                    "each node tied by one tie",
+                ));
+            }
+            tied_by.insert(n, (t.name.clone(), t.loc));
+            for &d in &t.dofs {
+                if let Some(at) = prescribed.get(&(n, d)) {
+                    return Err(b.err(
+                        t.tied.loc,
+                        "RBE2",
+                        format!(
+                            "node {n} DOF {d} is tied and also prescribed by FIXED DISP (line {})",
+                            at.line
+                        ),
+                        "a tied DOF that is not prescribed",
+                    ));
+                }
+            }
+        }
+        parts.rigid_ties.push(RigidTie {
+            name: t.name.clone(),
+            reference: t.reference,
+            dofs: t.dofs.clone(),
+            tied,
+        });
+    }
+    for t in &raw.rigid_ties {
+        if let Some((other, at)) = tied_by.get(&t.reference) {
+            return Err(b.err(
+                t.reference_loc,
+                "RBE2",
+                format!(
+                    "the reference node {} is tied by `{other}` (line {}); ties may not chain",
+                    t.reference, at.line
+                ),
+                "a reference node that no tie ties",
+            ));
+        }
     }
     Ok(())
 }

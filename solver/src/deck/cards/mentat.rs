@@ -1,5 +1,5 @@
 //! The cards and layouts of decks that MSC Mentat writes (Marc's fixed and extended
-//! fixed format, see [`super::lexer`]), beside coil's own: each function here is the
+//! fixed format, see [`crate::deck::lexer`]), beside coil's own: each function here is the
 //! parse function of one entry of [`super::KEYWORDS`] or the Mentat branch
 //! of one (ISOTROPIC, GEOMETRY, FIXED DISP, POINT LOAD).
 //!
@@ -18,6 +18,7 @@ use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self};
 use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
 use DeckSection::{History, Model, Parameters};
 
 /// The `EXTENDED` card.
@@ -817,6 +818,25 @@ pub(crate) fn table_header(c: &mut CardCtx<'_, '_>) -> Result<usize, DeckError> 
         ));
     }
     Ok(n as usize)
+}
+
+/// Fails unless every name a `LOADCASE` lists names a Mentat block.
+pub(crate) fn active_names_exist(
+    b: &Builder<'_>,
+    names: &[(String, Loc)],
+    raw: &RawDeck,
+) -> Result<(), DeckError> {
+    for (name, loc) in names {
+        if !raw.named.iter().any(|(n, _, _)| n == name) {
+            return Err(b.err(
+                *loc,
+                "LOADCASE",
+                format!("no load or support named `{name}`"),
+                "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

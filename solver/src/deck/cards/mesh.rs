@@ -2,13 +2,17 @@
 //! node and element sets).
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
 
 use crate::deck::card::{
     another, header_count, no_groups, reserved_in, CardCtx, DeckSection, Keyword, Origin,
 };
 use crate::deck::error::DeckError;
 use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
+use crate::model::{Element, ElementSet, ModelParts, Node, NodeSet};
 use DeckSection::Model;
 
 use super::parameters::element_type;
@@ -192,6 +196,89 @@ fn parse_define(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
         loc: c.loc(),
         list,
     });
+    Ok(())
+}
+
+/// Nodes and elements, sorted by id, each id once; the SIZING bounds.
+pub(crate) fn build_mesh(
+    b: &mut Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    let nodes = b.sorted_by_id(&raw.nodes, |n| (n.id, n.loc), "COORDINATES", "node")?;
+    let elements = b.sorted_by_id(&raw.elements, |e| (e.id, e.loc), "CONNECTIVITY", "element")?;
+    b.node_ids = nodes.iter().map(|n| n.id).collect();
+    b.element_ids = elements.iter().map(|e| e.id).collect();
+    if let Some((max_elements, max_nodes, loc)) = raw.sizing {
+        for (count, max, what) in [
+            (elements.len(), max_elements, "elements"),
+            (nodes.len(), max_nodes, "nodes"),
+        ] {
+            if max > 0 && count as u64 > max {
+                return Err(b.err(
+                    loc,
+                    "SIZING",
+                    format!("the model has {count} {what}, more than the {max} SIZING allows"),
+                    format!("SIZING's number of {what} >= {count}, or 0"),
+                ));
+            }
+        }
+    }
+    parts.nodes = nodes
+        .iter()
+        .map(|n| Node {
+            id: n.id,
+            xyz: n.xyz,
+        })
+        .collect();
+    parts.elements = elements
+        .iter()
+        .map(|e| Element {
+            id: e.id,
+            kind: e.kind,
+            nodes: [e.nodes[0].0, e.nodes[1].0],
+        })
+        .collect();
+    Ok(())
+}
+
+/// Sets, in deck order (a set may use the sets before it).
+pub(crate) fn build_sets(
+    b: &mut Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    for s in &raw.sets {
+        if let Some((_, _, first, _)) = b
+            .sets
+            .iter()
+            .find(|(k, n, _, _)| *k == s.kind && *n == s.name)
+        {
+            return Err(b.err(
+                s.loc,
+                "DEFINE",
+                format!(
+                    "the {} set `{}` is defined twice (first at line {})",
+                    s.kind.word(),
+                    s.name,
+                    first.line
+                ),
+                "unique set names",
+            ));
+        }
+        let ids = b.resolve(&s.list, s.kind, "DEFINE")?;
+        match s.kind {
+            SetKind::Node => parts.node_sets.push(NodeSet {
+                name: s.name.clone(),
+                nodes: ids.clone(),
+            }),
+            SetKind::Element => parts.element_sets.push(ElementSet {
+                name: s.name.clone(),
+                elements: ids.clone(),
+            }),
+        }
+        b.sets.push((s.kind, s.name.clone(), s.loc, ids));
+    }
     Ok(())
 }
 

@@ -2,7 +2,9 @@
 //! `LUMP` and `END`.
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
 
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};

@@ -4,11 +4,17 @@
 //! Their checks across cards (free DOFs) are the model's, see `docs/transient.md`.
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
+
+use std::collections::HashMap;
 
 use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
-use crate::deck::error::DeckError;
+use crate::deck::error::{DeckError, Loc};
 use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
+use crate::model::{Dashpot, ModalDamping, ModelParts, PointElement};
 use DeckSection::Model;
 
 /// The `FRICTION` card.
@@ -259,5 +265,105 @@ fn parse_point_law(c: &mut CardCtx<'_, '_>, kind: PointLawKind) -> Result<(), De
     if done == 0 {
         return Err(no_groups(c, layout));
     }
+    Ok(())
+}
+
+/// Nonlinear point elements and dashpots: free DOFs only, one line per card, node and
+/// DOF (the cards on one DOF combine); the modal damping of `LOSS FACTOR` and `MODAL
+/// DAMPING`.
+pub(crate) fn build(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    prescribed: &HashMap<(u32, u8), Loc>,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    let mut law_lines: HashMap<(u32, u8, PointLawKind), Loc> = HashMap::new();
+    for p in &raw.point_laws {
+        let card = p.kind.card();
+        if let Some(at) = prescribed.get(&(p.node, p.dof)) {
+            return Err(b.err(
+                p.dof_loc,
+                card,
+                format!(
+                    "node {} DOF {} is prescribed by FIXED DISP (line {})",
+                    p.node, p.dof, at.line
+                ),
+                "a free DOF",
+            ));
+        }
+        let tie = raw
+            .rigid_ties
+            .iter()
+            .zip(&parts.rigid_ties)
+            .find(|(_, t)| t.dofs.contains(&p.dof) && t.tied.binary_search(&p.node).is_ok());
+        if let Some((raw_tie, tie)) = tie {
+            return Err(b.err(
+                p.dof_loc,
+                card,
+                format!(
+                    "node {} DOF {} is tied by `{}` (line {}); put the element on the \
+                     reference node {}",
+                    p.node, p.dof, tie.name, raw_tie.loc.line, tie.reference
+                ),
+                "a free DOF",
+            ));
+        }
+        if let Some(first) = law_lines.insert((p.node, p.dof, p.kind), p.loc) {
+            return Err(b.err(
+                p.loc,
+                card,
+                format!(
+                    "node {} DOF {} is already given at line {}",
+                    p.node, p.dof, first.line
+                ),
+                "each DOF of a node once per card",
+            ));
+        }
+        if p.kind == PointLawKind::Dashpot {
+            parts.dashpots.push(Dashpot {
+                node: p.node,
+                dof: p.dof,
+                c: p.value,
+            });
+            continue;
+        }
+        let laws = &mut parts.point_laws;
+        let at = match laws.iter().position(|e| (e.node, e.dof) == (p.node, p.dof)) {
+            Some(i) => i,
+            None => {
+                laws.push(PointElement {
+                    node: p.node,
+                    dof: p.dof,
+                    cubic: 0.0,
+                    quadratic: 0.0,
+                    friction: 0.0,
+                });
+                laws.len() - 1
+            }
+        };
+        let e = &mut laws[at];
+        match p.kind {
+            PointLawKind::Friction => e.friction = p.value,
+            PointLawKind::Quadratic => e.quadratic = p.value,
+            PointLawKind::Cubic => e.cubic = p.value,
+            PointLawKind::Dashpot => {}
+        }
+    }
+    let mut modal_damping = ModalDamping::default();
+    if let Some((eta, modes, _)) = raw.loss_factor {
+        modal_damping.loss_factor = eta;
+        modal_damping.loss_factor_modes = modes;
+    }
+    for &(mode, zeta, _) in &raw.modal_ratios {
+        let i = mode as usize - 1;
+        if modal_damping.ratios.len() <= i {
+            modal_damping.ratios.resize(i + 1, 0.0);
+        }
+        modal_damping.ratios[i] = zeta;
+    }
+    while modal_damping.ratios.last() == Some(&0.0) {
+        modal_damping.ratios.pop();
+    }
+    parts.modal_damping = modal_damping;
     Ok(())
 }

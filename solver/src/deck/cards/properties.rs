@@ -3,15 +3,19 @@
 //! and Mentat's.
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
-//! and parse function) followed by its parse function; its tests close the file.
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
 
 use crate::deck::card::{
     another, no_groups, plural, qualifier, CardCtx, DeckSection, Keyword, Origin,
 };
-use crate::deck::error::DeckError;
+use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self, ListItem};
 use crate::deck::raw::*;
+use crate::deck::resolve::Builder;
 use crate::model::Section;
+use crate::model::{Geometry, Material, ModelParts};
 use DeckSection::Model;
 
 use super::mentat;
@@ -321,6 +325,67 @@ pub(crate) fn isotropic_material(c: &mut CardCtx<'_, '_>) -> Result<RawMaterial,
         density: rho,
         elements,
     })
+}
+
+/// Materials and geometries: unique names and ids, element lists resolved.
+pub(crate) fn build(
+    b: &Builder<'_>,
+    raw: &RawDeck,
+    parts: &mut ModelParts,
+) -> Result<(), DeckError> {
+    b.unique(
+        "ISOTROPIC",
+        "material name",
+        raw.materials.iter().map(|m| (m.name.as_str(), m.loc)),
+    )?;
+    let ids: Vec<String> = raw.materials.iter().map(|m| m.id.to_string()).collect();
+    b.unique(
+        "ISOTROPIC",
+        "material id",
+        ids.iter()
+            .map(String::as_str)
+            .zip(raw.materials.iter().map(|m| m.loc)),
+    )?;
+    for m in &raw.materials {
+        let list = b.resolve(&m.elements, SetKind::Element, "ISOTROPIC")?;
+        let elements = b.non_empty(list, &m.elements, "ISOTROPIC", "elements")?;
+        parts.materials.push(Material {
+            name: m.name.clone(),
+            youngs_modulus: m.youngs_modulus,
+            poisson: m.poisson,
+            density: m.density,
+            elements,
+        });
+    }
+    b.unique(
+        "GEOMETRY",
+        "geometry name",
+        raw.geometries
+            .iter()
+            .filter(|g| !g.name.is_empty())
+            .map(|g| (g.name.as_str(), g.loc)),
+    )?;
+    let gids: Vec<(String, Loc)> = raw
+        .geometries
+        .iter()
+        .filter_map(|g| g.id.map(|i| (i.to_string(), g.loc)))
+        .collect();
+    b.unique(
+        "GEOMETRY",
+        "geometry id",
+        gids.iter().map(|(s, l)| (s.as_str(), *l)),
+    )?;
+    for g in &raw.geometries {
+        let list = b.resolve(&g.elements, SetKind::Element, "GEOMETRY")?;
+        let elements = b.non_empty(list, &g.elements, "GEOMETRY", "elements")?;
+        parts.geometries.push(Geometry {
+            name: g.name.clone(),
+            section: g.section.clone(),
+            orientation: g.orientation,
+            elements,
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use crate::deck::card::{no_groups, plural, reserved_in, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self};
-use crate::deck::raw::*;
+use crate::deck::raw::{RawDeck, RawDofValues, RawOutput, RawPointLoad, RawTable, SetKind};
 use crate::deck::resolve::{dof_groups, Builder};
 use crate::model::check::{cross, norm, sub};
 use crate::model::Quantity;

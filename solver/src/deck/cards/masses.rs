@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
-use crate::deck::raw::*;
+use crate::deck::raw::{RawDamping, RawDeck, RawPointMass, RawTie, SetKind};
 use crate::deck::resolve::Builder;
 use crate::model::{Damping, ModelParts, PointMass, RigidTie};
 use DeckSection::Model;

@@ -17,7 +17,9 @@
 use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self};
-use crate::deck::raw::*;
+use crate::deck::raw::{
+    RawBeamSection, RawDeck, RawDistLoad, RawDofValues, RawGeometry, RawList, RawPointLoad,
+};
 use crate::deck::resolve::Builder;
 use DeckSection::{History, Model, Parameters};
 

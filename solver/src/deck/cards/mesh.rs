@@ -10,7 +10,7 @@ use crate::deck::card::{
     another, header_count, no_groups, reserved_in, CardCtx, DeckSection, Keyword, Origin,
 };
 use crate::deck::error::DeckError;
-use crate::deck::raw::*;
+use crate::deck::raw::{RawDeck, RawElement, RawNode, RawSet, SetKind};
 use crate::deck::resolve::Builder;
 use crate::model::{Element, ElementSet, ModelParts, Node, NodeSet};
 use DeckSection::Model;

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
-use crate::deck::raw::*;
+use crate::deck::raw::{PointLawKind, RawDeck, RawPointLaw};
 use crate::deck::resolve::Builder;
 use crate::model::{Dashpot, ModalDamping, ModelParts, PointElement};
 use DeckSection::Model;

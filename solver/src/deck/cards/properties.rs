@@ -12,7 +12,7 @@ use crate::deck::card::{
 };
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self, ListItem};
-use crate::deck::raw::*;
+use crate::deck::raw::{RawDeck, RawGeometry, RawMaterial, SetKind};
 use crate::deck::resolve::Builder;
 use crate::model::Section;
 use crate::model::{Geometry, Material, ModelParts};

@@ -201,10 +201,10 @@ fn compute(
     settings: &DiagnoseSettings,
     clock: Instant,
 ) -> Result<Outcome> {
-    let n = decay.signal.values.len();
+    let n = decay.signal.values().len();
     let half = n / 2;
-    let measured = decay.signal.values.clone();
-    let step = decay.signal.step_s;
+    let measured = decay.signal.values().to_vec();
+    let step = decay.signal.step_s();
 
     progress(settings, &clock, "baseline (the paper's loops)");
     let static_fit = statics
@@ -223,7 +223,7 @@ fn compute(
     let paper = |range: Range<usize>| -> Result<(Physical, f64, f64)> {
         let span = range.clone();
         let record = DecayRecord {
-            time_s: decay.signal.time_s[range.clone()].to_vec(),
+            time_s: decay.signal.time_s()[range.clone()].to_vec(),
             accel_m_s2: measured[range].to_vec(),
         };
         let f_guess = decay.frequency_hz;
@@ -251,7 +251,7 @@ fn compute(
         let m = attempt.map_err(|e| {
             TuneError::Invalid(format!(
                 "{}: the paper's logarithmic decrement fails on samples {}..{}: {e}",
-                decay.signal.source.display(),
+                decay.signal.source().display(),
                 span.start,
                 span.end
             ))

@@ -35,12 +35,15 @@
 //! The spec's names carry SI or engineering units (`_mm`, `_mpa`, `_kg`, `_m_s`); the deck
 //! is in mm, N, t, s (see `coil_solver::model`). Conversions happen here, once.
 
+#![warn(missing_docs)]
+
 pub mod closed_form;
 
 use coil_solver::model::{
     units, Analysis, Damping, Element, ElementSet, ElementType, FixedDisp, Geometry,
-    InitialVelocity, Integrator, LoadCase, Material, Model, Node, NodeSet, OutputRequest,
-    PointElement, PointLoad, PointMass, Quantity, RigidTie, Section, TransientMethod,
+    InitialVelocity, Integrator, LoadCase, Material, Model, ModelParts, Node, NodeSet,
+    OutputRequest, PointElement, PointLoad, PointMass, Quantity, RigidTie, Section,
+    TransientMethod,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -72,8 +75,11 @@ pub enum Top {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum AnalysisKind {
+    /// A static load case: the axial force on the weight.
     Static,
+    /// A modal load case: the lowest `modes` modes.
     Modal,
+    /// A free-decay transient from the initial velocity.
     Transient,
 }
 
@@ -109,22 +115,33 @@ pub enum VelocityField {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SpringSpec {
+    /// Title of the deck (`TITLE`).
     pub title: String,
+    /// Number of coils (active turns), at least 1.
     pub coils: f64,
+    /// Mean coil diameter D (mm).
     pub mean_diameter_mm: f64,
+    /// Wire diameter d (mm).
     pub wire_diameter_mm: f64,
+    /// Pitch: axial rise per coil (mm).
     pub pitch_mm: f64,
+    /// Beam elements per coil (at least 3).
     pub elements_per_coil: u32,
     /// Marc element type: 98 (Timoshenko) or 52 (Euler-Bernoulli).
     pub element: u32,
+    /// Lumped instead of consistent mass (`LUMP`).
     pub lumped_mass: bool,
+    /// Young's modulus E (MPa).
     pub youngs_modulus_mpa: f64,
+    /// Poisson's ratio nu (-).
     pub poisson: f64,
+    /// Wire density (kg/m^3).
     pub density_kg_m3: f64,
     /// The weight's mass (kg); 0 = no weight.
     pub mass_kg: f64,
     /// The weight's rotary inertia about the spring axis (kg m^2).
     pub rotary_inertia_kg_m2: f64,
+    /// How the top reference node (the weight) is supported.
     pub top: Top,
     /// Load cases, in order.
     pub analyses: Vec<AnalysisKind>,
@@ -228,8 +245,11 @@ pub const SPRING_INDEX: (f64, f64) = (3.0, 100.0);
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{field} = {value}: expected {expected}")]
 pub struct SpecError {
+    /// The spec field at fault.
     pub field: &'static str,
+    /// Its value.
     pub value: String,
+    /// What was expected instead.
     pub expected: &'static str,
 }
 
@@ -269,6 +289,14 @@ impl SpringSpec {
     /// Checks every field; the deck reader would catch most of these later, but the
     /// message is clearer in the spec's own terms.
     pub fn validate(&self) -> Result<(), SpecError> {
+        self.validate_geometry()?;
+        self.validate_material_and_loads()?;
+        self.validate_analyses()
+    }
+
+    /// The helix and its mesh: coils, diameters, spring index, pitch, element count
+    /// and type.
+    fn validate_geometry(&self) -> Result<(), SpecError> {
         check(
             self.coils >= MIN_COILS,
             "coils",
@@ -333,6 +361,11 @@ impl SpringSpec {
                 expected: "98 (Timoshenko) or 52 (Euler-Bernoulli)",
             });
         }
+        Ok(())
+    }
+
+    /// Material, weight, load and point-law values.
+    fn validate_material_and_loads(&self) -> Result<(), SpecError> {
         check(
             self.youngs_modulus_mpa > 0.0,
             "youngs_modulus_mpa",
@@ -397,6 +430,11 @@ impl SpringSpec {
             self.initial_velocity_m_s,
             "a finite velocity",
         )?;
+        Ok(())
+    }
+
+    /// The analyses: modes, time step, duration, scheme parameters.
+    fn validate_analyses(&self) -> Result<(), SpecError> {
         if self.analyses.contains(&AnalysisKind::Modal) && self.modes == 0 {
             return Err(SpecError {
                 field: "modes",
@@ -554,6 +592,77 @@ impl SpringSpec {
             Vec::new()
         };
 
+        let (initial_velocities, outputs, load_cases) = self.history();
+
+        let parts = ModelParts {
+            title: self.title.clone(),
+            element_types: vec![kind],
+            lumped_mass: self.lumped_mass,
+            nodes,
+            elements,
+            node_sets: vec![
+                NodeSet {
+                    name: "weight".into(),
+                    nodes: vec![WEIGHT_NODE],
+                },
+                NodeSet {
+                    name: "base".into(),
+                    nodes: vec![BASE_NODE],
+                },
+                NodeSet {
+                    name: "wire_top".into(),
+                    nodes: vec![wire_top],
+                },
+            ],
+            element_sets: vec![ElementSet {
+                name: "spring".into(),
+                elements: all_elements.clone(),
+            }],
+            materials: vec![Material {
+                name: "steel".into(),
+                youngs_modulus: self.youngs_modulus_mpa,
+                poisson: self.poisson,
+                density: units::density_from_si(self.density_kg_m3),
+                elements: all_elements.clone(),
+            }],
+            geometries: vec![Geometry {
+                name: "wire".into(),
+                section: Section::SolidCircle {
+                    diameter: self.wire_diameter_mm,
+                },
+                orientation: [0.0, 0.0, 1.0],
+                elements: all_elements,
+            }],
+            damping,
+            point_masses,
+            rigid_ties: vec![RigidTie {
+                name: "top".into(),
+                reference: WEIGHT_NODE,
+                dofs: vec![1, 2, 3, 4, 5, 6],
+                tied: vec![wire_top],
+            }],
+            fixed_disp,
+            point_loads: vec![],
+            tables: vec![],
+            initial_velocities,
+            outputs,
+            load_cases,
+            point_laws,
+            dashpots: vec![],
+            modal_damping: Default::default(),
+        };
+        // The spec was validated above, so this fails only on a mesher bug; it still
+        // goes through the model's checks like every other model.
+        Model::try_new(parts).map_err(|e| SpecError {
+            field: "model",
+            value: e.to_string(),
+            expected: "a spec whose mesh is a valid model",
+        })
+    }
+
+    /// The load cases of [`SpringSpec::analyses`] in order, with the initial velocity
+    /// and history outputs the transient cases share.
+    fn history(&self) -> (Vec<InitialVelocity>, Vec<OutputRequest>, Vec<LoadCase>) {
         let mut initial_velocities = Vec::new();
         let mut outputs = Vec::new();
         let mut load_cases = Vec::new();
@@ -618,64 +727,7 @@ impl SpringSpec {
                 }
             }
         }
-
-        Ok(Model {
-            title: self.title.clone(),
-            element_types: vec![kind],
-            lumped_mass: self.lumped_mass,
-            nodes,
-            elements,
-            node_sets: vec![
-                NodeSet {
-                    name: "weight".into(),
-                    nodes: vec![WEIGHT_NODE],
-                },
-                NodeSet {
-                    name: "base".into(),
-                    nodes: vec![BASE_NODE],
-                },
-                NodeSet {
-                    name: "wire_top".into(),
-                    nodes: vec![wire_top],
-                },
-            ],
-            element_sets: vec![ElementSet {
-                name: "spring".into(),
-                elements: all_elements.clone(),
-            }],
-            materials: vec![Material {
-                name: "steel".into(),
-                youngs_modulus: self.youngs_modulus_mpa,
-                poisson: self.poisson,
-                density: units::density_from_si(self.density_kg_m3),
-                elements: all_elements.clone(),
-            }],
-            geometries: vec![Geometry {
-                name: "wire".into(),
-                section: Section::SolidCircle {
-                    diameter: self.wire_diameter_mm,
-                },
-                orientation: [0.0, 0.0, 1.0],
-                elements: all_elements,
-            }],
-            damping,
-            point_masses,
-            rigid_ties: vec![RigidTie {
-                name: "top".into(),
-                reference: WEIGHT_NODE,
-                dofs: vec![1, 2, 3, 4, 5, 6],
-                tied: vec![wire_top],
-            }],
-            fixed_disp,
-            point_loads: vec![],
-            tables: vec![],
-            initial_velocities,
-            outputs,
-            load_cases,
-            point_laws,
-            dashpots: vec![],
-            modal_damping: Default::default(),
-        })
+        (initial_velocities, outputs, load_cases)
     }
 }
 
@@ -692,17 +744,17 @@ mod tests {
         };
         let model = spec.build().unwrap();
         let r = 12.0;
-        assert_eq!(model.elements.len(), 25); // round(3.5 * 7) = 24.5 -> 25 (round half away)
-        for node in model.nodes.iter().skip(1) {
+        assert_eq!(model.elements().len(), 25); // round(3.5 * 7) = 24.5 -> 25 (round half away)
+        for node in model.nodes().iter().skip(1) {
             let [x, y, z] = node.xyz;
             assert!(((x * x + y * y).sqrt() - r).abs() < 1e-12);
             // Angle recovered from z must match the angle of (x, y).
             let t = 2.0 * PI * z / 6.2;
             assert!((r * t.cos() - x).abs() < 1e-9 && (r * t.sin() - y).abs() < 1e-9);
         }
-        let top = model.nodes.last().unwrap().xyz;
+        let top = model.nodes().last().unwrap().xyz;
         assert!((top[2] - 3.5 * 6.2).abs() < 1e-12);
-        assert_eq!(model.nodes[0].xyz, [0.0, 0.0, 3.5 * 6.2]);
+        assert_eq!(model.nodes()[0].xyz, [0.0, 0.0, 3.5 * 6.2]);
     }
 
     #[test]
@@ -725,11 +777,11 @@ mod tests {
     #[test]
     fn ids_are_sorted_and_elements_chain() {
         let model = SpringSpec::default().build().unwrap();
-        assert!(model.nodes.windows(2).all(|w| w[0].id < w[1].id));
-        for e in &model.elements {
+        assert!(model.nodes().windows(2).all(|w| w[0].id < w[1].id));
+        for e in model.elements() {
             assert_eq!(e.nodes[1], e.nodes[0] + 1);
         }
-        assert_eq!(model.elements.len(), 14 * 24);
+        assert_eq!(model.elements().len(), 14 * 24);
     }
 
     #[test]
@@ -824,11 +876,11 @@ mod tests {
         };
         let model = spec.build().unwrap();
         assert!(
-            model.initial_velocities[0].quasi_static,
+            model.initial_velocities()[0].quasi_static,
             "the default field"
         );
         assert_eq!(
-            model.load_cases[0].analysis,
+            model.load_cases()[0].analysis,
             Analysis::Transient {
                 dt: 1e-3,
                 total_time: 20.0,
@@ -843,10 +895,10 @@ mod tests {
         }
         .build()
         .unwrap();
-        assert!(!model.initial_velocities[0].quasi_static);
-        assert_eq!(model.damping[0].mass_nodes, [WEIGHT_NODE]);
+        assert!(!model.initial_velocities()[0].quasi_static);
+        assert_eq!(model.damping()[0].mass_nodes, [WEIGHT_NODE]);
         assert!(matches!(
-            model.load_cases[0].analysis,
+            model.load_cases()[0].analysis,
             Analysis::Transient {
                 method: TransientMethod::Direct(Integrator::Hht { alpha }),
                 ..
@@ -891,9 +943,9 @@ mod tests {
             ..SpringSpec::default()
         };
         let model = spec.build().unwrap();
-        assert_eq!(model.damping.len(), 1);
-        assert!(model.damping[0].mass_nodes.is_empty());
-        assert_eq!(model.point_masses[0].mass, 5e-3);
+        assert_eq!(model.damping().len(), 1);
+        assert!(model.damping()[0].mass_nodes.is_empty());
+        assert_eq!(model.point_masses()[0].mass, 5e-3);
     }
 
     #[test]
@@ -908,21 +960,21 @@ mod tests {
             ..SpringSpec::default()
         };
         let model = spec.build().unwrap();
-        assert_eq!(model.point_laws.len(), 1);
-        let e = model.point_laws[0];
+        assert_eq!(model.point_laws().len(), 1);
+        let e = model.point_laws()[0];
         assert_eq!((e.node, e.dof), (WEIGHT_NODE, 3));
         assert_eq!(e.friction, 0.4);
         // 3 N s^2/m^2 = 3e-6 N s^2/mm^2; 2e9 N/m^3 = 2 N/mm^3.
         assert!((e.quadratic - 3e-6).abs() < 1e-20);
         assert!((e.cubic - 2.0).abs() < 1e-15);
-        assert_eq!(model.point_masses[0].inertia, [0.0, 0.0, 2.0]);
+        assert_eq!(model.point_masses()[0].inertia, [0.0, 0.0, 2.0]);
         let text = coil_solver::deck::write(&model);
         assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
         let text = coil_solver::deck::write_mentat(&model);
         assert_eq!(coil_solver::deck::read_str(&text, "spec").unwrap(), model);
         // Old specs (no such fields) still read, and get no cards.
         let old: SpringSpec = serde_json::from_str(r#"{"coils": 10.0}"#).unwrap();
-        assert!(old.build().unwrap().point_laws.is_empty());
+        assert!(old.build().unwrap().point_laws().is_empty());
         for bad in [
             SpringSpec {
                 friction_n: -1.0,
@@ -948,17 +1000,25 @@ mod tests {
 /// Reading a spec file failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadSpecError {
+    /// The spec file cannot be read.
     #[error("{path}: {source}")]
     Io {
+        /// The spec file.
         path: String,
+        /// The underlying error.
         #[source]
         source: std::io::Error,
     },
+    /// The spec file is not a JSON spring spec.
     #[error("{path}:{line}:{column}: {message}; expected a JSON object with the fields of a spring spec (see docs/mesher.md)")]
     Json {
+        /// The spec file.
         path: String,
+        /// Line of the JSON error (1-based).
         line: usize,
+        /// Column of the JSON error (1-based).
         column: usize,
+        /// What the JSON reader found.
         message: String,
     },
 }

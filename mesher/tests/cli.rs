@@ -54,15 +54,15 @@ fn flags_and_spec_file_give_the_same_deck() {
     let from_spec = std::fs::read_to_string(d.join("spec.dat")).unwrap();
     assert_eq!(from_flags, from_spec);
     let model = coil_solver::deck::read_str(&from_spec, "spec.dat").unwrap();
-    assert_eq!(model.elements.len(), 12 * 16);
-    assert_eq!(model.load_cases.len(), 2);
+    assert_eq!(model.elements().len(), 12 * 16);
+    assert_eq!(model.load_cases().len(), 2);
 
     // A flag overrides the file.
     let run = coil_mesh(&["spec.json", "--elements-per-coil", "8", "-o", "o.dat"], d);
     assert!(run.status.success());
     let text = std::fs::read_to_string(d.join("o.dat")).unwrap();
     let model = coil_solver::deck::read_str(&text, "o.dat").unwrap();
-    assert_eq!(model.elements.len(), 12 * 8);
+    assert_eq!(model.elements().len(), 12 * 8);
 }
 
 #[test]

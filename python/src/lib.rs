@@ -47,10 +47,10 @@ fn mesh(spec_json: &str) -> PyResult<String> {
 fn read_deck(deck: &str, is_path: bool) -> PyResult<String> {
     let model = read_model(deck, is_path)?;
     json(&serde_json::json!({
-        "title": model.title,
-        "nodes": model.nodes.len(),
-        "elements": model.elements.len(),
-        "load_cases": model.load_cases.len(),
+        "title": model.title(),
+        "nodes": model.nodes().len(),
+        "elements": model.elements().len(),
+        "load_cases": model.load_cases().len(),
     }))
 }
 

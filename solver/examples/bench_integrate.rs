@@ -33,9 +33,9 @@ static GLOBAL: counting::CountingAllocator = counting::CountingAllocator;
 
 /// The paper's spring (see the module docs) with `weight_t` on the guided reference.
 fn spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) -> Model {
-    let mut model = common::paper_spring(elements_per_coil, weight_t, lumped_mass);
+    let mut model = common::paper_spring_parts(elements_per_coil, weight_t, lumped_mass);
     common::damp_wire(&mut model, 0.8, 1.2e-4);
-    model
+    model.build().expect("a valid model")
 }
 
 /// CPU time of this thread (Linux scheduler statistics), immune to other processes

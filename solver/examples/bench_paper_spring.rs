@@ -18,13 +18,13 @@ use std::time::Instant;
 
 /// The paper's spring with a static and a 20-mode load case.
 fn spring(elements_per_coil: usize, weight_t: f64) -> Model {
-    let mut model = common::paper_spring(elements_per_coil, weight_t, false);
+    let mut model = common::paper_spring_parts(elements_per_coil, weight_t, false);
     model.load_cases.push(LoadCase {
         title: "modal".to_string(),
         analysis: Analysis::Modal { modes: 20 },
         point_loads: Vec::new(),
     });
-    model
+    model.build().expect("a valid model")
 }
 
 /// Best wall time of `reps` runs of `f`, in ms, and the last result.
@@ -52,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let k = {
         let system = System::new(&probe)?;
         let factor = system.factor_stiffness()?;
-        static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
+        static_analysis::solve(&system, &factor, &probe.load_cases()[0], 1.0)?
             .stiffness_n_mm
             .ok_or("no stiffness")?
     };
@@ -64,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (t_factor, factor) = best(reps, || system.factor_stiffness());
     let factor = factor?;
     let (t_static, sol) = best(reps, || {
-        static_analysis::solve(&system, &factor, &model.load_cases[0], 1.0)
+        static_analysis::solve(&system, &factor, &model.load_cases()[0], 1.0)
     });
     let sol = sol?;
     let (t_modal, modes) = best(reps, || modal::solve(&system, &factor, "modal", 20));
@@ -81,7 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "paper spring, {per_coil} elements per coil, type 98: {} free DOFs, {} elements",
         system.dim(),
-        model.elements.len()
+        model.elements().len()
     );
     println!(
         "  K = {:.6} N/mm, weight {:.4} kg",

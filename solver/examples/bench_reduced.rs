@@ -53,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (alpha, beta) = (0.8, 1.2e-4);
 
     for free_rotation in [false, true] {
-        let mut model = common::paper_spring(per_coil, weight, false);
+        let mut model = common::paper_spring_parts(per_coil, weight, false);
         let mut boundary = vec![(common::WEIGHT, 3u8)];
         if free_rotation {
             model.fixed_disp[1].dofs.retain(|&(d, _)| d != 6);
@@ -61,6 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             model.point_masses[0].inertia[2] = 1.0;
             boundary.push((common::WEIGHT, 6));
         }
+        let model = model.build()?;
         let t0 = cpu_seconds(&clock);
         let red = craig_bampton(&model, &boundary, n_modes)?;
         let reduce_ms = (cpu_seconds(&clock) - t0) * 1e3;

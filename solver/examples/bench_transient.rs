@@ -32,7 +32,7 @@ use std::time::Instant;
 use common::WEIGHT;
 
 fn paper_spring(weight_t: f64) -> Model {
-    let mut model = common::paper_spring(24, weight_t, false);
+    let mut model = common::paper_spring_parts(24, weight_t, false);
     model.title = "paper spring, peer transient".to_string();
     common::damp_wire(&mut model, 0.8, 1.2e-4);
     model.initial_velocities = vec![InitialVelocity {
@@ -59,7 +59,7 @@ fn paper_spring(weight_t: f64) -> Model {
         },
         point_loads: Vec::new(),
     }];
-    model
+    model.build().expect("a valid model")
 }
 
 /// The static stiffness at the weight (N/mm).
@@ -68,7 +68,7 @@ fn stiffness() -> Result<f64, Box<dyn std::error::Error>> {
     let system = System::new(&probe)?;
     let factor = system.factor_stiffness()?;
     Ok(
-        analysis::static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
+        analysis::static_analysis::solve(&system, &factor, &probe.load_cases()[0], 1.0)?
             .stiffness_n_mm
             .ok_or("no stiffness at the weight")?,
     )

@@ -9,6 +9,8 @@
 //! operator-level [`integrate`] schemes and the sparse [`linalg`] wrappers) ->
 //! [`results`] and [`vtk`] files.
 
+#![warn(missing_docs)]
+
 pub mod analysis;
 pub mod assembly;
 pub mod deck;

@@ -35,6 +35,7 @@ pub const BINARY_ABOVE_VALUES: usize = 60_000;
 /// How the arrays of a `.vtu` are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Encoding {
+    /// Values as text inside each `DataArray`.
     Ascii,
     /// Raw little-endian binary in an `AppendedData` block.
     Appended,
@@ -44,8 +45,11 @@ pub enum Encoding {
 /// rigid-tie cells get zeros). Its name should end in its unit (`torque_n_mm`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CellField {
+    /// Array name, ending in its unit.
     pub name: String,
+    /// Values per element.
     pub components: usize,
+    /// `components` values per element, element after element.
     pub values: Vec<f64>,
 }
 

@@ -56,6 +56,7 @@ pub type Resultants = [f64; 6];
 /// Section forces and wire stresses of one beam element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ElementForces {
+    /// The element id.
     pub element: ElementId,
     /// Resultants at node 1 and node 2 of the element.
     pub ends: [Resultants; 2],
@@ -69,11 +70,15 @@ pub struct ElementForces {
 /// Stresses of a solid circular wire, the larger of the element's two ends (MPa).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WireStress {
+    /// Torsional shear stress 16 T / (pi d^3) (MPa).
     pub torsion_mpa: f64,
+    /// Direct (transverse) shear stress (MPa).
     pub direct_shear_mpa: f64,
     /// `torsion_mpa + direct_shear_mpa`.
     pub shear_mpa: f64,
+    /// Bending stress 32 M / (pi d^3) (MPa).
     pub bending_mpa: f64,
+    /// Axial stress N / A (MPa).
     pub axial_mpa: f64,
 }
 
@@ -163,7 +168,9 @@ pub fn element_forces(model: &Model, u: &[f64]) -> Vec<ElementForces> {
 /// Where the largest combined shear stress of the wire sits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StressPeak {
+    /// The element id.
     pub element: ElementId,
+    /// The stresses there.
     pub stress: WireStress,
     /// Midpoint of the element (mm).
     pub xyz: [f64; 3],
@@ -207,9 +214,13 @@ pub struct Helix {
     pub chain: Vec<usize>,
     /// Unwrapped polar angle of each chain node about global z (rad), increasing.
     pub angle: Vec<f64>,
+    /// Mean coil diameter D (mm), fitted to the chain.
     pub mean_diameter_mm: f64,
+    /// Wire diameter d (mm).
     pub wire_diameter_mm: f64,
+    /// Number of coils along the chain.
     pub coils: f64,
+    /// Axial rise per coil (mm).
     pub pitch_mm: f64,
 }
 

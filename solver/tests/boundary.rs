@@ -208,7 +208,7 @@ fn a_set_repeated_in_a_list_is_read_once() {
     let deck = text.replace("isotropic,", &format!("{list}isotropic,"));
     let model = coil_solver::deck::read_str(&deck, "many.dat").unwrap();
     let many = model
-        .element_sets
+        .element_sets()
         .iter()
         .find(|s| s.name == "many")
         .expect("the set");

@@ -56,25 +56,25 @@ fn good_decks_read() {
 #[test]
 fn hand_written_marc_cantilever_reads_as_meant() {
     let m = read_no_panic(&good("cantilever_marc.dat")).unwrap();
-    assert_eq!(m.title, "cantilever, type 52,");
-    assert_eq!(m.element_types, [ElementType::Beam52]);
-    assert!(!m.lumped_mass);
-    assert_eq!(m.nodes.len(), 11);
-    assert_eq!(m.nodes[10].xyz, [100.0, 0.0, 0.0]);
-    assert_eq!(m.elements.len(), 10);
-    assert!(m.elements.iter().all(|e| e.kind == ElementType::Beam52));
-    assert_eq!(m.elements[9].nodes, [10, 11]);
+    assert_eq!(m.title(), "cantilever, type 52,");
+    assert_eq!(m.element_types(), [ElementType::Beam52]);
+    assert!(!m.lumped_mass());
+    assert_eq!(m.nodes().len(), 11);
+    assert_eq!(m.nodes()[10].xyz, [100.0, 0.0, 0.0]);
+    assert_eq!(m.elements().len(), 10);
+    assert!(m.elements().iter().all(|e| e.kind == ElementType::Beam52));
+    assert_eq!(m.elements()[9].nodes, [10, 11]);
     // Fortran-style reals: 2.1+5 and 7.85-9.
-    assert_eq!(m.materials[0].youngs_modulus, 2.1e5);
-    assert_eq!(m.materials[0].density, 7.85e-9);
-    assert_eq!(m.materials[0].elements, (1..=10).collect::<Vec<_>>());
+    assert_eq!(m.materials()[0].youngs_modulus, 2.1e5);
+    assert_eq!(m.materials()[0].density, 7.85e-9);
+    assert_eq!(m.materials()[0].elements, (1..=10).collect::<Vec<_>>());
     let Section::General {
         area,
         iyy,
         izz,
         torsion,
         shear_coefficient,
-    } = m.geometries[0].section
+    } = m.geometries()[0].section
     else {
         panic!("a general section was expected");
     };
@@ -85,20 +85,20 @@ fn hand_written_marc_cantilever_reads_as_meant() {
     assert!((iyy - i).abs() < 1e-9 && (izz - i).abs() < 1e-9);
     assert!((torsion - 2.0 * i).abs() < 1e-9);
     assert_eq!(shear_coefficient, 0.0);
-    assert_eq!(m.geometries[0].orientation, [0.0, 0.0, 1.0]);
-    assert_eq!(m.fixed_disp[0].nodes, [1]);
-    assert_eq!(m.fixed_disp[0].dofs.len(), 6);
-    assert_eq!(m.point_loads[0].dofs, [(2, -100.0)]);
-    assert_eq!(m.point_loads[0].nodes, [11]);
-    assert_eq!(m.load_cases.len(), 2);
+    assert_eq!(m.geometries()[0].orientation, [0.0, 0.0, 1.0]);
+    assert_eq!(m.fixed_disp()[0].nodes, [1]);
+    assert_eq!(m.fixed_disp()[0].dofs.len(), 6);
+    assert_eq!(m.point_loads()[0].dofs, [(2, -100.0)]);
+    assert_eq!(m.point_loads()[0].nodes, [11]);
+    assert_eq!(m.load_cases().len(), 2);
     assert_eq!(
-        m.load_cases[0].analysis,
+        m.load_cases()[0].analysis,
         Analysis::Static {
             steps: 1,
             time: 1.0
         }
     );
-    assert_eq!(m.load_cases[1].analysis, Analysis::Modal { modes: 5 });
+    assert_eq!(m.load_cases()[1].analysis, Analysis::Modal { modes: 5 });
 }
 
 #[test]
@@ -119,38 +119,49 @@ fn the_every_card_deck_uses_every_card() {
         assert!(used, "every_card.dat does not use {}", kw.name);
     }
     let m = read_no_panic(&good("every_card.dat")).unwrap();
-    assert!(m.lumped_mass);
-    assert_eq!(m.element_types, [ElementType::Beam98, ElementType::Beam52]);
-    assert_eq!(m.nodes.last().unwrap().xyz, [100.0, 0.0, 60.0]);
+    assert!(m.lumped_mass());
     assert_eq!(
-        m.node_sets.iter().find(|s| s.name == "odd").unwrap().nodes,
+        m.element_types(),
+        [ElementType::Beam98, ElementType::Beam52]
+    );
+    assert_eq!(m.nodes().last().unwrap().xyz, [100.0, 0.0, 60.0]);
+    assert_eq!(
+        m.node_sets()
+            .iter()
+            .find(|s| s.name == "odd")
+            .unwrap()
+            .nodes,
         [1, 3, 5]
     );
     assert_eq!(
-        m.node_sets.iter().find(|s| s.name == "many").unwrap().nodes,
+        m.node_sets()
+            .iter()
+            .find(|s| s.name == "many")
+            .unwrap()
+            .nodes,
         [1, 2, 3, 4, 5]
     );
     assert_eq!(
-        m.element_sets
+        m.element_sets()
             .iter()
             .find(|s| s.name == "frame")
             .unwrap()
             .elements,
         [1, 2, 3, 4, 5, 6]
     );
-    assert_eq!(m.materials[1].youngs_modulus, 7.0e4);
-    assert_eq!(m.geometries.len(), 3);
-    assert_eq!(m.geometries[1].name, "");
-    assert_eq!(m.damping[1].mass_nodes, [10]);
-    assert_eq!(m.rigid_ties[0].tied, [7]);
-    assert_eq!(m.point_loads[0].dofs, [(3, -5.0), (6, 100.0)]);
-    assert_eq!(m.point_loads[0].table.as_deref(), Some("ramp"));
-    assert_eq!(m.outputs[1].quantities, [Quantity::Displacement]);
-    let methods: Vec<&Analysis> = m.load_cases.iter().map(|c| &c.analysis).collect();
+    assert_eq!(m.materials()[1].youngs_modulus, 7.0e4);
+    assert_eq!(m.geometries().len(), 3);
+    assert_eq!(m.geometries()[1].name, "");
+    assert_eq!(m.damping()[1].mass_nodes, [10]);
+    assert_eq!(m.rigid_ties()[0].tied, [7]);
+    assert_eq!(m.point_loads()[0].dofs, [(3, -5.0), (6, 100.0)]);
+    assert_eq!(m.point_loads()[0].table.as_deref(), Some("ramp"));
+    assert_eq!(m.outputs()[1].quantities, [Quantity::Displacement]);
+    let methods: Vec<&Analysis> = m.load_cases().iter().map(|c| &c.analysis).collect();
     assert_eq!(methods.len(), 7);
-    assert_eq!(m.load_cases[0].point_loads[0].nodes, [10]);
+    assert_eq!(m.load_cases()[0].point_loads[0].nodes, [10]);
     assert_eq!(
-        m.point_laws
+        m.point_laws()
             .iter()
             .map(|e| (e.node, e.dof, e.law().is_zero()))
             .collect::<Vec<_>>(),
@@ -285,7 +296,7 @@ fn every_field_model() -> Model {
         total_time: 0.3,
         method: TransientMethod::Direct(i),
     };
-    Model {
+    ModelParts {
         title: "every field, 1/3".to_string(),
         element_types: vec![ElementType::Beam98, ElementType::Beam52],
         lumped_mass: true,
@@ -531,6 +542,8 @@ fn every_field_model() -> Model {
             ratios: vec![0.0, 0.02, 0.005],
         },
     }
+    .build()
+    .expect("every field is valid")
 }
 
 #[test]

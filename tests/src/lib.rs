@@ -2,8 +2,8 @@
 //! (no deck text), in the model's units (mm, N, t, s).
 
 use coil_solver::model::{
-    Analysis, Element, ElementType, FixedDisp, Geometry, LoadCase, Material, Model, Node, NodeId,
-    PointLoad, PointMass, RigidTie, Section,
+    Analysis, Element, ElementType, FixedDisp, Geometry, LoadCase, Material, Model, ModelParts,
+    Node, NodeId, PointLoad, PointMass, RigidTie, Section,
 };
 
 /// Steel-like material constants used by several tests.
@@ -36,7 +36,12 @@ pub fn through_deck(spec: &coil_mesher::SpringSpec) -> Model {
 
 /// A model with nothing in it but a title.
 pub fn empty_model(title: &str) -> Model {
-    Model {
+    empty_parts(title).build().expect("an empty model is valid")
+}
+
+/// The parts of a model with nothing in it but a title.
+pub fn empty_parts(title: &str) -> ModelParts {
+    ModelParts {
         title: title.to_string(),
         element_types: Vec::new(),
         lumped_mass: false,
@@ -101,7 +106,12 @@ impl StraightBeam {
 
     /// The model (no supports, loads or load cases yet).
     pub fn model(&self) -> Model {
-        let mut m = empty_model("straight beam");
+        self.parts().build().expect("a valid straight beam")
+    }
+
+    /// [`StraightBeam::model`]'s parts.
+    pub fn parts(&self) -> ModelParts {
+        let mut m = empty_parts("straight beam");
         let norm = self.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
         let dir = self.direction.map(|x| x / norm);
         for i in 0..=self.n_elements {
@@ -137,8 +147,20 @@ impl StraightBeam {
     }
 }
 
+/// Changes `model` through [`Model::edit`]; the change must leave a valid model.
+pub fn edit(model: &mut Model, change: impl FnOnce(&mut ModelParts)) {
+    if let Err(e) = model.edit(change) {
+        panic!("the edited model is invalid: {e}");
+    }
+}
+
 /// Prescribes `dofs` (1..=6) of `nodes` to zero.
 pub fn fix(model: &mut Model, nodes: &[NodeId], dofs: &[u8]) {
+    edit(model, |m| fix_parts(m, nodes, dofs));
+}
+
+/// [`fix`] on a model's parts.
+pub fn fix_parts(model: &mut ModelParts, nodes: &[NodeId], dofs: &[u8]) {
     model.fixed_disp.push(FixedDisp {
         dofs: dofs.iter().map(|&d| (d, 0.0)).collect(),
         nodes: nodes.to_vec(),
@@ -152,31 +174,37 @@ pub fn clamp(model: &mut Model, node: NodeId) {
 
 /// A constant model-definition point load.
 pub fn point_load(model: &mut Model, node: NodeId, dof: u8, value: f64) {
-    model.point_loads.push(PointLoad {
-        dofs: vec![(dof, value)],
-        nodes: vec![node],
-        table: None,
+    edit(model, |m| {
+        m.point_loads.push(PointLoad {
+            dofs: vec![(dof, value)],
+            nodes: vec![node],
+            table: None,
+        })
     });
 }
 
 /// Appends a static load case.
 pub fn static_case(model: &mut Model, title: &str) {
-    model.load_cases.push(LoadCase {
-        title: title.to_string(),
-        analysis: Analysis::Static {
-            steps: 1,
-            time: 1.0,
-        },
-        point_loads: Vec::new(),
+    edit(model, |m| {
+        m.load_cases.push(LoadCase {
+            title: title.to_string(),
+            analysis: Analysis::Static {
+                steps: 1,
+                time: 1.0,
+            },
+            point_loads: Vec::new(),
+        })
     });
 }
 
 /// Appends a modal load case.
 pub fn modal_case(model: &mut Model, title: &str, modes: u32) {
-    model.load_cases.push(LoadCase {
-        title: title.to_string(),
-        analysis: Analysis::Modal { modes },
-        point_loads: Vec::new(),
+    edit(model, |m| {
+        m.load_cases.push(LoadCase {
+            title: title.to_string(),
+            analysis: Analysis::Modal { modes },
+            point_loads: Vec::new(),
+        })
     });
 }
 
@@ -257,7 +285,7 @@ impl Spring {
 
     /// The model: nodes 1..=N+1 on the helix, elements 1..=N, reference node N+2.
     pub fn model(&self) -> Model {
-        let mut m = empty_model("paper spring");
+        let mut m = empty_parts("paper spring");
         let n = self.n_elements();
         let r = 0.5 * self.mean_diameter;
         let turns = std::f64::consts::TAU * self.coils;
@@ -292,7 +320,7 @@ impl Spring {
             poisson: self.poisson,
             density: self.density,
         }
-        .model();
+        .parts();
         m.elements = straight.elements;
         m.element_types = straight.element_types;
         m.materials = straight.materials;
@@ -303,8 +331,8 @@ impl Spring {
             dofs: vec![1, 2, 3, 4, 5, 6],
             tied: vec![top],
         });
-        clamp(&mut m, 1);
-        fix(&mut m, &[reference], &[1, 2, 4, 5, 6]);
+        fix_parts(&mut m, &[1], &[1, 2, 3, 4, 5, 6]);
+        fix_parts(&mut m, &[reference], &[1, 2, 4, 5, 6]);
         if self.weight_mass > 0.0 {
             m.point_masses.push(PointMass {
                 node: reference,
@@ -312,7 +340,7 @@ impl Spring {
                 inertia: [0.0; 3],
             });
         }
-        m
+        m.build().expect("a valid paper spring")
     }
 }
 pub mod scoring;

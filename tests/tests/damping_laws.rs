@@ -181,35 +181,39 @@ mod spring {
     fn solve(law: &str, held: bool) -> (TransientSolution, f64) {
         let spec = spec(held);
         let mut model: Model = spec.build().unwrap();
-        if held {
-            model.fixed_disp.push(FixedDisp {
-                dofs: vec![(3, 0.0)],
-                nodes: vec![WEIGHT_NODE],
-            });
-        }
-        let wire: Vec<u32> = model.elements.iter().map(|e| e.id).collect();
-        model.damping.clear();
-        match law {
-            "beta" | "alpha" => model.damping.push(Damping {
-                alpha: if law == "alpha" { ALPHA } else { 0.0 },
-                beta: if law == "beta" { BETA } else { 0.0 },
-                elements: wire,
-                mass_nodes: vec![],
-            }),
-            "hysteretic" => {
-                model.modal_damping = ModalDamping {
-                    loss_factor: ETA,
-                    loss_factor_modes: 20,
-                    ratios: vec![],
+        model
+            .edit(|model| {
+                if held {
+                    model.fixed_disp.push(FixedDisp {
+                        dofs: vec![(3, 0.0)],
+                        nodes: vec![WEIGHT_NODE],
+                    });
                 }
-            }
-            "dashpot" if !held => model.dashpots.push(Dashpot {
-                node: WEIGHT_NODE,
-                dof: 3,
-                c: DASHPOT,
-            }),
-            _ => {}
-        }
+                let wire: Vec<u32> = model.elements.iter().map(|e| e.id).collect();
+                model.damping.clear();
+                match law {
+                    "beta" | "alpha" => model.damping.push(Damping {
+                        alpha: if law == "alpha" { ALPHA } else { 0.0 },
+                        beta: if law == "beta" { BETA } else { 0.0 },
+                        elements: wire,
+                        mass_nodes: vec![],
+                    }),
+                    "hysteretic" => {
+                        model.modal_damping = ModalDamping {
+                            loss_factor: ETA,
+                            loss_factor_modes: 20,
+                            ratios: vec![],
+                        }
+                    }
+                    "dashpot" if !held => model.dashpots.push(Dashpot {
+                        node: WEIGHT_NODE,
+                        dof: 3,
+                        c: DASHPOT,
+                    }),
+                    _ => {}
+                }
+            })
+            .unwrap();
         // Through the deck text: the cards are what is checked.
         let text = coil_solver::deck::write(&model);
         let model = coil_solver::deck::read_str(&text, "spring.dat").unwrap();
@@ -308,12 +312,16 @@ mod spring {
             ..spec(false)
         };
         let mut model: Model = spec.build().unwrap();
-        model.damping.clear();
-        model.modal_damping = ModalDamping {
-            loss_factor: ETA,
-            loss_factor_modes: 20,
-            ratios: vec![],
-        };
+        model
+            .edit(|model| {
+                model.damping.clear();
+                model.modal_damping = ModalDamping {
+                    loss_factor: ETA,
+                    loss_factor_modes: 20,
+                    ratios: vec![],
+                };
+            })
+            .unwrap();
         let text = coil_solver::deck::write(&model);
         let model = coil_solver::deck::read_str(&text, "spring.dat").unwrap();
         let t = run(&model)

@@ -56,15 +56,18 @@ fn statics(model: &Model) -> Vec<StaticSolution> {
 /// (mm/s) and `duration` (s).
 fn sdof(law: PointElement, v0: f64, duration: f64) -> Model {
     let mut m = read("friction_sdof.dat");
-    m.point_laws = vec![PointElement {
-        node: 2,
-        dof: 1,
-        ..law
-    }];
-    m.initial_velocities[0].dofs = vec![(1, v0)];
-    if let Analysis::Transient { total_time, .. } = &mut m.load_cases[0].analysis {
-        *total_time = duration;
-    }
+    m.edit(|m| {
+        m.point_laws = vec![PointElement {
+            node: 2,
+            dof: 1,
+            ..law
+        }];
+        m.initial_velocities[0].dofs = vec![(1, v0)];
+        if let Analysis::Transient { total_time, .. } = &mut m.load_cases[0].analysis {
+            *total_time = duration;
+        }
+    })
+    .unwrap();
     m
 }
 
@@ -139,8 +142,8 @@ fn slope(y: &[f64]) -> f64 {
 #[test]
 fn coulomb_friction_loses_four_f_over_k_per_cycle_and_sticks() {
     let model = read("friction_sdof.dat");
-    let f = model.point_laws[0].friction;
-    let v0 = model.initial_velocities[0].dofs[0].1;
+    let f = model.point_laws()[0].friction;
+    let v0 = model.initial_velocities()[0].dofs[0].1;
     let t = transient(&model);
     let (time, u) = sdof_history(&t);
     // Once stuck the velocity is exactly zero: the turning points are those before.
@@ -214,19 +217,23 @@ fn friction_at_rest_holds_a_preload_below_its_limit() {
     // the static friction the balance needs, and nothing ever moves.
     let f = 10.0;
     let mut m = sdof(law(0.0, 0.0, f), 0.0, 0.005);
-    m.initial_velocities.clear();
-    m.point_loads.push(PointLoad {
-        dofs: vec![(1, 0.5 * f)],
-        nodes: vec![2],
-        table: None,
-    });
+    m.edit(|m| {
+        m.initial_velocities.clear();
+        m.point_loads.push(PointLoad {
+            dofs: vec![(1, 0.5 * f)],
+            nodes: vec![2],
+            table: None,
+        });
+    })
+    .unwrap();
     let t = transient(&m);
     let (_, u) = sdof_history(&t);
     let moved = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     println!("friction at rest under F/2: largest displacement {moved:.1e} mm");
     assert!(moved == 0.0, "moved by {moved}");
     // Above the limit it slides from the start: F_load - F = m a0.
-    m.point_loads[0].dofs = vec![(1, 2.5 * f)];
+    m.edit(|m| m.point_loads[0].dofs = vec![(1, 2.5 * f)])
+        .unwrap();
     let t = transient(&m);
     let (_, u) = sdof_history(&t);
     // Static offset (2.5F - F)/k, reached from rest: it overshoots to twice that at
@@ -338,9 +345,12 @@ fn modal_superposition_and_other_schemes_refuse_point_elements() {
     let e = run(&m).unwrap_err().to_string();
     assert!(e.contains("need --method direct"), "{e}");
     let mut m = read("friction_sdof.dat");
-    if let Analysis::Transient { method, .. } = &mut m.load_cases[0].analysis {
-        *method = TransientMethod::Direct(Integrator::Hht { alpha: -0.1 });
-    }
+    m.edit(|m| {
+        if let Analysis::Transient { method, .. } = &mut m.load_cases[0].analysis {
+            *method = TransientMethod::Direct(Integrator::Hht { alpha: -0.1 });
+        }
+    })
+    .unwrap();
     let e = run(&m).unwrap_err().to_string();
     assert!(
         e.contains("average acceleration") && e.contains("HHT"),
@@ -372,7 +382,7 @@ fn paper_spring_with_friction_loses_four_f_over_k_per_cycle() {
         ..coarse_paper_spec()
     };
     let model = through_deck(&spec);
-    assert_eq!(model.point_laws[0].node, WEIGHT_NODE);
+    assert_eq!(model.point_laws()[0].node, WEIGHT_NODE);
     let t = transient(&model);
     let time = &t.history.time_s;
     let u: Vec<f64> = t
@@ -446,7 +456,7 @@ fn every_nonlinear_deck_checks_its_headline_number() {
     assert!(u.last().unwrap().abs() <= 10.0 / K);
     // cubic_spring_static.dat: k x + k3 x^3 = F on the SDOF bar.
     let model = read("cubic_spring_static.dat");
-    let e = model.point_laws[0];
+    let e = model.point_laws()[0];
     let s = &statics(&model)[0];
     let x = s.node_displacement(&model, 2).unwrap()[0];
     let f = 100.0;
@@ -459,11 +469,11 @@ fn every_nonlinear_deck_checks_its_headline_number() {
     // quadratic_damper_sdof.dat: the first peak of the decay, from the energy balance
     // over the first quarter cycle: 1/A1 = 1/A0 + (2/3) c2/m to first order.
     let model = read("quadratic_damper_sdof.dat");
-    let c2 = model.point_laws[0].quadratic;
+    let c2 = model.point_laws()[0].quadratic;
     let t = transient(&model);
     let (time, u) = sdof_history(&t);
     let first = turning_points(&time, &u)[0].1;
-    let a0 = model.initial_velocities[0].dofs[0].1 / W0;
+    let a0 = model.initial_velocities()[0].dofs[0].1 / W0;
     let expected = 1.0 / (1.0 / a0 + 2.0 / 3.0 * c2 / M);
     println!("quadratic_damper_sdof.dat: first peak {first:.6} mm, expected {expected:.6} mm");
     // First-order energy balance: error O(delta^2) with delta = (2/3) c2 A0/m = 0.0025.

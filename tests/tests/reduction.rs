@@ -135,7 +135,9 @@ fn guided_reduction_matches_the_full_static_and_modal_model() {
     // Re-parameterising E by k_scale is reducing again at the new E: same frequencies,
     // to the rounding of the Schur complement (the tolerance above).
     let mut stiffer = model.clone();
-    stiffer.materials[0].youngs_modulus *= 1.1;
+    stiffer
+        .edit(|m| m.materials[0].youngs_modulus *= 1.1)
+        .unwrap();
     let again = reduce(&stiffer, &[(WEIGHT_NODE, 3)], 4)
         .frequencies_hz(1.0, &[0.0])
         .expect("frequencies");
@@ -165,11 +167,15 @@ fn the_reduced_mass_carries_the_spring_and_the_weight() {
     let guided = reduce(&model, &[(WEIGHT_NODE, 3)], 4);
 
     let base = coil_mesher::BASE_NODE;
-    for fixed in &mut model.fixed_disp {
-        if fixed.nodes == [base] {
-            fixed.dofs.retain(|&(d, _)| d != 3);
-        }
-    }
+    model
+        .edit(|m| {
+            for fixed in &mut m.fixed_disp {
+                if fixed.nodes == [base] {
+                    fixed.dofs.retain(|&(d, _)| d != 3);
+                }
+            }
+        })
+        .unwrap();
     let red = reduce(&model, &[(base, 3), (WEIGHT_NODE, 3)], 3);
     let m = red.mass();
     // e = (1, 1, 0, ...): e^T M e and K e from the first two rows and columns.
@@ -415,14 +421,18 @@ fn run_with_law(s: &SpringSpec, gravity_m_s2: f64) -> LawRun {
         // Gravity pulls the weight toward the base (-z). As a model-definition load it
         // acts in the static case and in the transient (solver/src/analysis/transient.rs,
         // "Initial state"); the static case's own test load is dropped.
-        model.point_loads.push(PointLoad {
-            dofs: vec![(3, -weight)],
-            nodes: vec![WEIGHT_NODE],
-            table: None,
-        });
-        for case in &mut model.load_cases {
-            case.point_loads.clear();
-        }
+        model
+            .edit(|m| {
+                m.point_loads.push(PointLoad {
+                    dofs: vec![(3, -weight)],
+                    nodes: vec![WEIGHT_NODE],
+                    table: None,
+                });
+                for case in &mut m.load_cases {
+                    case.point_loads.clear();
+                }
+            })
+            .unwrap();
     }
     let cases = run(&model).expect("solves");
     let history = match &cases.last().expect("a transient case").solution {

@@ -243,7 +243,7 @@ fn alpha_reaches_the_weight_only_when_a_damping_entry_names_it() {
     };
     let default = model_of(&modal_spec);
     assert!(
-        default.damping[0].mass_nodes.is_empty(),
+        default.damping()[0].mass_nodes.is_empty(),
         "the weight gets no alpha unless asked"
     );
     let plain = decrement(&transient(&default), WEIGHT_ACCEL_COLUMN, None).expect("decrement");
@@ -251,7 +251,7 @@ fn alpha_reaches_the_weight_only_when_a_damping_entry_names_it() {
         alpha_on_weight: true,
         ..modal_spec
     });
-    assert_eq!(asked.damping[0].mass_nodes, [WEIGHT_NODE]);
+    assert_eq!(asked.damping()[0].mass_nodes, [WEIGHT_NODE]);
     let on_weight = decrement(&transient(&asked), WEIGHT_ACCEL_COLUMN, None).expect("decrement");
     eprintln!(
         "alpha on the wire only: zeta {:.6e}; alpha on the weight too: zeta {:.6e} (peer about \
@@ -350,7 +350,7 @@ fn a_nodal_velocity_jump_rings_and_the_low_pass_cures_it() {
         ..peer_spec()
     };
     let model = model_of(&spec);
-    assert!(!model.initial_velocities[0].quasi_static);
+    assert!(!model.initial_velocities()[0].quasi_static);
     let t = transient(&model);
     let a = t.history.column(WEIGHT_ACCEL_COLUMN).expect("accel");
     let (ripple, amplitude) = ripple_and_amplitude(a);
@@ -407,12 +407,16 @@ fn static_then_transient(weight_load_in_model: bool) -> (f64, TransientSolution)
         nodes: vec![WEIGHT_NODE],
         table: None,
     };
-    model.load_cases[0].point_loads.clear();
-    if weight_load_in_model {
-        model.point_loads.push(weight);
-    } else {
-        model.load_cases[0].point_loads.push(weight);
-    }
+    model
+        .edit(|m| {
+            m.load_cases[0].point_loads.clear();
+            if weight_load_in_model {
+                m.point_loads.push(weight);
+            } else {
+                m.load_cases[0].point_loads.push(weight);
+            }
+        })
+        .unwrap();
     let cases = run(&model).expect("static + transient");
     let u_static = match &cases[0].solution {
         CaseSolution::Static(s) => s
@@ -475,15 +479,19 @@ fn an_impulse_from_a_pulse_table_moves_the_weight_by_i_phi_squared_over_w() {
     let mut model = model_of(&spec);
     // A triangular pulse, 10 N peak, 4 ms long, breakpoints on the 1 ms grid: the
     // impulse is I = 10 N * 2 ms = 0.02 N s.
-    model.tables.push(Table {
-        name: "pulse".to_string(),
-        points: vec![(0.0, 0.0), (2e-3, 1.0), (4e-3, 0.0)],
-    });
-    model.load_cases[0].point_loads.push(PointLoad {
-        dofs: vec![(3, 10.0)],
-        nodes: vec![WEIGHT_NODE],
-        table: Some("pulse".to_string()),
-    });
+    model
+        .edit(|m| {
+            m.tables.push(Table {
+                name: "pulse".to_string(),
+                points: vec![(0.0, 0.0), (2e-3, 1.0), (4e-3, 0.0)],
+            });
+            m.load_cases[0].point_loads.push(PointLoad {
+                dofs: vec![(3, 10.0)],
+                nodes: vec![WEIGHT_NODE],
+                table: Some("pulse".to_string()),
+            });
+        })
+        .unwrap();
     let impulse = 10.0 * 2e-3;
     let (modes, _) = modes_of(&model, 6);
     let mode = axial(&modes);
@@ -530,12 +538,16 @@ fn history_files_read_in_coil_post_and_name_further_cases() {
         ..peer_spec()
     };
     let mut model = model_of(&spec);
-    model.load_cases[1].analysis = Analysis::Transient {
-        dt: 1e-3,
-        total_time: 1.0,
-        method: TransientMethod::Direct(Integrator::Hht { alpha: -0.05 }),
-    };
-    model.load_cases[1].title = "second".to_string();
+    model
+        .edit(|m| {
+            m.load_cases[1].analysis = Analysis::Transient {
+                dt: 1e-3,
+                total_time: 1.0,
+                method: TransientMethod::Direct(Integrator::Hht { alpha: -0.05 }),
+            };
+            m.load_cases[1].title = "second".to_string();
+        })
+        .unwrap();
     let cases = run(&model).expect("two transients");
     let dir = tempfile::tempdir().expect("temp dir");
     let written = coil_solver::results::write_all(dir.path(), &model, &cases).expect("write");

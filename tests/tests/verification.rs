@@ -16,7 +16,7 @@ fn rel(a: f64, b: f64) -> f64 {
 fn solve_static(model: &Model) -> static_analysis::StaticSolution {
     let system = System::new(model).expect("system");
     let factor = system.factor_stiffness().expect("factor");
-    static_analysis::solve(&system, &factor, &model.load_cases[0], 1.0).expect("static")
+    static_analysis::solve(&system, &factor, &model.load_cases()[0], 1.0).expect("static")
 }
 
 fn solve_modes(model: &Model, n: usize) -> modal::ModalSolution {
@@ -310,15 +310,19 @@ fn mass_on_a_massless_spring() {
         let c = circle(2.0, beam.poisson);
         let mass = 2e-3; // t = 2 kg
         let mut model = beam.model();
-        model.lumped_mass = lumped;
+        model.edit(|m| m.lumped_mass = lumped).unwrap();
         clamp(&mut model, 1);
         let others: Vec<u32> = (2..=beam.tip()).collect();
         fix(&mut model, &others, &[2, 3, 4, 5, 6]);
-        model.point_masses.push(PointMass {
-            node: beam.tip(),
-            mass,
-            inertia: [0.0; 3],
-        });
+        model
+            .edit(|m| {
+                m.point_masses.push(PointMass {
+                    node: beam.tip(),
+                    mass,
+                    inertia: [0.0; 3],
+                })
+            })
+            .unwrap();
         let k = beam.youngs_modulus * c.area / beam.length;
         let bar = beam.density * c.area * beam.length;
         let exact = (k / (mass + bar / 3.0)).sqrt() / TAU;
@@ -341,16 +345,24 @@ fn rigid_tie_moves_the_tied_node_as_a_rigid_body() {
         let mut model = beam.model();
         clamp(&mut model, 1);
         let reference = 100;
-        model.nodes.push(coil_solver::model::Node {
-            id: reference,
-            xyz: [length, 0.0, e_off],
-        });
-        model.rigid_ties.push(RigidTie {
-            name: "arm".to_string(),
-            reference,
-            dofs: vec![1, 2, 3, 4, 5, 6],
-            tied: vec![beam.tip()],
-        });
+        model
+            .edit(|m| {
+                m.nodes.push(coil_solver::model::Node {
+                    id: reference,
+                    xyz: [length, 0.0, e_off],
+                })
+            })
+            .unwrap();
+        model
+            .edit(|m| {
+                m.rigid_ties.push(RigidTie {
+                    name: "arm".to_string(),
+                    reference,
+                    dofs: vec![1, 2, 3, 4, 5, 6],
+                    tied: vec![beam.tip()],
+                })
+            })
+            .unwrap();
         point_load(&mut model, reference, 2, p);
         static_case(&mut model, "offset load");
         let sol = solve_static(&model);
@@ -420,10 +432,14 @@ fn free_structure_is_a_mechanism_error() {
     // A node that nothing touches.
     let mut model = beam.model();
     clamp(&mut model, 1);
-    model.nodes.push(coil_solver::model::Node {
-        id: 50,
-        xyz: [5.0, 5.0, 5.0],
-    });
+    model
+        .edit(|m| {
+            m.nodes.push(coil_solver::model::Node {
+                id: 50,
+                xyz: [5.0, 5.0, 5.0],
+            })
+        })
+        .unwrap();
     static_case(&mut model, "stray node");
     match analysis::run(&model) {
         Err(SolveError::Mechanism { node, dof, .. }) => assert_eq!((node, dof), (50, 1)),
@@ -558,10 +574,14 @@ fn prescribed_displacement_gives_the_cantilever_reaction() {
         };
         let mut model = beam.model();
         clamp(&mut model, 1);
-        model.fixed_disp.push(coil_solver::model::FixedDisp {
-            dofs: vec![(3, delta)],
-            nodes: vec![beam.tip()],
-        });
+        model
+            .edit(|m| {
+                m.fixed_disp.push(coil_solver::model::FixedDisp {
+                    dofs: vec![(3, delta)],
+                    nodes: vec![beam.tip()],
+                })
+            })
+            .unwrap();
         static_case(&mut model, "pushed");
         let sol = solve_static(&model);
         let tip = sol.node_displacement(&model, beam.tip()).unwrap();
@@ -589,7 +609,7 @@ fn lumped_mass_cantilever_frequencies() {
     let f = |n: usize, lumped: bool| {
         let beam = StraightBeam::along_x(ElementType::Beam52, n, 1000.0, 5.0);
         let mut model = planar_cantilever(&beam);
-        model.lumped_mass = lumped;
+        model.edit(|m| m.lumped_mass = lumped).unwrap();
         solve_modes(&model, 3)
     };
     let beam = StraightBeam::along_x(ElementType::Beam52, 20, 1000.0, 5.0);

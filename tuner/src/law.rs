@@ -137,10 +137,14 @@ pub fn mode_coefficients(
     };
     let mut model = state.model(&fe, &[AnalysisKind::Modal])?;
     if mode == DecayMode::Surge {
-        model.fixed_disp.push(FixedDisp {
+        let mut parts = model.into_parts();
+        parts.fixed_disp.push(FixedDisp {
             dofs: vec![(3, 0.0)],
             nodes: vec![WEIGHT_NODE],
         });
+        model = parts
+            .build()
+            .map_err(|e| TuneError::Invalid(format!("the surge model: {e}")))?;
     }
     let context = format!("modal run of the {mode:?} mode");
     let results = analysis::run(&model).map_err(|source| TuneError::Solve {

@@ -11,7 +11,19 @@ use coil_solver::model::*;
 /// Node id of the weight's reference node.
 pub const WEIGHT: NodeId = 1;
 
+#[allow(dead_code)] // not every benchmark builds it unchanged
 pub fn paper_spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) -> Model {
+    paper_spring_parts(elements_per_coil, weight_t, lumped_mass)
+        .build()
+        .expect("the paper spring is a valid model")
+}
+
+/// [`paper_spring`]'s parts, to change before building.
+pub fn paper_spring_parts(
+    elements_per_coil: usize,
+    weight_t: f64,
+    lumped_mass: bool,
+) -> ModelParts {
     let (coils, d_mean, d_wire, pitch) = (14.0, 24.0, 3.0, 6.2);
     let n = (coils * elements_per_coil as f64) as usize;
     let r = 0.5 * d_mean;
@@ -27,7 +39,7 @@ pub fn paper_spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) 
         }
     }));
     let ids: Vec<ElementId> = (1..=n as ElementId).collect();
-    Model {
+    ModelParts {
         title: format!("paper spring, {elements_per_coil} elements per coil"),
         element_types: vec![ElementType::Beam98],
         lumped_mass,
@@ -101,7 +113,7 @@ pub fn paper_spring(elements_per_coil: usize, weight_t: f64, lumped_mass: bool) 
 
 /// Rayleigh damping alpha M + beta K on all of the wire's elements (not the weight).
 #[allow(dead_code)] // not every benchmark damps
-pub fn damp_wire(model: &mut Model, alpha: f64, beta: f64) {
+pub fn damp_wire(model: &mut ModelParts, alpha: f64, beta: f64) {
     let elements = model.elements.iter().map(|e| e.id).collect();
     model.damping = vec![Damping {
         alpha,
@@ -118,7 +130,7 @@ pub fn weight_for_period(probe: &Model, period_s: f64) -> Result<f64, Box<dyn st
     use coil_solver::analysis::{static_analysis, System};
     let system = System::new(probe)?;
     let factor = system.factor_stiffness()?;
-    let stiffness = static_analysis::solve(&system, &factor, &probe.load_cases[0], 1.0)?
+    let stiffness = static_analysis::solve(&system, &factor, &probe.load_cases()[0], 1.0)?
         .stiffness_n_mm
         .ok_or("no stiffness")?;
     Ok(stiffness * (period_s / std::f64::consts::TAU).powi(2))

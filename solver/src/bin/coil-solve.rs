@@ -93,7 +93,7 @@ fn summary(model: &Model, cases: &[CaseResult]) -> String {
                         out.push_str(&format!(
                             "  adjacent coils touch at {:.2} N (node {})\n",
                             factor * force,
-                            model.nodes[node].id
+                            model.nodes()[node].id
                         ));
                         if factor < 1.0 {
                             out.push_str(&format!(

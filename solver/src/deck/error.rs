@@ -10,11 +10,14 @@ const MESSAGE_CHARS: usize = 1000;
 /// A position in a deck: 1-based line and 1-based column (in characters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Loc {
+    /// Line, 1-based.
     pub line: usize,
+    /// Column (character), 1-based.
     pub col: usize,
 }
 
 impl Loc {
+    /// A location at `line`, `col`.
     pub fn new(line: usize, col: usize) -> Self {
         Loc { line, col }
     }

@@ -7,7 +7,8 @@
 //! then a history of load cases each closed by `CONTINUE`. Keywords are
 //! case-insensitive, `$` starts a comment line, fields are separated by commas and/or
 //! blanks, and multi-word keywords keep their blank (`FIXED DISP`). Every card is one
-//! entry of [`keywords::KEYWORDS`]; docs/deck.md is generated from that table.
+//! entry of [`cards::KEYWORDS`], defined beside its parse function and tests; docs/deck.md
+//! is generated from that table.
 //!
 //! # Units and DOFs
 //! Marc's consistent units: mm, N, tonne, s (E in MPa, density in t/mm^3, rotary
@@ -16,24 +17,33 @@
 //!
 //! # Reading in two stages
 //! 1. [`lexer`]: text -> lines of located fields (file, line, column).
-//! 2. [`reader`] + [`keywords`]: lines -> cards, each field checked where it is read,
-//!    into a located raw deck; [`build`]: raw deck -> [`Model`], ids and sets
-//!    resolved and everything that involves several cards validated.
+//! 2. [`reader`] + [`cards`]: lines -> cards, each field checked where it is read,
+//!    into a located raw deck ([`raw`]); [`build`]: raw deck -> [`Model`], each card
+//!    family's build function resolving ids and sets ([`resolve`]) into the model's
+//!    parts, which [`Model::try_new`] validates; its errors are mapped back to lines.
+//!
+//! # Modules, lowest first (no import circle)
+//! [`error`] (locations, [`DeckError`]) <- [`lexer`] <- [`raw`] <- [`card`] (the
+//! [`Keyword`] entry type and the card context) and [`resolve`] (list resolution) <-
+//! [`cards`] (one module per family: entries, parse and build functions, tests; the
+//! registry [`KEYWORDS`]) <- [`reader`] and [`build`]; [`writer`] reads only the model.
 //!
 //! Every error is a [`DeckError`] naming `file:line:column`, the card, what is wrong
 //! and what was expected. No input makes the reader panic.
 
 mod build;
+mod card;
+pub mod cards;
 mod error;
-pub mod keywords;
 mod lexer;
-mod mentat;
 mod raw;
 mod reader;
+mod resolve;
 mod writer;
 
+pub use card::{DeckSection, Keyword, Origin};
+pub use cards::{reference_markdown, KEYWORDS};
 pub use error::{DeckError, Loc};
-pub use keywords::{reference_markdown, DeckSection, Keyword, Origin, KEYWORDS};
 
 use crate::model::Model;
 use std::path::Path;
@@ -48,7 +58,9 @@ pub fn read_str(text: &str, file: &str) -> Result<Model, DeckError> {
 /// lists these once in its log.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct NotNeeded {
+    /// The card's keyword.
     pub card: String,
+    /// Line of its first appearance.
     pub line: usize,
 }
 

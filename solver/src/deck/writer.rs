@@ -153,10 +153,10 @@ impl Writer<'_> {
         self.line("END");
     }
 
+    /// The model definition: the mesh, sets and tables, then the other cards in the
+    /// order the reader expects (one method per family of cards).
     fn model_definition(&mut self) {
         let m = self.model;
-        let node_sets = node_sets(m);
-        let element_sets = element_sets(m);
         self.rule("model definition");
 
         self.line("CONNECTIVITY");
@@ -198,6 +198,16 @@ impl Writer<'_> {
             }
         }
 
+        self.properties();
+        self.attachments();
+        self.loads_and_outputs();
+    }
+
+    /// Materials, geometries and Rayleigh damping.
+    fn properties(&mut self) {
+        let m = self.model;
+        let node_sets = node_sets(m);
+        let element_sets = element_sets(m);
         if !m.materials.is_empty() {
             self.line("ISOTROPIC");
             self.comment("number of materials");
@@ -267,7 +277,12 @@ impl Writer<'_> {
                 }
             }
         }
+    }
 
+    /// Point masses, point laws, dashpots, modal damping and rigid ties.
+    fn attachments(&mut self) {
+        let m = self.model;
+        let node_sets = node_sets(m);
         if !m.point_masses.is_empty() {
             self.line("POINT MASS");
             self.comment("node, mass (t), Ixx, Iyy, Izz (t mm^2)");
@@ -347,7 +362,12 @@ impl Writer<'_> {
                 self.list(&t.tied, &node_sets);
             }
         }
+    }
 
+    /// Supports, loads, initial velocities and outputs; ends the model definition.
+    fn loads_and_outputs(&mut self) {
+        let m = self.model;
+        let node_sets = node_sets(m);
         if !m.fixed_disp.is_empty() {
             self.line("FIXED DISP");
             for f in &m.fixed_disp {

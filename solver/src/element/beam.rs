@@ -47,6 +47,7 @@ use crate::model::{ElementType, SectionProperties};
 /// Everything the element formulas need, already resolved from the model.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamProperties {
+    /// Element formulation (type 52 or 98).
     pub kind: ElementType,
     /// Length L (mm).
     pub length: f64,
@@ -56,6 +57,7 @@ pub struct BeamProperties {
     pub shear_modulus: f64,
     /// Density rho (t/mm^3).
     pub density: f64,
+    /// Section properties (mm^2, mm^4).
     pub section: SectionProperties,
 }
 

@@ -43,7 +43,10 @@ pub enum FrameError {
     /// Both nodes coincide (length at the rounding level of the coordinates), or a
     /// coordinate is not finite.
     #[error("zero or non-finite length ({length:e} mm): the two nodes coincide or a coordinate is not finite")]
-    ZeroLength { length: f64 },
+    ZeroLength {
+        /// The length (mm).
+        length: f64,
+    },
     /// The orientation vector is zero or not finite.
     #[error("orientation vector is zero or not finite")]
     BadOrientation,
@@ -52,7 +55,12 @@ pub enum FrameError {
         "orientation vector is parallel to the element axis (sine of the angle {sine:e} < {min:e}); \
          choose a GEOMETRY orientation vector normal to the beam"
     )]
-    ParallelOrientation { sine: f64, min: f64 },
+    ParallelOrientation {
+        /// Sine of the angle between them.
+        sine: f64,
+        /// The smallest sine accepted.
+        min: f64,
+    },
 }
 
 /// Length and rotation of one element.

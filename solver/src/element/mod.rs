@@ -19,18 +19,26 @@ use crate::model::{Element, Model, NodeId};
 /// Why an element's matrices cannot be formed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ElementError {
+    /// The element has no material.
     #[error("no material (ISOTROPIC) is assigned")]
     NoMaterial,
+    /// The element has no geometry.
     #[error("no GEOMETRY is assigned")]
     NoGeometry,
+    /// The element names a node that does not exist.
     #[error("node {0} does not exist")]
     UnknownNode(NodeId),
+    /// A material or section value out of range.
     #[error("{what} must be {requirement}, got {value}")]
     BadProperty {
+        /// The property.
         what: &'static str,
+        /// What it must be.
         requirement: &'static str,
+        /// Its value.
         value: f64,
     },
+    /// The local frame cannot be built.
     #[error(transparent)]
     Frame(#[from] FrameError),
 }

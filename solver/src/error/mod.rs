@@ -27,11 +27,18 @@ pub enum Error {
     Output(#[from] coil_io::SetError),
     /// A result holds a non-finite number: nothing is written.
     #[error("{file}: a non-finite number (NaN or inf) at byte {at} of the results; nothing was written (the model or its loads are out of range)")]
-    NonFinite { file: String, at: usize },
+    NonFinite {
+        /// The file that would have been written.
+        file: String,
+        /// Byte offset of the number.
+        at: usize,
+    },
     /// A file could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The underlying error.
         #[source]
         source: std::io::Error,
     },

@@ -244,7 +244,7 @@ impl Action for Mesh {
             .write(&name, coil_solver::deck::write(&model).as_bytes())?;
         say(&format!(
             "mesh: {} elements -> {}",
-            model.elements.len(),
+            model.elements().len(),
             path.display()
         ));
         Ok(())

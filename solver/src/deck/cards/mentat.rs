@@ -1,6 +1,6 @@
 //! The cards and layouts of decks that MSC Mentat writes (Marc's fixed and extended
-//! fixed format, see [`super::lexer`]), beside coil's own: each function here is the
-//! parse function of one entry of [`super::keywords::KEYWORDS`] or the Mentat branch
+//! fixed format, see [`crate::deck::lexer`]), beside coil's own: each function here is the
+//! parse function of one entry of [`super::KEYWORDS`] or the Mentat branch
 //! of one (ISOTROPIC, GEOMETRY, FIXED DISP, POINT LOAD).
 //!
 //! Three kinds of cards:
@@ -14,13 +14,349 @@
 //! Layouts not shown in public decks are inferred from the corpus and marked so in
 //! docs/deck.md. Units are the deck's (mm, N, t, s).
 
-use super::error::{DeckError, Loc};
-use super::keywords::DeckSection;
-use super::lexer::{self, ListItem};
-use super::raw::{
-    RawBeamSection, RawDistLoad, RawDofValues, RawGeometry, RawList, RawMaterial, RawPointLoad,
+use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::lexer::{self};
+use crate::deck::raw::{
+    RawBeamSection, RawDeck, RawDistLoad, RawDofValues, RawGeometry, RawList, RawPointLoad,
 };
-use super::reader::CardCtx;
+use crate::deck::resolve::Builder;
+use DeckSection::{History, Model, Parameters};
+
+/// The `EXTENDED` card.
+pub(crate) const EXTENDED: Keyword = Keyword {
+    name: "EXTENDED",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's extended fixed format: from the next line on, a line without a comma is cut in columns of 10 (integers) and 20 (reals, words).",
+    layout: &[("EXTENDED", "")],
+    notes: "The reader switches format when it splits the deck into lines (see Fixed format above).",
+    example: "EXTENDED",
+    parse: parse_not_needed_line,
+};
+
+/// The `ALLOC` card.
+pub(crate) const ALLOC: Keyword = Keyword {
+    name: "ALLOC",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's memory allocation.",
+    layout: &[("ALLOC, n", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "ALLOC, 25",
+    parse: parse_not_needed,
+};
+
+/// The `VERSION` card.
+pub(crate) const VERSION: Keyword = Keyword {
+    name: "VERSION",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "The version of Marc's input format; 13 and later give each GEOMETRY block an id and a name line.",
+    layout: &[("VERSION, n[, ...]", "")],
+    notes: "Read; coil also recognises the GEOMETRY layout by its lines.",
+    example: "VERSION, 11",
+    parse: parse_version,
+};
+
+/// The `PROCESSOR` card.
+pub(crate) const PROCESSOR: Keyword = Keyword {
+    name: "PROCESSOR",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's processor and parallel options.",
+    layout: &[("PROCESSOR, flags ...", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "PROCESSOR, 1, 1, 1, 0",
+    parse: parse_not_needed,
+};
+
+/// The `ALL POINTS` card.
+pub(crate) const ALL_POINTS: Keyword = Keyword {
+    name: "ALL POINTS",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's output at all integration points.",
+    layout: &[("ALL POINTS", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "ALL POINTS",
+    parse: parse_not_needed_line,
+};
+
+/// The `NO ECHO` card.
+pub(crate) const NO_ECHO: Keyword = Keyword {
+    name: "NO ECHO",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's echo of the input in its output file.",
+    layout: &[("NO ECHO, flags ...", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "NO ECHO, 1, 2, 3",
+    parse: parse_not_needed,
+};
+
+/// The `SETNAME` card.
+pub(crate) const SETNAME: Keyword = Keyword {
+    name: "SETNAME",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's allocation of set names.",
+    layout: &[("SETNAME, n", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "SETNAME, 9",
+    parse: parse_not_needed,
+};
+
+/// The `SOLVER` card.
+pub(crate) const SOLVER: Keyword = Keyword {
+    name: "SOLVER",
+    sections: &[Model],
+    origin: Origin::Marc,
+    meaning: "Marc's linear solver choice (coil chooses its own).",
+    layout: &[("SOLVER", ""), ("type, flags ...", "integers")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "SOLVER\n8, 0, 0",
+    parse: parse_not_needed,
+};
+
+/// The `OPTIMIZE` card.
+pub(crate) const OPTIMIZE: Keyword = Keyword {
+    name: "OPTIMIZE",
+    sections: &[Model],
+    origin: Origin::Marc,
+    meaning: "Marc's bandwidth optimiser (coil orders its own unknowns).",
+    layout: &[("OPTIMIZE, n[, ...]", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "OPTIMIZE, 11",
+    parse: parse_not_needed,
+};
+
+/// The `NO PRINT` card.
+pub(crate) const NO_PRINT: Keyword = Keyword {
+    name: "NO PRINT",
+    sections: &[Model],
+    origin: Origin::Marc,
+    meaning: "Marc's printed output.",
+    layout: &[("NO PRINT", "")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "NO PRINT",
+    parse: parse_not_needed_line,
+};
+
+/// The `POST` card.
+pub(crate) const POST: Keyword = Keyword {
+    name: "POST",
+    sections: &[Model],
+    origin: Origin::Marc,
+    meaning: "Marc's post file contents (coil writes its own result files).",
+    layout: &[
+        ("POST", ""),
+        ("flags ...", "integers; more lines may follow"),
+    ],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "POST\n0, 16, 17, 0",
+    parse: parse_not_needed,
+};
+
+/// The `PARAMETERS` card.
+pub(crate) const PARAMETERS: Keyword = Keyword {
+    name: "PARAMETERS",
+    sections: &[Model, History],
+    origin: Origin::Marc,
+    meaning: "Marc's numerical constants (tolerances, physical constants).",
+    layout: &[("PARAMETERS", ""), ("values ...", "lines of reals")],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "PARAMETERS\n1.0, 1.0e9, 100.0",
+    parse: parse_not_needed,
+};
+
+/// The `CONTROL` card.
+pub(crate) const CONTROL: Keyword = Keyword {
+    name: "CONTROL",
+    sections: &[Model, History],
+    origin: Origin::Marc,
+    meaning: "Marc's convergence control of nonlinear increments; a linear solve needs none.",
+    layout: &[
+        ("CONTROL[, qualifier]", ""),
+        ("flags ...", "integers"),
+        ("tolerances ...", "reals"),
+    ],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "CONTROL\n99999, 10, 0\n0.1, 0.0",
+    parse: parse_not_needed,
+};
+
+/// The `MAT COLOR` card.
+pub(crate) const MAT_COLOR: Keyword = Keyword {
+    name: "MAT COLOR",
+    sections: &[Model],
+    origin: Origin::Marc,
+    meaning: "Mentat's colours of materials.",
+    layout: &[
+        ("MAT COLOR", ""),
+        ("", "a header line (often blank)"),
+        ("id, ...", "integers"),
+    ],
+    notes: "Read and not needed: coil lists it once in the run's log.",
+    example: "MAT COLOR\n\n1, 1, 230, 0, 0",
+    parse: parse_mat_color,
+};
+
+/// The `LOADCASE` card.
+pub(crate) const LOADCASE: Keyword = Keyword {
+    name: "LOADCASE",
+    sections: &[Model, History],
+    origin: Origin::Marc,
+    meaning: "Mentat's list of the named loads and supports active in the model's own load case (model definition) or in the load case it appears in (history).",
+    layout: &[("LOADCASE, name", ""), ("n", "number of active blocks"), ("name", "one line per block (FIXED DISP, POINT LOAD, DIST LOADS)")],
+    notes: "A named POINT LOAD or DIST LOADS acts in a load case whose LOADCASE lists it (in every load case if no history LOADCASE is given). coil's supports are the same in every load case: a named FIXED DISP missing from a history LOADCASE is an error. The model definition's LOADCASE (Marc's increment 0) is read and checked for names.",
+    example: "LOADCASE, lc1\n1\nclamp",
+    parse: parse_loadcase,
+};
+
+/// The `BEAM SECT` card.
+pub(crate) const BEAM_SECT: Keyword = Keyword {
+    name: "BEAM SECT",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Named beam cross-sections, numbered from 1 in their order, referred to by a GEOMETRY whose area is 0.",
+    layout: &[("BEAM SECT", ""), ("name", "the section name"), ("0, type, dimensions", "type -2: a solid circle, dimension 1 its radius r (mm)"), ("n, ...", "integration points (not needed)"), ("LAST", "after the last section")],
+    notes: "coil reads the solid circle (type -2, radius r: A = pi r^2, I = pi r^4 / 4, J = pi r^4 / 2, the polar moment, exact for a circle; shear coefficient 6(1+nu)/(7+6nu)). Other types are an error naming the type. The meaning of -2 and of its dimension (radius) is inferred from public Mentat decks, not from Marc's manual.",
+    example: "BEAM SECT\nwire\n0, -2.0, 1.5\n5, 0, 0, 0\nLAST",
+    parse: parse_beam_sect,
+};
+
+/// The `DIST LOADS` card.
+pub(crate) const DIST_LOADS: Keyword = Keyword {
+    name: "DIST LOADS",
+    sections: &[Parameters, Model],
+    origin: Origin::Marc,
+    meaning: "As a parameter, Marc's allocation of distributed loads (not needed). In the model definition, Mentat's named blocks of a uniform load per unit length on beams, applied as the consistent nodal forces and moments of each element (qL/2 at each node, moments +-(L^2/12) e x q).",
+    layout: &[("DIST LOADS", ""), ("", "a header line (blank)"), ("flags..., name", "integers then the block name; field 2 = 1 (FORCEM) is an error"), ("qx, qy, qz", "the load per unit length, global components (N/mm)"), ("0, 0, 0", "table ids, 0"), ("0, type", "load type 110 (a global load vector)"), ("1", "list kind 1: elements"), ("list", "the beams")],
+    notes: "Only type 110 with three components is read (the layout of the corpus's beam deck, inferred, not from Marc's manual); every other type is an error naming it.",
+    example: "DIST LOADS, 0, 0, 10",
+    parse: parse_dist_loads,
+};
+
+/// The `LARGE STRAIN` card.
+pub(crate) const LARGE_STRAIN: Keyword = Keyword {
+    name: "LARGE STRAIN",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's large-strain (finite deformation) analysis.",
+    layout: &[("LARGE STRAIN, ...", "")],
+    notes: "coil solves small displacements and strains (linear analyses).",
+    example: "LARGE STRAIN",
+    parse: parse_unsupported,
+};
+
+/// The `LARGE DISP` card.
+pub(crate) const LARGE_DISP: Keyword = Keyword {
+    name: "LARGE DISP",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's large-displacement analysis.",
+    layout: &[("LARGE DISP", "")],
+    notes: "coil solves small displacements (linear analyses).",
+    example: "LARGE DISP",
+    parse: parse_unsupported,
+};
+
+/// The `UPDATE` card.
+pub(crate) const UPDATE: Keyword = Keyword {
+    name: "UPDATE",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's updated Lagrange formulation.",
+    layout: &[("UPDATE", "")],
+    notes: "coil solves small displacements (linear analyses).",
+    example: "UPDATE",
+    parse: parse_unsupported,
+};
+
+/// The `FINITE` card.
+pub(crate) const FINITE: Keyword = Keyword {
+    name: "FINITE",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's finite strain.",
+    layout: &[("FINITE", "")],
+    notes: "coil solves small strains (linear analyses).",
+    example: "FINITE",
+    parse: parse_unsupported,
+};
+
+/// The `FOLLOW FOR` card.
+pub(crate) const FOLLOW_FOR: Keyword = Keyword {
+    name: "FOLLOW FOR",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's follower forces.",
+    layout: &[("FOLLOW FOR", "")],
+    notes: "coil's loads keep their direction (linear analyses).",
+    example: "FOLLOW FOR",
+    parse: parse_unsupported,
+};
+
+/// The `PLASTICITY` card.
+pub(crate) const PLASTICITY: Keyword = Keyword {
+    name: "PLASTICITY",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "Marc's plasticity procedure.",
+    layout: &[("PLASTICITY, ...", "")],
+    notes: "coil's materials are linear elastic.",
+    example: "PLASTICITY",
+    parse: parse_unsupported,
+};
+
+/// The `WORK HARD` card.
+pub(crate) const WORK_HARD: Keyword = Keyword {
+    name: "WORK HARD",
+    sections: &[Model],
+    origin: Origin::Unsupported,
+    meaning: "Marc's work-hardening data of plastic materials.",
+    layout: &[("WORK HARD, ...", "")],
+    notes: "coil's materials are linear elastic.",
+    example: "WORK HARD",
+    parse: parse_unsupported,
+};
+
+/// The `FORCDT` card.
+pub(crate) const FORCDT: Keyword = Keyword {
+    name: "FORCDT",
+    sections: &[Model],
+    origin: Origin::Unsupported,
+    meaning: "Marc's user subroutine FORCDT (nodal loads and displacements computed by Fortran code).",
+    layout: &[("FORCDT, n", ""), ("list", "nodes")],
+    notes: "the user subroutine FORCDT is Fortran code coil cannot run; give the load as POINT LOAD values.",
+    example: "FORCDT, 1",
+    parse: parse_unsupported,
+};
+
+/// The `UMOTION` card.
+pub(crate) const UMOTION: Keyword = Keyword {
+    name: "UMOTION",
+    sections: &[Model],
+    origin: Origin::Unsupported,
+    meaning: "Marc's user subroutine UMOTION (rigid-surface motion).",
+    layout: &[("UMOTION, n", "")],
+    notes: "the user subroutine UMOTION is Fortran code coil cannot run.",
+    example: "UMOTION, 0",
+    parse: parse_unsupported,
+};
+
+/// The `USDATA` card.
+pub(crate) const USDATA: Keyword = Keyword {
+    name: "USDATA",
+    sections: &[Parameters, Model],
+    origin: Origin::Unsupported,
+    meaning: "Marc's user data for user subroutines.",
+    layout: &[("USDATA, n", "")],
+    notes: "user subroutines are Fortran code coil cannot run.",
+    example: "USDATA, 1",
+    parse: parse_unsupported,
+};
 
 /// Records a card that was read and changes nothing coil computes.
 fn not_needed(c: &mut CardCtx<'_, '_>) {
@@ -380,53 +716,6 @@ pub(crate) fn parse_beam_sect(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> 
     }
 }
 
-/// A Mentat ISOTROPIC material: `id`+`elastic` ... name, the values, an optional line
-/// of table ids (all 0), and the element list (blank = every element).
-pub(crate) fn isotropic_material(c: &mut CardCtx<'_, '_>) -> Result<RawMaterial, DeckError> {
-    let l = c.data_line("the material line: id, type, ..., name")?;
-    let id = c.id(l, 0, "the material id")?;
-    let kind = &l.fields[1].text;
-    if !kind.eq_ignore_ascii_case("elastic") {
-        return Err(c.err(
-            l.loc_of(1),
-            format!("material type `{kind}` is not supported"),
-            "elastic (coil models linear elastic isotropic materials only)",
-        ));
-    }
-    let last = l.fields.len() - 1;
-    let name = if lexer::is_name(&l.fields[last].text) && last > 1 {
-        l.fields[last].text.clone()
-    } else {
-        id.to_string()
-    };
-    let [e, nu, rho] = super::keywords::material_values(c)?;
-    // Table ids: a line of integers only (a list line has `to` or a name).
-    if let Some(t) = c.cur.peek_significant() {
-        let ints = t.fixed.is_some()
-            && t.fields.len() > 1
-            && t.fields
-                .iter()
-                .all(|f| !f.text.is_empty() && lexer::parse_uint(&f.text).is_ok());
-        if ints {
-            let t = c.data_line("the table ids")?;
-            c.zeros_from(t, 0, "Marc tables on material data")?;
-        }
-    }
-    let mut elements = c.list("the list of elements (blank = every element)")?;
-    if elements.items.is_empty() {
-        elements.items.push((ListItem::All, elements.loc));
-    }
-    Ok(RawMaterial {
-        id,
-        name,
-        loc: l.start_loc(),
-        youngs_modulus: e,
-        poisson: nu,
-        density: rho,
-        elements,
-    })
-}
-
 /// A Mentat GEOMETRY block of a beam: (version 13+: an integer line and a name
 /// line, then) the values `A, I1, I2, vx, vy, vz, ...` with A = 0 meaning the
 /// BEAM SECT numbered by the second value, and the element list.
@@ -531,4 +820,112 @@ pub(crate) fn table_header(c: &mut CardCtx<'_, '_>) -> Result<usize, DeckError> 
         ));
     }
     Ok(n as usize)
+}
+
+/// Fails unless every name a `LOADCASE` lists names a Mentat block.
+pub(crate) fn active_names_exist(
+    b: &Builder<'_>,
+    names: &[(String, Loc)],
+    raw: &RawDeck,
+) -> Result<(), DeckError> {
+    for (name, loc) in names {
+        if !raw.named.iter().any(|(n, _, _)| n == name) {
+            return Err(b.err(
+                *loc,
+                "LOADCASE",
+                format!("no load or support named `{name}`"),
+                "the name of a FIXED DISP, POINT LOAD or DIST LOADS block",
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::deck::cards::testing::*;
+
+    /// Mentat's cards in extended fixed format, each with what it must do.
+    #[test]
+    fn mentat_cards_read_skip_or_refuse() {
+        let ext = |params: &str, model: &str, history: &str| {
+            format!("TITLE, t\nEXTENDED\n{params}ELEMENTS                    98\nEND\n{}{model}END OPTION\n{history}", MESH.replace("GEOMETRY\n1\n3.0\n0, 0, 1\nwire\n", "GEOMETRY\n1\n1, g\n3.0\n0, 0, 1\nwire\n"))
+        };
+        let static_case = "AUTO LOAD\n         1         0        10\nTIME STEP\n1.0\nCONTINUE\n";
+        // Read and not needed, listed once each.
+        let text = ext(
+            "PROCESSOR                    1         1\nTABLE                        0         0         2\nALL POINTS\n",
+            "SOLVER\n         8         0\nOPTIMIZE                    11\nNO PRINT\nPOST\n         0        16\nPARAMETERS\n 1.000000000000000+0 1.000000000000000+9\n",
+            &format!("CONTROL\n     99999        10\n 1.000000000000000-1\nPARAMETERS\n 1.0\n{static_case}"),
+        );
+        let (m, notes) = crate::deck::read_str_noting(&text, "t.dat").unwrap();
+        assert_eq!(m.load_cases.len(), 1);
+        let cards: Vec<&str> = notes.iter().map(|n| n.card.as_str()).collect();
+        assert_eq!(
+            cards,
+            [
+                "EXTENDED",
+                "PROCESSOR",
+                "TABLE",
+                "ALL POINTS",
+                "SOLVER",
+                "OPTIMIZE",
+                "NO PRINT",
+                "POST",
+                "PARAMETERS",
+                "CONTROL"
+            ]
+        );
+        // Unsupported physics: the line and what coil supports.
+        for card in ["LARGE STRA                   4", "PLASTICITY", "FOLLOW FOR"] {
+            let e = read_str(&ext(&format!("{card}\n"), "", static_case), "t.dat").unwrap_err();
+            assert!(
+                e.to_string().contains("t.dat:3:1:") && e.to_string().contains("is not supported"),
+                "{e}"
+            );
+        }
+        let e = read_str(
+            &ext("", "FORCDT                       1\n1\n", static_case),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("user subroutine FORCDT"), "{e}");
+        // A history LOADCASE must keep the supports active.
+        let named = "FIXED DISP\n\n         1         0         0         0         1         0clamp2\n 0.0\n         0\n         3\n         2\n3\n";
+        let e = read_str(
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         0\n{static_case}"),
+            ),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("the support `clamp2`"), "{e}");
+        let m = read_str(
+            &ext(
+                "",
+                named,
+                &format!("LOADCASE            lc\n         1\nclamp2\n{static_case}"),
+            ),
+            "t.dat",
+        )
+        .unwrap();
+        assert_eq!(m.fixed_disp.len(), 2);
+        // Mentat's model-definition TABLE (the parameter TABLE is above).
+        let table = format!(
+            "TABLE               ramp\n{}\n{}\n{:>20}{:>20}\n{:>20}{:>20}\n",
+            "         1         1         0         0         2",
+            "         1         2",
+            "0.0",
+            "0.0",
+            "1.0",
+            "2.0+0"
+        );
+        let m = read_str(&ext("", &table, static_case), "t.dat").unwrap();
+        assert_eq!(m.tables[0].points, [(0.0, 0.0), (1.0, 2.0)]);
+        let bad = table.replace("         1         2\n", "         3         2\n");
+        let e = read_str(&ext("", &bad, static_case), "t.dat").unwrap_err();
+        assert!(e.to_string().contains("independent variable type 3"), "{e}");
+    }
 }

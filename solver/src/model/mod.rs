@@ -23,6 +23,11 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod check;
+pub mod units;
+
+pub use check::{ModelError, Site};
+
 /// Number of DOFs per node (3 translations, 3 rotations).
 pub const DOFS_PER_NODE: usize = 6;
 
@@ -62,29 +67,38 @@ impl ElementType {
 /// A node: its id and coordinates (mm).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Node {
+    /// The node id.
     pub id: NodeId,
+    /// Coordinates x, y, z (mm).
     pub xyz: [f64; 3],
 }
 
 /// A two-node beam element.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Element {
+    /// The element id.
     pub id: ElementId,
+    /// Its formulation.
     pub kind: ElementType,
+    /// Node 1 and node 2 (local x runs from 1 to 2).
     pub nodes: [NodeId; 2],
 }
 
 /// A named node set (`DEFINE NODE SET`). Ids sorted and unique.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NodeSet {
+    /// Its name.
     pub name: String,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
 }
 
 /// A named element set (`DEFINE ELEMENT SET`). Ids sorted and unique.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ElementSet {
+    /// Its name.
     pub name: String,
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
 }
 
@@ -116,7 +130,10 @@ pub enum Section {
     /// A solid circular wire of the given diameter (mm). Area, second moments and the
     /// torsion constant follow from it; the Timoshenko shear coefficient is
     /// kappa = 6 (1 + nu) / (7 + 6 nu) (Cowper 1966).
-    SolidCircle { diameter: f64 },
+    SolidCircle {
+        /// Wire diameter d (mm).
+        diameter: f64,
+    },
     /// A general section given by its properties.
     General {
         /// Area A (mm^2).
@@ -136,10 +153,15 @@ pub enum Section {
 /// Derived section properties, the same for both section kinds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SectionProperties {
+    /// Area A (mm^2).
     pub area: f64,
+    /// Second moment about local y (mm^4).
     pub iyy: f64,
+    /// Second moment about local z (mm^4).
     pub izz: f64,
+    /// Torsion constant J (mm^4).
     pub torsion: f64,
+    /// Timoshenko shear coefficient kappa (-).
     pub shear_coefficient: f64,
 }
 
@@ -180,12 +202,15 @@ impl Section {
 /// Beam geometry (`GEOMETRY`): section and orientation for a list of elements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Geometry {
+    /// Its name.
     pub name: String,
+    /// The cross-section.
     pub section: Section,
     /// A vector (global axes) that, with the element axis, fixes the local frame:
     /// local x runs from node 1 to node 2, local y is the part of `orientation`
     /// normal to x, local z = x cross y. Must not be parallel to any of its elements.
     pub orientation: [f64; 3],
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
 }
 
@@ -197,6 +222,7 @@ pub struct Damping {
     pub alpha: f64,
     /// Stiffness-proportional coefficient beta (s).
     pub beta: f64,
+    /// Element ids (sorted, unique).
     pub elements: Vec<ElementId>,
     /// Nodes whose point masses receive alpha (beta has no meaning for a point mass).
     pub mass_nodes: Vec<NodeId>,
@@ -205,6 +231,7 @@ pub struct Damping {
 /// A point mass with rotary inertia at a node (`POINT MASS`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PointMass {
+    /// The node.
     pub node: NodeId,
     /// Translational mass (t), on DOFs 1-3.
     pub mass: f64,
@@ -216,10 +243,13 @@ pub struct PointMass {
 /// reference node as a rigid body: u_s = u_r + theta_r x (x_s - x_r), theta_s = theta_r.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RigidTie {
+    /// Its name.
     pub name: String,
+    /// The reference (master) node.
     pub reference: NodeId,
     /// Tied DOFs of the tied nodes (1..=6, sorted, unique).
     pub dofs: Vec<u8>,
+    /// The tied (slave) nodes (sorted, unique).
     pub tied: Vec<NodeId>,
 }
 
@@ -229,6 +259,7 @@ pub struct RigidTie {
 pub struct FixedDisp {
     /// (dof 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
 }
 
@@ -238,6 +269,7 @@ pub struct FixedDisp {
 pub struct PointLoad {
     /// (dof 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
     /// Name of a [`Table`] giving the load factor against time; `None` = constant 1.
     pub table: Option<String>,
@@ -246,14 +278,18 @@ pub struct PointLoad {
 /// A piecewise-linear table of (time s, factor) points, sorted by time (`TABLE`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Table {
+    /// Its name.
     pub name: String,
+    /// (time s, factor) points, strictly increasing in time.
     pub points: Vec<(f64, f64)>,
 }
 
 /// Initial velocities (`INITIAL VEL`): each listed DOF of each node (mm/s or rad/s).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InitialVelocity {
+    /// (DOF 1..=6, value) pairs.
     pub dofs: Vec<(u8, f64)>,
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
     /// `INITIAL VEL, QUASI STATIC` (added for transients, append-only): the listed
     /// velocities are extended over every free DOF by the quasi-static shape, the static
@@ -268,8 +304,11 @@ pub struct InitialVelocity {
 /// What a history output records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Quantity {
+    /// Displacement (mm or rad).
     Displacement,
+    /// Velocity (mm/s or rad/s).
     Velocity,
+    /// Acceleration (mm/s^2 or rad/s^2).
     Acceleration,
 }
 
@@ -277,9 +316,13 @@ pub enum Quantity {
 /// listed DOFs of the listed nodes, every `every`-th step of a transient.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OutputRequest {
+    /// Node ids (sorted, unique).
     pub nodes: Vec<NodeId>,
+    /// DOFs 1..=6.
     pub dofs: Vec<u8>,
+    /// What is recorded.
     pub quantities: Vec<Quantity>,
+    /// Record every `every`-th step (>= 1).
     pub every: u32,
 }
 
@@ -289,9 +332,15 @@ pub enum Integrator {
     /// Newmark average acceleration (beta = 1/4, gamma = 1/2): no numerical damping.
     AverageAcceleration,
     /// Hilber-Hughes-Taylor with alpha in [-1/3, 0].
-    Hht { alpha: f64 },
+    Hht {
+        /// alpha in [-1/3, 0].
+        alpha: f64,
+    },
     /// Chung-Hulbert generalised-alpha with spectral radius at infinity rho_inf in [0, 1].
-    GeneralizedAlpha { rho_inf: f64 },
+    GeneralizedAlpha {
+        /// Spectral radius at infinite frequency, in [0, 1].
+        rho_inf: f64,
+    },
 }
 
 /// How a transient is solved.
@@ -300,7 +349,10 @@ pub enum TransientMethod {
     /// Direct integration of the full system.
     Direct(Integrator),
     /// Modal superposition over the lowest `modes` modes, each integrated exactly.
-    Modal { modes: u32 },
+    Modal {
+        /// Number of modes (>= 1).
+        modes: u32,
+    },
 }
 
 /// The analysis a load case runs.
@@ -308,13 +360,24 @@ pub enum TransientMethod {
 pub enum Analysis {
     /// Linear static (`AUTO LOAD` / `TIME STEP`). `steps` and `time` are kept for
     /// Marc compatibility; a linear solve applies the full load once.
-    Static { steps: u32, time: f64 },
+    Static {
+        /// Marc increments (kept for the deck; a linear solve applies the load once).
+        steps: u32,
+        /// Marc load-case time (s).
+        time: f64,
+    },
     /// Lowest `modes` eigenpairs of K phi = omega^2 M phi (`MODAL SHAPE`).
-    Modal { modes: u32 },
+    Modal {
+        /// Number of modes (>= 1).
+        modes: u32,
+    },
     /// Transient (`DYNAMIC CHANGE`): fixed step `dt` (s) up to `total_time` (s).
     Transient {
+        /// Time step (s).
         dt: f64,
+        /// Duration (s).
         total_time: f64,
+        /// How it is solved.
         method: TransientMethod,
     },
 }
@@ -322,7 +385,9 @@ pub enum Analysis {
 /// One load case of the history section, closed by `CONTINUE`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LoadCase {
+    /// Its title.
     pub title: String,
+    /// The analysis it runs.
     pub analysis: Analysis,
     /// Loads added in this load case (history-definition `POINT LOAD`), on top of the
     /// model-definition loads.
@@ -330,41 +395,108 @@ pub struct LoadCase {
 }
 
 /// The complete, validated model.
+///
+/// Built only by [`Model::try_new`] (or [`ModelParts::build`]), which checks everything a
+/// model must satisfy (see [`check`]); read through its accessors; changed only by taking
+/// it apart ([`Model::into_parts`]) and building again. Deserialising validates too.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "ModelParts")]
 pub struct Model {
+    /// The model's title (`TITLE`).
+    pub(crate) title: String,
+    /// Element types declared in the parameter section (`ELEMENTS`).
+    pub(crate) element_types: Vec<ElementType>,
+    /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
+    pub(crate) lumped_mass: bool,
+    /// The nodes, sorted by id, each id once.
+    pub(crate) nodes: Vec<Node>,
+    /// The beam elements, sorted by id, each id once.
+    pub(crate) elements: Vec<Element>,
+    /// Named node sets (kept so that a written deck reads back equal).
+    pub(crate) node_sets: Vec<NodeSet>,
+    /// Named element sets (kept so that a written deck reads back equal).
+    pub(crate) element_sets: Vec<ElementSet>,
+    /// Materials; every element has one (the last listing it wins).
+    pub(crate) materials: Vec<Material>,
+    /// Beam geometries; every element has one (the last listing it wins).
+    pub(crate) geometries: Vec<Geometry>,
+    /// Rayleigh damping groups.
+    pub(crate) damping: Vec<Damping>,
+    /// Point masses, at most one per node.
+    pub(crate) point_masses: Vec<PointMass>,
+    /// Rigid ties; they neither overlap nor chain.
+    pub(crate) rigid_ties: Vec<RigidTie>,
+    /// Prescribed displacements; each (node, DOF) once.
+    pub(crate) fixed_disp: Vec<FixedDisp>,
+    /// Model-definition point loads (active in every load case).
+    pub(crate) point_loads: Vec<PointLoad>,
+    /// Load-factor tables against time.
+    pub(crate) tables: Vec<Table>,
+    /// Initial velocities of transients; each (node, DOF) once.
+    pub(crate) initial_velocities: Vec<InitialVelocity>,
+    /// History output requests.
+    pub(crate) outputs: Vec<OutputRequest>,
+    /// The load cases, in order.
+    pub(crate) load_cases: Vec<LoadCase>,
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    #[serde(default)]
+    pub(crate) point_laws: Vec<PointElement>,
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    #[serde(default)]
+    pub(crate) dashpots: Vec<Dashpot>,
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    #[serde(default)]
+    pub(crate) modal_damping: ModalDamping,
+}
+
+/// The pieces of a [`Model`] before validation: every field public, so a caller (the
+/// deck, the mesher, a test) fills them and then calls [`ModelParts::build`]. Field
+/// meanings are those of the accessors of [`Model`] with the same names.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ModelParts {
+    /// The model's title (`TITLE`).
     pub title: String,
     /// Element types declared in the parameter section (`ELEMENTS`).
     pub element_types: Vec<ElementType>,
     /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
     pub lumped_mass: bool,
-    /// Sorted by id.
+    /// The nodes, sorted by id, each id once.
     pub nodes: Vec<Node>,
-    /// Sorted by id.
+    /// The beam elements, sorted by id, each id once.
     pub elements: Vec<Element>,
+    /// Named node sets (kept so that a written deck reads back equal).
     pub node_sets: Vec<NodeSet>,
+    /// Named element sets (kept so that a written deck reads back equal).
     pub element_sets: Vec<ElementSet>,
+    /// Materials; every element has one (the last listing it wins).
     pub materials: Vec<Material>,
+    /// Beam geometries; every element has one (the last listing it wins).
     pub geometries: Vec<Geometry>,
+    /// Rayleigh damping groups.
     pub damping: Vec<Damping>,
+    /// Point masses, at most one per node.
     pub point_masses: Vec<PointMass>,
+    /// Rigid ties; they neither overlap nor chain.
     pub rigid_ties: Vec<RigidTie>,
+    /// Prescribed displacements; each (node, DOF) once.
     pub fixed_disp: Vec<FixedDisp>,
+    /// Model-definition point loads (active in every load case).
     pub point_loads: Vec<PointLoad>,
+    /// Load-factor tables against time.
     pub tables: Vec<Table>,
+    /// Initial velocities of transients; each (node, DOF) once.
     pub initial_velocities: Vec<InitialVelocity>,
+    /// History output requests.
     pub outputs: Vec<OutputRequest>,
+    /// The load cases, in order.
     pub load_cases: Vec<LoadCase>,
-    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`;
-    /// added for issue 5, append-only): one entry per (node, DOF), the cards on it
-    /// combined. Sorted by (node, DOF). See [`PointElement`].
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub point_laws: Vec<PointElement>,
-    /// Linear dashpots to ground (`DASHPOT`; added for issue 10, append-only), sorted by
-    /// (node, DOF). See [`Dashpot`].
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub dashpots: Vec<Dashpot>,
-    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; added for issue 10). See
-    /// [`ModalDamping`].
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub modal_damping: ModalDamping,
 }
@@ -374,6 +506,7 @@ pub struct Model {
 /// damping matrix `C` (one diagonal entry), so every transient method and scheme runs it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Dashpot {
+    /// The node.
     pub node: NodeId,
     /// 1..=6; the DOF must be free (neither prescribed nor tied).
     pub dof: u8,
@@ -439,6 +572,7 @@ impl ModalDamping {
 /// convert SI values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PointElement {
+    /// The node.
     pub node: NodeId,
     /// 1..=6; the DOF must be free (neither prescribed nor tied).
     pub dof: u8,
@@ -458,6 +592,199 @@ impl PointElement {
             quadratic: self.quadratic,
             friction: self.friction,
         }
+    }
+}
+
+impl Model {
+    /// Validates `parts` and makes them a model: ids and references resolved, values in
+    /// range, constraints consistent (see [`check`] for the full list). Id lists are
+    /// sorted and de-duplicated, nodes and elements sorted by id.
+    pub fn try_new(parts: ModelParts) -> Result<Model, ModelError> {
+        let p = check::check(parts)?;
+        Ok(Model {
+            title: p.title,
+            element_types: p.element_types,
+            lumped_mass: p.lumped_mass,
+            nodes: p.nodes,
+            elements: p.elements,
+            node_sets: p.node_sets,
+            element_sets: p.element_sets,
+            materials: p.materials,
+            geometries: p.geometries,
+            damping: p.damping,
+            point_masses: p.point_masses,
+            rigid_ties: p.rigid_ties,
+            fixed_disp: p.fixed_disp,
+            point_loads: p.point_loads,
+            tables: p.tables,
+            initial_velocities: p.initial_velocities,
+            outputs: p.outputs,
+            load_cases: p.load_cases,
+            point_laws: p.point_laws,
+            dashpots: p.dashpots,
+            modal_damping: p.modal_damping,
+        })
+    }
+
+    /// Changes the model through its parts and validates the result: on an error the
+    /// model is left as it was. `model.edit(|p| p.lumped_mass = true)?`.
+    pub fn edit(&mut self, change: impl FnOnce(&mut ModelParts)) -> Result<(), ModelError> {
+        let mut parts = self.clone().into_parts();
+        change(&mut parts);
+        *self = Model::try_new(parts)?;
+        Ok(())
+    }
+
+    /// The model's pieces, to change and build again with [`Model::try_new`].
+    pub fn into_parts(self) -> ModelParts {
+        ModelParts {
+            title: self.title,
+            element_types: self.element_types,
+            lumped_mass: self.lumped_mass,
+            nodes: self.nodes,
+            elements: self.elements,
+            node_sets: self.node_sets,
+            element_sets: self.element_sets,
+            materials: self.materials,
+            geometries: self.geometries,
+            damping: self.damping,
+            point_masses: self.point_masses,
+            rigid_ties: self.rigid_ties,
+            fixed_disp: self.fixed_disp,
+            point_loads: self.point_loads,
+            tables: self.tables,
+            initial_velocities: self.initial_velocities,
+            outputs: self.outputs,
+            load_cases: self.load_cases,
+            point_laws: self.point_laws,
+            dashpots: self.dashpots,
+            modal_damping: self.modal_damping,
+        }
+    }
+
+    /// The model's title (`TITLE`).
+    pub fn title(&self) -> &str {
+        &self.title
+    }
+
+    /// Element types declared in the parameter section (`ELEMENTS`).
+    pub fn element_types(&self) -> &[ElementType] {
+        &self.element_types
+    }
+
+    /// Lumped instead of consistent mass (parameter `LUMP`); never a silent default.
+    pub fn lumped_mass(&self) -> bool {
+        self.lumped_mass
+    }
+
+    /// The nodes, sorted by id, each id once.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The beam elements, sorted by id, each id once.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// Named node sets (kept so that a written deck reads back equal).
+    pub fn node_sets(&self) -> &[NodeSet] {
+        &self.node_sets
+    }
+
+    /// Named element sets (kept so that a written deck reads back equal).
+    pub fn element_sets(&self) -> &[ElementSet] {
+        &self.element_sets
+    }
+
+    /// Materials; every element has one (the last listing it wins).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Beam geometries; every element has one (the last listing it wins).
+    pub fn geometries(&self) -> &[Geometry] {
+        &self.geometries
+    }
+
+    /// Rayleigh damping groups.
+    pub fn damping(&self) -> &[Damping] {
+        &self.damping
+    }
+
+    /// Point masses, at most one per node.
+    pub fn point_masses(&self) -> &[PointMass] {
+        &self.point_masses
+    }
+
+    /// Rigid ties; they neither overlap nor chain.
+    pub fn rigid_ties(&self) -> &[RigidTie] {
+        &self.rigid_ties
+    }
+
+    /// Prescribed displacements; each (node, DOF) once.
+    pub fn fixed_disp(&self) -> &[FixedDisp] {
+        &self.fixed_disp
+    }
+
+    /// Model-definition point loads (active in every load case).
+    pub fn point_loads(&self) -> &[PointLoad] {
+        &self.point_loads
+    }
+
+    /// Load-factor tables against time.
+    pub fn tables(&self) -> &[Table] {
+        &self.tables
+    }
+
+    /// Initial velocities of transients; each (node, DOF) once.
+    pub fn initial_velocities(&self) -> &[InitialVelocity] {
+        &self.initial_velocities
+    }
+
+    /// History output requests.
+    pub fn outputs(&self) -> &[OutputRequest] {
+        &self.outputs
+    }
+
+    /// The load cases, in order.
+    pub fn load_cases(&self) -> &[LoadCase] {
+        &self.load_cases
+    }
+
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    pub fn point_laws(&self) -> &[PointElement] {
+        &self.point_laws
+    }
+
+    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    pub fn dashpots(&self) -> &[Dashpot] {
+        &self.dashpots
+    }
+
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    pub fn modal_damping(&self) -> &ModalDamping {
+        &self.modal_damping
+    }
+}
+
+impl ModelParts {
+    /// [`Model::try_new`] of these parts.
+    pub fn build(self) -> Result<Model, ModelError> {
+        Model::try_new(self)
+    }
+}
+
+impl TryFrom<ModelParts> for Model {
+    type Error = ModelError;
+    fn try_from(parts: ModelParts) -> Result<Model, ModelError> {
+        Model::try_new(parts)
+    }
+}
+
+impl From<Model> for ModelParts {
+    fn from(model: Model) -> ModelParts {
+        model.into_parts()
     }
 }
 
@@ -491,91 +818,6 @@ impl Model {
             .iter()
             .rev()
             .find(|g| g.elements.binary_search(&id).is_ok())
-    }
-}
-
-/// Conversions between the model's units (mm, N, t, s) and SI.
-pub mod units {
-    /// mm per m.
-    pub const MM_PER_M: f64 = 1000.0;
-    /// kg per tonne.
-    pub const KG_PER_T: f64 = 1000.0;
-
-    /// kg/m^3 -> t/mm^3.
-    pub fn density_from_si(kg_m3: f64) -> f64 {
-        kg_m3 / 1e12
-    }
-    /// t/mm^3 -> kg/m^3.
-    pub fn density_to_si(t_mm3: f64) -> f64 {
-        t_mm3 * 1e12
-    }
-    /// kg -> t.
-    pub fn mass_from_si(kg: f64) -> f64 {
-        kg / KG_PER_T
-    }
-    /// t -> kg.
-    pub fn mass_to_si(t: f64) -> f64 {
-        t * KG_PER_T
-    }
-    /// kg m^2 -> t mm^2.
-    pub fn inertia_from_si(kg_m2: f64) -> f64 {
-        kg_m2 * 1e3
-    }
-    /// t mm^2 -> kg m^2.
-    pub fn inertia_to_si(t_mm2: f64) -> f64 {
-        t_mm2 / 1e3
-    }
-    /// m (or m/s, m/s^2) -> mm (mm/s, mm/s^2).
-    pub fn length_from_si(m: f64) -> f64 {
-        m * MM_PER_M
-    }
-    /// mm (mm/s, mm/s^2) -> m (m/s, m/s^2).
-    pub fn length_to_si(mm: f64) -> f64 {
-        mm / MM_PER_M
-    }
-    /// Cubic stiffness N/m^3 -> N/mm^3: `k3 u^3` with `u` in m is `k3 (u_mm/1e3)^3`,
-    /// so 1 N/m^3 = 1e-9 N/mm^3.
-    pub fn cubic_stiffness_from_si(n_m3: f64) -> f64 {
-        n_m3 * 1e-9
-    }
-    /// Cubic stiffness N/mm^3 -> N/m^3 (1 N/mm^3 = 1e9 N/m^3).
-    pub fn cubic_stiffness_to_si(n_mm3: f64) -> f64 {
-        n_mm3 * 1e9
-    }
-    /// Velocity-squared damping N s^2/m^2 -> N s^2/mm^2: `c2 v^2` with `v` in m/s is
-    /// `c2 (v_mm/1e3)^2`, so 1 N s^2/m^2 = 1e-6 N s^2/mm^2.
-    pub fn quadratic_damping_from_si(n_s2_m2: f64) -> f64 {
-        n_s2_m2 * 1e-6
-    }
-    /// Velocity-squared damping N s^2/mm^2 -> N s^2/m^2 (1 N s^2/mm^2 = 1e6 N s^2/m^2).
-    pub fn quadratic_damping_to_si(n_s2_mm2: f64) -> f64 {
-        n_s2_mm2 * 1e6
-    }
-
-    #[cfg(test)]
-    mod tests {
-        use super::*;
-
-        #[test]
-        fn round_trips_are_identities() {
-            for x in [1.0, 7850.0, 5.3, 1e-4] {
-                assert!((density_to_si(density_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((mass_to_si(mass_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((inertia_to_si(inertia_from_si(x)) - x).abs() <= 1e-12 * x);
-                assert!((length_to_si(length_from_si(x)) - x).abs() <= 1e-12 * x);
-                let k3 = cubic_stiffness_to_si(cubic_stiffness_from_si(x));
-                assert!((k3 - x).abs() <= 1e-12 * x);
-                let c2 = quadratic_damping_to_si(quadratic_damping_from_si(x));
-                assert!((c2 - x).abs() <= 1e-12 * x);
-            }
-            // 7850 kg/m^3 is 7.85e-9 t/mm^3, 1 kg m^2 is 1e3 t mm^2 (1e-3 t * 1e6 mm^2).
-            assert!((density_from_si(7850.0) - 7.85e-9).abs() < 1e-20);
-            assert!((inertia_from_si(1.0) - 1e3).abs() < 1e-12);
-            // 1 mm of a 1e9 N/m^3 cubic spring: 1e9 * (1e-3)^3 = 1 N = k3_mm * 1^3.
-            assert!((cubic_stiffness_from_si(1e9) - 1.0).abs() < 1e-15);
-            // 1 m/s (1000 mm/s) through 1 N s^2/m^2: 1 N = c2_mm * 1000^2.
-            assert!((quadratic_damping_from_si(1.0) * 1e6 - 1.0).abs() < 1e-15);
-        }
     }
 }
 

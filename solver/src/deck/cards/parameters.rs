@@ -1,0 +1,275 @@
+//! The parameter section's cards: `TITLE` (also a load case's), `SIZING`, `ELEMENTS`,
+//! `LUMP` and `END`.
+//!
+//! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
+//! and parse function) followed by its parse function; then the family's build function
+//! (raw deck -> model parts, run in order by [`crate::deck::build`]); its tests close
+//! the file.
+
+use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::lexer::{self, Line};
+use crate::model::ElementType;
+use DeckSection::{History, Model, Parameters};
+
+/// The `TITLE` card.
+pub(crate) const TITLE: Keyword = Keyword {
+    name: "TITLE",
+    sections: &[Parameters, History],
+    origin: Origin::Marc,
+    meaning: "The job title (parameter section) or the title of the load case it \
+              appears in (history).",
+    layout: &[(
+        "TITLE, text",
+        "the rest of the line, blanks at both ends removed",
+    )],
+    notes: "At most one per job and one per load case. A title is one line.",
+    example: "TITLE, paper spring, n = 14",
+    parse: parse_title,
+};
+
+/// The `SIZING` card.
+pub(crate) const SIZING: Keyword = Keyword {
+    name: "SIZING",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's allocation sizes. coil allocates on demand and only checks that \
+              the model fits the maximum numbers of elements and nodes given.",
+    layout: &[(
+        "SIZING, memory, elements, nodes, boundary conditions",
+        "non-negative integers, any of them blank or 0 (no bound); further fields \
+         (newer Marc versions) must be integers too",
+    )],
+    notes: "Optional.",
+    example: "SIZING, 0, 336, 337, 0",
+    parse: parse_sizing,
+};
+
+/// The `ELEMENTS` card.
+pub(crate) const ELEMENTS: Keyword = Keyword {
+    name: "ELEMENTS",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Declares the element types the model uses: 52 (elastic Euler-Bernoulli \
+              beam) and/or 98 (elastic beam with transverse shear, Timoshenko).",
+    layout: &[(
+        "ELEMENTS, type[, type]",
+        "52 and/or 98; the card may be repeated",
+    )],
+    notes: "Every element of CONNECTIVITY must have a declared type.",
+    example: "ELEMENTS, 98",
+    parse: parse_elements,
+};
+
+/// The `LUMP` card.
+pub(crate) const LUMP: Keyword = Keyword {
+    name: "LUMP",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Lumped instead of consistent mass matrices, for every element. Without \
+              LUMP the mass is consistent; there is no silent default.",
+    layout: &[(
+        "LUMP[, 1[, 0 ...]]",
+        "nothing, or Mentat's `1, 0` (lumped mass for every element)",
+    )],
+    notes: "coil supports only the fully lumped form: a first field other than 1 or \
+            a further field other than 0 is an error.",
+    example: "LUMP",
+    parse: parse_lump,
+};
+
+/// The `END` card.
+pub(crate) const END: Keyword = Keyword {
+    name: "END",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Ends the parameter section; the model definition follows.",
+    layout: &[("END", "")],
+    notes: "",
+    example: "END",
+    parse: parse_end,
+};
+
+fn parse_title(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    let text = c.rest_of_line();
+    let loc = c.loc();
+    let previous = match *c.section {
+        Parameters => c.deck.title.as_ref().map(|t| t.1),
+        _ => c.case().title.as_ref().map(|t| t.1),
+    };
+    if let Some(first) = previous {
+        return Err(c.err(
+            loc,
+            format!("a second TITLE (the first is at line {})", first.line),
+            "one TITLE per job and one per load case",
+        ));
+    }
+    match *c.section {
+        Parameters => c.deck.title = Some((text, loc)),
+        _ => c.case().title = Some((text, loc)),
+    }
+    Ok(())
+}
+
+fn parse_sizing(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    once(c, c.deck.sizing.map(|s| s.2))?;
+    const WHAT: &str =
+        "non-negative integers: SIZING, memory, elements, nodes, boundary conditions";
+    let mut values = Vec::new();
+    if let Some(w) = c.line.fixed {
+        // Fixed format: the memory field is two integer fields wide.
+        let chars: Vec<char> = c.line.raw.chars().collect();
+        let mut p = w.word;
+        let mut width = 2 * w.int;
+        while p < chars.len() {
+            let end = (p + width).min(chars.len());
+            let t: String = chars[p..end].iter().collect();
+            let t = t.trim();
+            let v = if t.is_empty() {
+                0
+            } else {
+                lexer::parse_uint(t).map_err(|m| c.err(Loc::new(c.line.no, p + 1), m, WHAT))?
+            };
+            values.push(v);
+            p = end;
+            width = w.int;
+        }
+    } else {
+        for j in 0..c.args().len() {
+            values.push(c.uint_or(c.line, c.kw_fields + j, 0, WHAT)?);
+        }
+    }
+    let get = |i: usize| values.get(i).copied().unwrap_or(0);
+    c.deck.sizing = Some((get(1), get(2), c.loc()));
+    Ok(())
+}
+
+pub(crate) fn element_type(
+    c: &CardCtx<'_, '_>,
+    line: &Line,
+    i: usize,
+) -> Result<ElementType, DeckError> {
+    let t = c.uint(line, i, "an element type number")?;
+    u32::try_from(t)
+        .ok()
+        .and_then(ElementType::from_number)
+        .ok_or_else(|| {
+            c.err(
+                line.loc_of(i),
+                format!("element type {t} is not supported"),
+                "52 (Euler-Bernoulli beam) or 98 (Timoshenko beam)",
+            )
+        })
+}
+
+fn parse_elements(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    if c.args().is_empty() {
+        return Err(c.err(
+            c.line.end_loc(),
+            "no element type",
+            "ELEMENTS, 52 and/or 98",
+        ));
+    }
+    for j in 0..c.args().len() {
+        let i = c.kw_fields + j;
+        let kind = element_type(c, c.line, i)?;
+        if let Some((_, first)) = c.deck.element_types.iter().find(|(k, _)| *k == kind) {
+            return Err(c.err(
+                c.line.loc_of(i),
+                format!(
+                    "type {} is declared twice (first at line {})",
+                    kind.number(),
+                    first.line
+                ),
+                "each type once",
+            ));
+        }
+        c.deck.element_types.push((kind, c.line.loc_of(i)));
+    }
+    Ok(())
+}
+
+fn parse_lump(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    once(c, c.deck.lump)?;
+    if !c.args().is_empty() {
+        let first = c.uint_or(c.line, c.kw_fields, 1, "1 (lumped mass for every element)")?;
+        if first != 1 {
+            return Err(c.err(
+                c.arg_loc(0),
+                format!("LUMP option {first} is not supported"),
+                "LUMP alone or LUMP, 1 (lumped mass for every element)",
+            ));
+        }
+        c.zeros_from(c.line, c.kw_fields + 1, "Marc's further LUMP options")?;
+    }
+    c.deck.lump = Some(c.loc());
+    Ok(())
+}
+
+fn parse_end(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    c.no_args()?;
+    c.deck.end = Some(c.loc());
+    *c.section = Model;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deck::cards::testing::*;
+
+    #[test]
+    fn title_in_both_sections() {
+        let m = read_str(
+            &format!("TITLE   my job, part 2\nELEMENTS, 98\nEND\n{MESH}END OPTION\nTITLE, lc1\nMODAL SHAPE\n3\nCONTINUE\n"),
+            "t.dat",
+        )
+        .unwrap();
+        assert_eq!(m.title, "my job, part 2");
+        assert_eq!(m.load_cases[0].title, "lc1");
+        let e = read_str(&format!("TITLE, a\nTITLE, b\n{PARAMS}"), "t.dat").unwrap_err();
+        assert!(
+            e.to_string().contains("t.dat:2:1: TITLE: a second TITLE"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn sizing_bounds_are_checked() {
+        let ok = read_str(
+            &format!("SIZING, 0, 2, 3, 0\n{PARAMS}{MESH}{STATIC}"),
+            "t.dat",
+        );
+        assert!(ok.is_ok(), "{}", ok.unwrap_err());
+        let e = read_str(
+            &format!("SIZING, 0, 1, 3, 0\n{PARAMS}{MESH}{STATIC}"),
+            "t.dat",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("t.dat:1:1: SIZING:"), "{e}");
+        let e = read_str(&format!("SIZING, 0, -1\n{PARAMS}"), "t.dat").unwrap_err();
+        assert!(e.to_string().contains(":1:12: SIZING:"), "{e}");
+    }
+
+    #[test]
+    fn elements_and_lump() {
+        let m = read_str(
+            &format!("ELEMENTS, 52, 98\nLUMP, 1, 0\n{PARAMS}{MESH}{STATIC}")
+                .replace("ELEMENTS, 98\n", ""),
+            "t.dat",
+        )
+        .unwrap();
+        assert_eq!(m.element_types, [ElementType::Beam52, ElementType::Beam98]);
+        assert!(m.lumped_mass);
+        let m = with_model("").unwrap();
+        assert!(!m.lumped_mass);
+        let e = read_str("ELEMENTS, 7\nEND\n", "t.dat").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("t.dat:1:11: ELEMENTS: element type 7 is not supported"),
+            "{e}"
+        );
+        let e = read_str("LUMP, 2\nEND\n", "t.dat").unwrap_err();
+        assert!(e.to_string().contains("LUMP option 2"), "{e}");
+    }
+}

@@ -38,7 +38,6 @@ pub mod report;
 pub mod select;
 pub mod signatures;
 
-use crate::case::Quantity;
 use crate::case::{read_case, MeasuredCase};
 use crate::decay::{self, DecayRecord, DecaySettings};
 use crate::error::{Result, TuneError};
@@ -137,6 +136,9 @@ pub struct Outcome {
     pub step_fraction: f64,
     /// Where the baseline's K came from.
     pub stiffness_source: report::StiffnessSource,
+    /// The other axial decay records fitted jointly with the first: file, samples, and
+    /// attached mass minus the first record's (kg).
+    pub joint_records: Vec<(std::path::PathBuf, usize, f64)>,
 }
 
 fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
@@ -158,15 +160,43 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         )));
     }
     let mut warnings = Vec::new();
-    if decays.len() > 1 {
-        warnings.push(format!(
-            "{} decay records; only the first, {}, is diagnosed",
-            decays.len(),
-            decays[0].file.display()
-        ));
+    // Every axial record is conditioned and checked; a surge record (the coil's own
+    // mode) is not a decay of the weight on the spring and is left to `coil-tune damping`.
+    let mut conditioned = Vec::new();
+    for (k, record) in decays.drain(..).enumerate() {
+        let info = case.decay_info.get(k);
+        if info.is_some_and(|i| i.mode != crate::case::DecayMode::Axial) {
+            warnings.push(format!(
+                "{}: a surge-mode record is not a decay of the weight; diagnose leaves it to \
+                 `coil-tune damping`",
+                record.file.display()
+            ));
+            continue;
+        }
+        let data = data::condition_decay(record)?;
+        data::check_amplitude(&data, &case)?;
+        warnings.extend(data.warnings.iter().cloned());
+        let mass_delta_kg = info
+            .and_then(|i| i.mass_kg)
+            .map_or(0.0, |m| m - case.mass_kg);
+        conditioned.push((data, mass_delta_kg));
     }
-    let decay = data::condition_decay(decays.swap_remove(0))?;
-    warnings.extend(decay.warnings.iter().cloned());
+    if conditioned.is_empty() {
+        return Err(TuneError::Invalid(format!(
+            "{}: `records.decay` holds no axial decay record (surge records are for \
+             `coil-tune damping`); expected at least one",
+            case.file.display()
+        )));
+    }
+    let mut others = conditioned.split_off(1);
+    let (decay, first_delta) = conditioned.remove(0);
+    if first_delta != 0.0 {
+        // The first record's weight is the reference the others' differ from.
+        for o in &mut others {
+            o.1 -= first_delta;
+        }
+    }
+    let joint = Joint::lay_out(&decay, &others);
     let mut static_records = case.static_records()?;
     if static_records.len() > 1 {
         warnings.push(format!(
@@ -182,9 +212,8 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         }
         None => None,
     };
-    data::check_amplitude(&decay, &case)?;
     // Past the records' checks every failure is a model or fit failure: name the case.
-    compute(case, decay, statics, warnings, settings, clock).map_err(|e| match e {
+    compute(case, decay, joint, statics, warnings, settings, clock).map_err(|e| match e {
         TuneError::InCase { .. } => e,
         other => TuneError::InCase {
             case: path.to_path_buf(),
@@ -193,9 +222,72 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     })
 }
 
+/// The case's decay records laid end to end for the joint fit (`fit::Segment`).
+pub struct Joint {
+    /// The records, each scaled by its segment's weight.
+    pub measured: Vec<f64>,
+    /// Their layout; the first is the diagnosed record ([`Outcome::decay`]).
+    pub segments: Vec<fit::Segment>,
+    /// The other records' files, in the segments' order after the first.
+    pub files: Vec<std::path::PathBuf>,
+}
+
+impl Joint {
+    /// The linear model's knobs: the mass and beta, and the spring's stiffness when the
+    /// records were taken with different weights (two frequencies separate the two).
+    fn knobs(&self) -> Vec<Knob> {
+        let mut knobs = vec![Knob::Mass, Knob::Beta];
+        if self.segments.iter().any(|s| s.mass_delta_kg != 0.0) {
+            knobs.push(Knob::Stiffness);
+        }
+        knobs
+    }
+
+    /// Lays the first record and the others (each with its mass difference to the
+    /// first's weight) end to end. The first record's own difference to the case's
+    /// `mass_kg` is absorbed by the fitted mass.
+    fn lay_out(first: &DecayData, others: &[(DecayData, f64)]) -> Joint {
+        let floor = |d: &DecayData| {
+            let rms = (d.measured.iter().map(|x| x * x).sum::<f64>()
+                / d.measured.len().max(1) as f64)
+                .sqrt();
+            d.measured_noise.rms.max(1e-6 * rms).max(1e-300)
+        };
+        let reference = floor(first);
+        let mut measured = Vec::new();
+        let mut segments = Vec::new();
+        let mut files = Vec::new();
+        for (k, (d, delta)) in std::iter::once((first, 0.0))
+            .chain(others.iter().map(|(d, m)| (d, *m)))
+            .enumerate()
+        {
+            let weight = if k == 0 { 1.0 } else { reference / floor(d) };
+            let start = measured.len();
+            measured.extend(d.measured.iter().map(|x| weight * x));
+            segments.push(fit::Segment {
+                span: start..measured.len(),
+                step_s: d.signal.step_s,
+                quantity: d.quantity,
+                mass_delta_kg: delta,
+                weight,
+            });
+            if k > 0 {
+                files.push(d.signal.source.clone());
+            }
+        }
+        Joint {
+            measured,
+            segments,
+            files,
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn compute(
     case: MeasuredCase,
     decay: DecayData,
+    joint: Joint,
     statics: Option<(crate::case::StaticRecord, Range<usize>)>,
     mut warnings: Vec<String>,
     settings: &DiagnoseSettings,
@@ -284,49 +376,45 @@ fn compute(
     let sigma = 1.0;
     let fit_target = &decay.measured;
     let quantity = decay.quantity;
-    // A displacement or velocity record carries the sensor's offset and drift.
-    let drift = quantity != Quantity::Acceleration;
-    let linear_problem = |start: Physical, range: Range<usize>, knobs: Vec<Knob>| Problem {
+    let linear_problem = |start: Physical, fraction: f64, knobs: Vec<Knob>| Problem {
         model: &guided,
         start,
         knobs,
-        measured: fit_target,
-        step_s: step,
-        range,
+        measured: &joint.measured,
+        segments: &joint.segments,
+        fraction,
         sigma,
         statics: None,
         initial_state: None,
-        quantity,
-        drift,
     };
     let run = |p: &Problem<'_>| {
         fit::run(p, settings.max_iterations).map_err(|m| TuneError::Invalid(format!("fit: {m}")))
     };
-    let baseline_full = run(&linear_problem(base_phys, 0..n, vec![]))?;
-    let baseline_half = run(&linear_problem(half_phys, 0..half, vec![]))?;
-    let baseline = model_run(baseline_full, baseline_half, fit_target, &[]);
+    let baseline_full = run(&linear_problem(base_phys, 1.0, vec![]))?;
+    let baseline_half = run(&linear_problem(half_phys, 0.5, vec![]))?;
+    let baseline = model_run(baseline_full, baseline_half, &joint, &[]);
 
     progress(settings, &clock, "reference (linear model by output error)");
     // Continuation over growing windows (first quarter, first half, whole record): the
     // residual of an oscillator is nonlinear in its frequency through the phase it
     // accumulates, so a long window is fitted from a start that already holds the
     // phase; the quarter, half and three-quarter fits give the rolling forecasts.
-    let knobs = vec![Knob::Mass, Knob::Beta];
-    let quarter = run(&linear_problem(base_phys, 0..origin(0, n), knobs.clone()))?;
-    let reference_half = run(&linear_problem(quarter.physical, 0..half, knobs.clone()))?;
-    let reference_full = run(&linear_problem(
-        reference_half.physical,
-        0..n,
+    let knobs = joint.knobs();
+    let quarter = run(&linear_problem(
+        base_phys,
+        select::ORIGINS[0],
         knobs.clone(),
     ))?;
+    let reference_half = run(&linear_problem(quarter.physical, 0.5, knobs.clone()))?;
+    let reference_full = run(&linear_problem(reference_half.physical, 1.0, knobs.clone()))?;
     let three = run(&linear_problem(
         reference_full.physical,
-        0..origin(2, n),
+        select::ORIGINS[2],
         knobs,
     ))?;
     let rolling = [quarter, reference_half.clone(), three];
-    let reference = model_run(reference_full, reference_half, fit_target, &rolling);
-    let noise = (reference.full.rss / n as f64).sqrt();
+    let reference = model_run(reference_full, reference_half, &joint, &rolling);
+    let noise = (reference.full.rss / joint.measured.len() as f64).sqrt();
 
     progress(settings, &clock, "signatures");
     let w_ref = std::f64::consts::TAU / period_s;
@@ -358,20 +446,17 @@ fn compute(
         guided: &guided,
         free: &free,
         reference: &reference,
-        measured: fit_target,
-        step_s: step,
+        joint: &joint,
         noise,
         statics: statics_block.as_ref(),
         static_fit: static_fit.as_ref(),
-        quantity,
-        drift,
         max_iterations: settings.max_iterations,
         signatures: &sigs,
         figures: &figures,
     };
     let ctx = select::Context {
         reference: &reference,
-        measured: fit_target,
+        measured: &joint.measured,
         samples_per_period: 1.0 / (sigs.axial_hz.max(1e-9) * step),
     };
 
@@ -502,6 +587,12 @@ fn compute(
         modes: settings.modes,
         step_fraction: model::OMEGA_DT / std::f64::consts::TAU,
         stiffness_source: k_source,
+        joint_records: joint
+            .files
+            .iter()
+            .zip(&joint.segments[1..])
+            .map(|(f, s)| (f.clone(), s.span.len(), s.mass_delta_kg))
+            .collect(),
     })
 }
 
@@ -517,26 +608,37 @@ fn sorted(mut v: Vec<usize>) -> Vec<usize> {
     v
 }
 
-/// The end of the fit window of rolling origin `i` (`select::ORIGINS`).
-fn origin(i: usize, n: usize) -> usize {
-    ((select::ORIGINS[i] * n as f64) as usize).clamp(1, n)
-}
-
-/// A model's figures: residual over the record, the forecast of the second half from
-/// the first, and the rolling forecasts of the quarter after each origin from the fits
-/// up to it (`rolling`, one per origin; none for the baseline).
-fn model_run(full: Fitted, half: Fitted, measured: &[f64], rolling: &[Fitted]) -> ModelRun {
-    let n = measured.len();
-    let quarter = n / 4;
+/// A model's figures over every record: residual, the forecast of each record's second
+/// half from the fit on the first halves, and the rolling forecasts of the quarter after
+/// each origin from the fits up to it (`rolling`, one per origin; none for the baseline).
+fn model_run(full: Fitted, half: Fitted, joint: &Joint, rolling: &[Fitted]) -> ModelRun {
+    let measured = &joint.measured;
+    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() && joint.segments.len() > 1 {
+        let each: Vec<String> = joint
+            .segments
+            .iter()
+            .map(|s| {
+                let r = fit::relative_rms(&full.simulated, measured, &[s.span.clone()]);
+                format!("{r:.4}")
+            })
+            .collect();
+        eprintln!("  residual_rms of each record: {}", each.join(", "));
+    }
+    let over = |f: &dyn Fn(&fit::Segment) -> Range<usize>| -> Vec<Range<usize>> {
+        joint.segments.iter().map(f).collect()
+    };
     ModelRun {
-        residual_rms: fit::relative_rms(&full.simulated, measured, 0..n),
-        forecast_rms: fit::relative_rms(&half.simulated, measured, n / 2..n),
+        residual_rms: fit::relative_rms(&full.simulated, measured, &[0..measured.len()]),
+        forecast_rms: fit::relative_rms(&half.simulated, measured, &over(&|s| s.between(0.5, 1.0))),
         rolling: rolling
             .iter()
             .enumerate()
             .map(|(i, f)| {
-                let o = origin(i, n);
-                fit::relative_rms(&f.simulated, measured, o..(o + quarter).min(n))
+                let ranges = over(&|s| {
+                    let o = s.window(select::ORIGINS[i]).end;
+                    o..(o + s.span.len() / 4).min(s.span.end)
+                });
+                fit::relative_rms(&f.simulated, measured, &ranges)
             })
             .collect(),
         full,
@@ -552,13 +654,10 @@ struct Job<'a> {
     guided: &'a ReducedSpring,
     free: &'a ReducedSpring,
     reference: &'a ModelRun,
-    measured: &'a [f64],
-    step_s: f64,
+    joint: &'a Joint,
     noise: f64,
     statics: Option<&'a StaticBlock>,
     static_fit: Option<&'a evidence::StaticSummary>,
-    quantity: Quantity,
-    drift: bool,
     max_iterations: usize,
     signatures: &'a Signatures,
     figures: &'a BaselineFigures,
@@ -658,7 +757,21 @@ impl Job<'_> {
                     b.full.initial_state.clone()
                 })
             });
-        init.resize(states, 0.0);
+        // Every record's state padded the same way.
+        let records = self.joint.segments.len();
+        let per = init.len() / records.max(1);
+        if per != states {
+            init = init
+                .chunks(per.max(1))
+                .take(records)
+                .flat_map(|c| {
+                    let mut c = c.to_vec();
+                    c.resize(states, 0.0);
+                    c
+                })
+                .collect();
+            init.resize(states * records, 0.0);
+        }
         if let Some(b) = best {
             seed.mass_kg = b.full.physical.mass_kg;
             seed.beta_s = b.full.physical.beta_s;
@@ -672,25 +785,21 @@ impl Job<'_> {
         seeds: &[Physical],
         init: Vec<f64>,
     ) -> std::result::Result<ModelRun, String> {
-        let n = self.measured.len();
-        let half = n / 2;
         let model = self.model(set);
         let nonlinear = seeds.iter().any(|s| model.is_nonlinear(s));
         let mut knobs: Vec<Knob> = set.iter().map(|&i| Knob::Effect(i)).collect();
-        knobs.extend([Knob::Mass, Knob::Beta]);
+        knobs.extend(self.joint.knobs());
         let statics = self.statics.filter(|_| Self::uses_static(set));
-        let problem = |start: Physical, range: Range<usize>, init: Option<Vec<f64>>| Problem {
+        let problem = |start: Physical, fraction: f64, init: Option<Vec<f64>>| Problem {
             model,
             start,
             knobs: knobs.clone(),
-            measured: self.measured,
-            step_s: self.step_s,
-            range,
+            measured: &self.joint.measured,
+            segments: &self.joint.segments,
+            fraction,
             sigma: self.noise.max(1e-300),
             statics,
             initial_state: init,
-            quantity: self.quantity,
-            drift: self.drift,
         };
         let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
         let first = nonlinear.then_some(init);
@@ -702,7 +811,7 @@ impl Job<'_> {
         let mut last_error = String::from("no starting value");
         for &start in seeds {
             let seed = fit::run(
-                &problem(start, 0..origin(0, n), first.clone()),
+                &problem(start, select::ORIGINS[0], first.clone()),
                 self.max_iterations.min(SEED_ITERATIONS),
             );
             match seed {
@@ -713,19 +822,19 @@ impl Job<'_> {
         }
         let seed = best.ok_or(last_error)?;
         let quarter = fit::run(
-            &problem(seed.physical, 0..origin(0, n), state(&seed)),
+            &problem(seed.physical, select::ORIGINS[0], state(&seed)),
             self.max_iterations,
         )?;
         let half_fit = fit::run(
-            &problem(quarter.physical, 0..half, state(&quarter)),
+            &problem(quarter.physical, 0.5, state(&quarter)),
             self.max_iterations,
         )?;
         let full = fit::run(
-            &problem(half_fit.physical, 0..n, state(&half_fit)),
+            &problem(half_fit.physical, 1.0, state(&half_fit)),
             self.max_iterations,
         )?;
         let three = fit::run(
-            &problem(full.physical, 0..origin(2, n), state(&full)),
+            &problem(full.physical, select::ORIGINS[2], state(&full)),
             self.max_iterations,
         )?;
         if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
@@ -735,7 +844,7 @@ impl Job<'_> {
             );
         }
         let rolling = [quarter, half_fit.clone(), three];
-        Ok(model_run(full, half_fit, self.measured, &rolling))
+        Ok(model_run(full, half_fit, self.joint, &rolling))
     }
 }
 

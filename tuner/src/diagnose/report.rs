@@ -431,6 +431,21 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         o.decay.signal.time_s.last().unwrap_or(&0.0) - o.decay.signal.time_s[0],
         o.decay.cycles
     ));
+    if !o.joint_records.is_empty() {
+        m.push_str(
+            "Fitted jointly with (one mass, one spring, the same effects; each record its \
+             own initial state, and its own offset and drift when it records a position or \
+             a velocity; figures, signatures and tables show the first record):\n",
+        );
+        for (file, samples, delta) in &o.joint_records {
+            m.push_str(&format!(
+                "- `{}` ({samples} samples, attached mass {delta:+.4} kg from the first \
+                 record's)\n",
+                file.display()
+            ));
+        }
+        m.push('\n');
+    }
     m.push_str(&format!("**Cause: `{}`**", d.cause));
     if let (Some(e), g) = (&d.extended, &d.gain) {
         if d.causes.len() > 1 {

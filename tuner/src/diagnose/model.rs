@@ -175,6 +175,16 @@ impl ReducedSpring {
             .operators(p.k_scale, &self.extra_mass(p, &e), 0.0, p.beta_s)
             .map_err(|e| e.to_string())?;
         let omega = (self.stiffness_n_m(p) / p.mass_kg).sqrt();
+        // A trial beyond the record's Nyquist frequency cannot be what the record shows,
+        // and would cost unbounded substeps (a fit stepping its mass towards zero).
+        if !(omega * step_s <= std::f64::consts::PI) {
+            return Err(format!(
+                "the trial's axial frequency {:.4e} Hz is beyond the record's Nyquist \
+                 frequency {:.4e} Hz",
+                omega / std::f64::consts::TAU,
+                0.5 / step_s
+            ));
+        }
         let substeps = ((omega * step_s / OMEGA_DT).ceil() as usize).max(1);
         let dt = step_s / substeps as f64;
         let law = e.law;

@@ -45,7 +45,7 @@
 //! passes. Its effects' shares of the explained misfit are the drop-one increases of
 //! the residual sum of squares, normalised.
 
-use super::CandidateRun;
+use super::run::{CandidateRun, ModelRun};
 use serde::Serialize;
 
 /// Strong evidence on the BIC scale.
@@ -169,7 +169,7 @@ pub fn effective_samples(residual: &[f64], lag: usize) -> f64 {
     (n as f64 / (1.0 + 2.0 * sum.max(0.0))).max(2.0)
 }
 
-fn residual(run: &super::ModelRun, measured: &[f64]) -> Vec<f64> {
+fn residual(run: &ModelRun, measured: &[f64]) -> Vec<f64> {
     run.full
         .simulated
         .iter()
@@ -180,7 +180,7 @@ fn residual(run: &super::ModelRun, measured: &[f64]) -> Vec<f64> {
 
 /// What the scoring reads beyond the candidates.
 pub struct Context<'a> {
-    pub reference: &'a super::ModelRun,
+    pub reference: &'a ModelRun,
     pub measured: &'a [f64],
     /// Samples per axial period.
     pub samples_per_period: f64,

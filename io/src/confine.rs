@@ -16,35 +16,81 @@ pub const EXCERPT_CHARS: usize = 60;
 #[derive(Debug, thiserror::Error)]
 pub enum ConfineError {
     #[error("entry \"{}\": an empty path; expected a file name relative to {}", excerpt(entry), folder.display())]
-    Empty { entry: String, folder: PathBuf },
-    #[error("entry \"{}\": an absolute path; expected a path relative to {}", excerpt(entry), folder.display())]
-    Absolute { entry: String, folder: PathBuf },
-    #[error("entry \"{}\": `..` is not allowed; expected a path inside {}", excerpt(entry), folder.display())]
-    Parent { entry: String, folder: PathBuf },
-    #[error("entry \"{}\": resolves (through a symlink) outside {}; expected a file inside the folder", excerpt(entry), folder.display())]
-    Escapes { entry: String, folder: PathBuf },
-    #[error("entry \"{}\": no such file in {} ({source})", excerpt(entry), folder.display())]
-    Missing {
+    /// An empty name.
+    Empty {
+        /// The name as written.
         entry: String,
+        /// The folder it must stay in.
+        folder: PathBuf,
+    },
+    #[error("entry \"{}\": an absolute path; expected a path relative to {}", excerpt(entry), folder.display())]
+    /// An absolute path where a relative one is expected.
+    Absolute {
+        /// The name as written.
+        entry: String,
+        /// The folder it must stay in.
+        folder: PathBuf,
+    },
+    #[error("entry \"{}\": `..` is not allowed; expected a path inside {}", excerpt(entry), folder.display())]
+    /// A `..` component.
+    Parent {
+        /// The name as written.
+        entry: String,
+        /// The folder it must stay in.
+        folder: PathBuf,
+    },
+    #[error("entry \"{}\": resolves (through a symlink) outside {}; expected a file inside the folder", excerpt(entry), folder.display())]
+    /// A name that leaves its folder once symlinks are resolved.
+    Escapes {
+        /// The name as written.
+        entry: String,
+        /// The folder it must stay in.
+        folder: PathBuf,
+    },
+    #[error("entry \"{}\": no such file in {} ({source})", excerpt(entry), folder.display())]
+    /// A name that does not exist (or cannot be resolved).
+    Missing {
+        /// The name as written.
+        entry: String,
+        /// The folder it must stay in.
         folder: PathBuf,
         #[source]
+        /// The underlying error.
         source: std::io::Error,
     },
     #[error("{}: not a regular file (a folder, device, FIFO or socket); expected a file", path.display())]
-    NotAFile { path: PathBuf },
-    #[error("{}: {size} bytes, above the limit of {limit} bytes for {what} (docs/files.md)", path.display())]
-    TooLarge {
+    /// Not a regular file.
+    NotAFile {
+        /// The file.
         path: PathBuf,
+    },
+    #[error("{}: {size} bytes, above the limit of {limit} bytes for {what} (docs/files.md)", path.display())]
+    /// A file above its size limit.
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size, bytes.
         size: u64,
+        /// The limit, bytes.
         limit: u64,
+        /// What the file was read as.
         what: &'static str,
     },
     #[error("{}: not UTF-8 text (byte {at}); expected a text file", path.display())]
-    NotText { path: PathBuf, at: usize },
+    /// A file that is not UTF-8 text.
+    NotText {
+        /// The file.
+        path: PathBuf,
+        /// Byte offset of the first invalid byte.
+        at: usize,
+    },
     #[error("{}: cannot read the file: {source}", path.display())]
+    /// Reading or writing failed.
     Io {
+        /// The file.
         path: PathBuf,
         #[source]
+        /// The underlying error.
         source: std::io::Error,
     },
 }

@@ -5,7 +5,7 @@
 //!   procedure) are relative, stay inside their folder after symlinks are resolved, and
 //!   are read with a size limit; error excerpts of user text are short and sanitised
 //!   ([`excerpt`]).
-//! - [`write`]: a single output file is written to a fresh temporary in its folder and
+//! - [`write`](mod@write): a single output file is written to a fresh temporary in its folder and
 //!   renamed, and only over nothing or a regular file: never over (or through) a symlink,
 //!   a device, a FIFO or a socket.
 //! - [`set`]: a command's output folder is locked for one run (`.coil-lock`: pid, host,
@@ -17,6 +17,8 @@
 //!   reader's interest, not as an error.
 //!
 //! Unix only (symlink and file-type checks use `std::os::unix`).
+
+#![warn(missing_docs)]
 
 pub mod confine;
 pub mod progress;

@@ -44,12 +44,26 @@ const MANIFEST_HEADER: &str = "# coil output set: files of the last complete run
 #[derive(Debug, thiserror::Error)]
 pub enum SetError {
     #[error("{}: another run holds this output folder ({holder}); wait for it, or use another --out (if that run is gone, remove {})", root.display(), root.join(LOCK).display())]
-    Locked { root: PathBuf, holder: String },
+    /// The folder is held by another run.
+    Locked {
+        /// The folder.
+        root: PathBuf,
+        /// The lock file's holder (pid, host, command).
+        holder: String,
+    },
     #[error("{}: the output folder is a {kind}; expected a folder", root.display())]
-    NotAFolder { root: PathBuf, kind: &'static str },
+    /// The output path exists and is not a folder.
+    NotAFolder {
+        /// The folder.
+        root: PathBuf,
+        /// What the path is instead.
+        kind: &'static str,
+    },
     #[error("output file name: {0}")]
+    /// A file name that would leave the folder.
     Name(#[from] ConfineError),
     #[error(transparent)]
+    /// A file that cannot be written.
     Write(#[from] WriteError),
 }
 

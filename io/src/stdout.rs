@@ -33,7 +33,7 @@ pub fn closed() -> bool {
     CLOSED.load(Ordering::Relaxed)
 }
 
-/// `say!("...", args)`: [`line`] with `format!` arguments.
+/// `say!("...", args)`: [`line()`] with `format!` arguments.
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {

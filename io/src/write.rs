@@ -17,11 +17,20 @@ use std::sync::atomic::{AtomicU64, Ordering};
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
     #[error("{}: refusing to replace or write through a {kind}; expected a regular file or nothing there", path.display())]
-    NotRegular { path: PathBuf, kind: &'static str },
+    /// The target exists and is not a regular file (a symlink, device, FIFO or socket).
+    NotRegular {
+        /// The file.
+        path: PathBuf,
+        /// What it is instead.
+        kind: &'static str,
+    },
     #[error("{}: {source}", path.display())]
+    /// Reading or writing failed.
     Io {
+        /// The file.
         path: PathBuf,
         #[source]
+        /// The underlying error.
         source: std::io::Error,
     },
 }

@@ -47,13 +47,16 @@ use std::f64::consts::TAU;
 use crate::error::{PostError, Result};
 use crate::filter::{Band, Butterworth};
 use crate::fit::weighted_line;
+use crate::offset::{remove_offset, Detrend};
 use crate::peaks::{self, Peak, PeakFit, PeakOptions, Polarity};
-use crate::signal::{self, Detrend};
+use crate::signal::Signal;
 
 /// A zero-phase Butterworth low-pass applied before crest picking.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Lowpass {
+    /// Cutoff frequency, Hz.
     pub cutoff_hz: f64,
+    /// Butterworth order.
     pub order: usize,
 }
 
@@ -62,9 +65,13 @@ pub struct Lowpass {
 pub struct DecrementOptions {
     /// Crest intervals per decrement span (the paper: 10).
     pub every: usize,
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How crests are located between samples.
     pub peak_fit: PeakFit,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
+    /// Zero-phase low-pass before crest picking, if any.
     pub lowpass: Option<Lowpass>,
 }
 
@@ -83,9 +90,13 @@ impl Default for DecrementOptions {
 /// One span of Eq. 2: crests `first` and `last` (0-based, `last - first = every`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Span {
+    /// The first (1-based).
     pub first: usize,
+    /// The last (0-based index of the crest).
     pub last: usize,
+    /// Logarithmic decrement (-).
     pub delta: f64,
+    /// Damping ratio (-).
     pub zeta: f64,
 }
 
@@ -120,13 +131,17 @@ pub struct DecrementReport {
     pub peaks_rejected: usize,
     /// The crests used (time, amplitude, fractional sample index).
     pub peaks: Vec<Peak>,
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How crests are located between samples.
     pub peak_fit: PeakFit,
     /// Half-width of the least-squares crest window, samples.
     pub fit_half_width: usize,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
     /// The constant subtracted before analysis, signal unit.
     pub offset_removed: f64,
+    /// Zero-phase low-pass before crest picking, if any.
     pub lowpass: Option<Lowpass>,
     /// Robust white-noise estimate of the analysed signal, signal unit.
     pub noise_rms: f64,
@@ -134,19 +149,15 @@ pub struct DecrementReport {
     pub step_s: f64,
 }
 
-/// Runs the decrement analysis of `values` sampled at `time_s` (see the module doc).
-pub fn analyze(
-    time_s: &[f64],
-    values: &[f64],
-    options: &DecrementOptions,
-) -> Result<DecrementReport> {
+/// Runs the decrement analysis of a signal (see the module doc).
+pub fn analyze(signal: &Signal, options: &DecrementOptions) -> Result<DecrementReport> {
     if options.every == 0 {
         return Err(PostError::InvalidOption(
             "--every 0; expected at least 1 crest interval per span".to_string(),
         ));
     }
-    let step_s = signal::uniform_step(time_s, values)?;
-    let (mut y, offset_removed) = signal::remove_offset(time_s, values, options.detrend)?;
+    let step_s = signal.step_s();
+    let (mut y, offset_removed) = remove_offset(signal, options.detrend)?;
     let mut edge_guard_samples = 0;
     if let Some(lowpass) = options.lowpass {
         let filter = Butterworth::new(Band::Lowpass, lowpass.order, lowpass.cutoff_hz, step_s)?;
@@ -160,10 +171,9 @@ pub fn analyze(
                 crate::error::show(y.len() as f64 * step_s)
             )));
         }
-        y = filter.filtfilt(&y);
+        y = y.with_values(filter.filtfilt(y.values()))?;
     }
     let search = peaks::find_peaks(
-        time_s,
         &y,
         &PeakOptions {
             polarity: options.polarity,
@@ -270,6 +280,10 @@ pub fn decrement_from_zeta(zeta: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn sig(time_s: &[f64], values: &[f64]) -> Signal {
+        Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
+    }
     use crate::test_signals::{damped_sine, DampedSine, Rng};
 
     fn relative(got: f64, exact: f64) -> f64 {
@@ -296,7 +310,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 1000.0, 20.0);
-        let report = analyze(&time, &x, &DecrementOptions::default()).unwrap();
+        let report = analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap();
         assert!(
             relative(report.zeta_mean, 0.00175) < 1e-4,
             "{}",
@@ -322,7 +336,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 500.0, 10.0);
-        let report = analyze(&time, &x, &DecrementOptions::default()).unwrap();
+        let report = analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap();
         assert!(report.zeta_mean.abs() < 1e-7 && report.zeta_fit.abs() < 1e-7);
     }
 
@@ -336,7 +350,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 1000.0, 1.5);
-        let error = analyze(&time, &x, &DecrementOptions::default()).unwrap_err();
+        let error = analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap_err();
         assert!(
             matches!(error, PostError::TooFewPeaks { needed: 11, .. }),
             "{error}"
@@ -358,7 +372,7 @@ mod tests {
             polarity: Polarity::Troughs,
             ..DecrementOptions::default()
         };
-        let report = analyze(&time, &x, &options).unwrap();
+        let report = analyze(&sig(&time, &x), &options).unwrap();
         assert!(relative(report.zeta_mean, 0.01) < 1e-5);
         assert!(relative(report.zeta_fit, 0.01) < 1e-5);
     }
@@ -399,10 +413,10 @@ mod tests {
         for seed in 1..=8 {
             let sine = paper_sine(seed);
             let (time, x) = damped_sine(&sine, 1000.0, 20.0);
-            let (raw_mean, raw_fit, _) = errors(&sine, &analyze(&time, &x, &raw).unwrap());
+            let (raw_mean, raw_fit, _) = errors(&sine, &analyze(&sig(&time, &x), &raw).unwrap());
             let (mean, fit, _) = errors(
                 &sine,
-                &analyze(&time, &x, &DecrementOptions::default()).unwrap(),
+                &analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap(),
             );
             worst_raw = worst_raw.max(raw_mean).max(raw_fit);
             worst_lsq = worst_lsq.max(mean).max(fit);
@@ -420,10 +434,10 @@ mod tests {
                 ..paper_sine(seed)
             };
             let (time, x) = damped_sine(&coarse, 1000.0, 0.3);
-            let (raw_mean, raw_fit, _) = errors(&coarse, &analyze(&time, &x, &raw).unwrap());
+            let (raw_mean, raw_fit, _) = errors(&coarse, &analyze(&sig(&time, &x), &raw).unwrap());
             let (mean, fit, _) = errors(
                 &coarse,
-                &analyze(&time, &x, &DecrementOptions::default()).unwrap(),
+                &analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap(),
             );
             worst_raw = worst_raw.max(raw_mean).max(raw_fit);
             worst_lsq = worst_lsq.max(mean).max(fit);
@@ -455,7 +469,7 @@ mod tests {
                 lowpass,
                 ..DecrementOptions::default()
             };
-            analyze(&time, signal, &options).unwrap()
+            analyze(&sig(&time, signal), &options).unwrap()
         };
         let reference = run(PeakFit::LeastSquares, None, &clean);
         let filtered_clean = run(PeakFit::LeastSquares, lowpass, &clean);
@@ -516,7 +530,7 @@ mod tests {
                     detrend: Detrend::Midline,
                     ..DecrementOptions::default()
                 };
-                let report = analyze(&time, &x, &options).unwrap();
+                let report = analyze(&sig(&time, &x), &options).unwrap();
                 let scatter = noise * crest_scatter_per_noise(rate * sine.damped_period_s());
                 let crests = report.spans.len() * report.every;
                 let (first, last) = (report.peaks[0].amplitude, report.peaks[crests].amplitude);
@@ -571,7 +585,7 @@ mod tests {
                     detrend,
                     ..DecrementOptions::default()
                 };
-                let report = analyze(&time, &x, &options).unwrap();
+                let report = analyze(&sig(&time, &x), &options).unwrap();
                 mean_sq += (report.zeta_mean - zeta).powi(2);
                 fit_sq += (report.zeta_fit - zeta).powi(2);
                 se_sq += report.zeta_fit_std_error.powi(2);
@@ -593,14 +607,14 @@ mod tests {
     fn lowpass_study() {
         let sine = paper_sine(3);
         let (time, clean) = damped_sine(&sine, 1000.0, 20.0);
-        let reference = analyze(&time, &clean, &DecrementOptions::default()).unwrap();
+        let reference = analyze(&sig(&time, &clean), &DecrementOptions::default()).unwrap();
         for order in [2, 4, 8] {
             for cutoff_hz in [10.0, 20.0, 50.0, 200.0] {
                 let options = DecrementOptions {
                     lowpass: Some(Lowpass { cutoff_hz, order }),
                     ..DecrementOptions::default()
                 };
-                let report = analyze(&time, &clean, &options).unwrap();
+                let report = analyze(&sig(&time, &clean), &options).unwrap();
                 println!(
                     "order {order} cutoff {cutoff_hz:5} Hz: zeta_mean {:+.1e} zeta_fit {:+.1e} period {:+.1e} (relative to unfiltered), crests {} of {}",
                     report.zeta_mean / reference.zeta_mean - 1.0,

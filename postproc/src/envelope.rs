@@ -36,7 +36,7 @@
 //! Frequency against amplitude is the backbone (flat for a linear spring, bending for a
 //! cubic one), zeta against amplitude the damping curve (flat for viscous damping, rising
 //! as the amplitude falls for dry friction). Windows whose amplitude is below 10 times the
-//! robust noise estimate of [`crate::peaks::noise_rms`] are left out.
+//! robust noise estimate of [`crate::stats::noise_rms`] are left out.
 //!
 //! An optional zero-phase band-pass around the dominant spectral peak (from
 //! `(1 - b) f_0` to `(1 + b) f_0`) isolates one mode first; like every linear time-invariant
@@ -50,13 +50,15 @@ use std::f64::consts::TAU;
 use crate::error::{show, PostError, Result};
 use crate::filter;
 use crate::fit::least_squares;
-use crate::peaks::noise_rms;
-use crate::signal::{self, Detrend};
+use crate::offset::{remove_offset, Detrend};
+use crate::signal::Signal;
 use crate::spectrum::{self, SpectrumOptions};
+use crate::stats::noise_rms;
 
 /// Options of [`analyze`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnvelopeOptions {
+    /// Offset removed before analysis.
     pub detrend: Detrend,
     /// Relative half-width `b` of a band-pass around the dominant peak, if any.
     pub bandpass: Option<f64>,
@@ -94,6 +96,7 @@ pub struct EnvelopePoint {
     pub frequency_hz: f64,
     /// Local decay rate sigma, 1/s.
     pub decay_rate_per_s: f64,
+    /// Damping ratio (-).
     pub zeta: f64,
 }
 
@@ -116,7 +119,9 @@ pub struct EnvelopeReport {
     pub window_samples: usize,
     /// Robust white-noise estimate of the analysed signal.
     pub noise_rms: f64,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
+    /// The constant subtracted before analysis, signal unit.
     pub offset_removed: f64,
     /// Backbone and damping curve, one point per window.
     pub points: Vec<EnvelopePoint>,
@@ -160,12 +165,8 @@ pub fn analytic_signal(x: &[f64]) -> Vec<Complex64> {
 }
 
 /// Envelope, instantaneous frequency and the backbone/damping curves of `values`.
-pub fn analyze(
-    time_s: &[f64],
-    values: &[f64],
-    options: &EnvelopeOptions,
-) -> Result<EnvelopeReport> {
-    let step_s = signal::uniform_step(time_s, values)?;
+pub fn analyze(signal: &Signal, options: &EnvelopeOptions) -> Result<EnvelopeReport> {
+    let (time_s, step_s) = (signal.time_s(), signal.step_s());
     let finite = |v: f64| v.is_finite() && v >= 0.0;
     if !(finite(options.window_periods)
         && options.window_periods > 0.0
@@ -180,12 +181,12 @@ pub fn analyze(
             show(options.extension_periods)
         )));
     }
-    let (mut y, offset_removed) = signal::remove_offset(time_s, values, options.detrend)?;
+    let (detrended, offset_removed) = remove_offset(signal, options.detrend)?;
     let spectrum_options = SpectrumOptions {
         detrend: Detrend::None,
         ..SpectrumOptions::default()
     };
-    let dominant = spectrum::amplitude_spectrum(time_s, &y, &spectrum_options)?
+    let dominant = spectrum::amplitude_spectrum(&detrended, &spectrum_options)?
         .dominant_peak()
         .filter(|peak| peak.frequency_hz > 0.0)
         .ok_or_else(|| PostError::TooFewPeaks {
@@ -195,6 +196,7 @@ pub fn analyze(
             hint: "the envelope needs an oscillation; the spectrum has no peak".to_string(),
         })?;
     let f0 = dominant.frequency_hz;
+    let (_, mut y) = detrended.into_parts();
     let noise = noise_rms(&y);
 
     let band_hz = match options.bandpass {
@@ -267,29 +269,14 @@ pub fn analyze(
     let (start, end) = (trim_samples, n - trim_samples);
     let floor = 10.0 * noise;
 
-    let mut points = Vec::new();
-    let hop = (window_samples / 2).max(1);
-    let mut first = start;
-    while first + window_samples <= end {
-        let range = first..first + window_samples;
-        first += hop;
-        if envelope[range.clone()].iter().any(|&e| e <= floor) {
-            continue;
-        }
-        let frequency_hz =
-            inst_frequency_hz[range.clone()].iter().sum::<f64>() / window_samples as f64;
-        let samples: Vec<usize> = range.collect();
-        let Some(fit) = log_envelope_fit(time_s, &envelope, &samples, frequency_hz, false) else {
-            continue;
-        };
-        points.push(EnvelopePoint {
-            time_s: fit.centre_s,
-            amplitude: fit.amplitude,
-            frequency_hz,
-            decay_rate_per_s: fit.sigma,
-            zeta: fit.sigma / (TAU * frequency_hz).hypot(fit.sigma),
-        });
-    }
+    let points = window_points(
+        time_s,
+        &envelope,
+        &inst_frequency_hz,
+        start..end,
+        window_samples,
+        floor,
+    );
 
     let kept: Vec<usize> = (start..end).filter(|&k| envelope[k] > floor).collect();
     if kept.len() < 8 {
@@ -326,6 +313,43 @@ pub fn analyze(
         envelope,
         inst_frequency_hz,
     })
+}
+
+/// The log-envelope fits over windows of `window_samples` (hopping by half a window)
+/// inside `span`; a window reaching down to `floor` is skipped.
+fn window_points(
+    time_s: &[f64],
+    envelope: &[f64],
+    inst_frequency_hz: &[f64],
+    span: std::ops::Range<usize>,
+    window_samples: usize,
+    floor: f64,
+) -> Vec<EnvelopePoint> {
+    let (start, end) = (span.start, span.end);
+    let mut points = Vec::new();
+    let hop = (window_samples / 2).max(1);
+    let mut first = start;
+    while first + window_samples <= end {
+        let range = first..first + window_samples;
+        first += hop;
+        if envelope[range.clone()].iter().any(|&e| e <= floor) {
+            continue;
+        }
+        let frequency_hz =
+            inst_frequency_hz[range.clone()].iter().sum::<f64>() / window_samples as f64;
+        let samples: Vec<usize> = range.collect();
+        let Some(fit) = log_envelope_fit(time_s, envelope, &samples, frequency_hz, false) else {
+            continue;
+        };
+        points.push(EnvelopePoint {
+            time_s: fit.centre_s,
+            amplitude: fit.amplitude,
+            frequency_hz,
+            decay_rate_per_s: fit.sigma,
+            zeta: fit.sigma / (TAU * frequency_hz).hypot(fit.sigma),
+        });
+    }
+    points
 }
 
 /// Continues `y` by `count` samples before and after with the second-order linear
@@ -435,6 +459,10 @@ fn log_envelope_fit(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn sig(time_s: &[f64], values: &[f64]) -> Signal {
+        Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
+    }
     use crate::test_signals::{damped_sine, DampedSine};
 
     #[test]
@@ -464,7 +492,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 1000.0, 15.0);
-        let report = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
+        let report = analyze(&sig(&time, &x), &EnvelopeOptions::default()).unwrap();
         let sigma_error = (report.decay_rate_per_s / sine.sigma() - 1.0).abs();
         let zeta_error = (report.zeta_fit / sine.zeta - 1.0).abs();
         assert!(sigma_error < 2e-4, "sigma error {sigma_error:e}");
@@ -493,12 +521,12 @@ mod tests {
         for (t, v) in time.iter().zip(&mut x) {
             *v += 0.2 * (TAU * 61.3 * t).cos();
         }
-        let plain = analyze(&time, &x, &EnvelopeOptions::default()).unwrap();
+        let plain = analyze(&sig(&time, &x), &EnvelopeOptions::default()).unwrap();
         let banded = EnvelopeOptions {
             bandpass: Some(0.5),
             ..EnvelopeOptions::default()
         };
-        let report = analyze(&time, &x, &banded).unwrap();
+        let report = analyze(&sig(&time, &x), &banded).unwrap();
         let (low, high) = report.band_hz.unwrap();
         assert!((low - 0.5 * 4.35).abs() < 0.01 && (high - 1.5 * 4.35).abs() < 0.02);
         // The second mode beats with the first in the plain envelope: its windows scatter by
@@ -542,7 +570,7 @@ mod tests {
                     extension_periods,
                     ..EnvelopeOptions::default()
                 };
-                let report = analyze(&time, &x, &options).unwrap();
+                let report = analyze(&sig(&time, &x), &options).unwrap();
                 let errors: Vec<String> = report
                     .points
                     .iter()

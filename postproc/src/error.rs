@@ -28,7 +28,10 @@ pub enum PostError {
 
     /// An analysis produced a non-finite number (the data is outside its numeric range).
     #[error("the {what} holds a non-finite number (inf or NaN): the data is outside the range this analysis can represent (e.g. values near 1e308); expected finite results, nothing was printed")]
-    NonFiniteResult { what: String },
+    NonFiniteResult {
+        /// What was computed.
+        what: String,
+    },
 
     /// An output file cannot be written (or would replace a non-regular file).
     #[error(transparent)]
@@ -37,21 +40,29 @@ pub enum PostError {
     /// The input file could not be opened or read.
     #[error("{}: cannot read the file: {source}", path.display())]
     Read {
+        /// The file.
         path: PathBuf,
+        /// The underlying error.
         source: std::io::Error,
     },
 
     /// The CSV syntax itself is broken (unequal field counts, bad quoting, invalid UTF-8).
     #[error("{}:{line}: malformed CSV: {message}", path.display())]
     Csv {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// What is wrong and what was expected.
         message: String,
     },
 
     /// No header line at all.
     #[error("{}: the file is empty; expected a header line such as `time_s,accel_m_s2`", path.display())]
-    Empty { path: PathBuf },
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
 
     /// A requested column (or `time_s`) is not in the header.
     #[error(
@@ -61,9 +72,13 @@ pub enum PostError {
         names(available)
     )]
     MissingColumn {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The column's name.
         column: String,
+        /// The names that are there.
         available: Vec<String>,
     },
 
@@ -73,28 +88,41 @@ pub enum PostError {
         path.display()
     )]
     DuplicateColumn {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The column's name.
         column: String,
+        /// The first (1-based).
         first: usize,
+        /// The second (1-based).
         second: usize,
     },
 
     /// A cell does not parse as a number.
     #[error("{}:{line}: column `{}`: expected a number, found `{}`", path.display(), excerpt(column), excerpt(text))]
     NotANumber {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The column's name.
         column: String,
+        /// The text as written.
         text: String,
     },
 
     /// A cell parses as NaN or an infinity.
     #[error("{}:{line}: column `{}`: `{}` is not a finite number; expected a finite value", path.display(), excerpt(column), excerpt(text))]
     NonFinite {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The column's name.
         column: String,
+        /// The text as written.
         text: String,
     },
 
@@ -104,9 +132,13 @@ pub enum PostError {
         path.display()
     )]
     TimeNotIncreasing {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The time, s.
         time: f64,
+        /// The time before it, s.
         previous: f64,
     },
 
@@ -116,18 +148,26 @@ pub enum PostError {
         path.display()
     )]
     NonUniformTime {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The step, s.
         step_s: f64,
+        /// The record's median step, s.
         median_step_s: f64,
+        /// The tolerance, percent.
         tolerance_percent: f64,
     },
 
     /// Fewer data rows than any analysis can use.
     #[error("{}: {found} data rows; need at least {needed}", path.display())]
     TooFewSamples {
+        /// The file.
         path: PathBuf,
+        /// How many were found.
         found: usize,
+        /// How many are needed.
         needed: usize,
     },
 
@@ -139,29 +179,44 @@ pub enum PostError {
         names(available)
     )]
     AmbiguousColumn {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: u64,
+        /// The names that are there.
         available: Vec<String>,
     },
 
     /// An analysis of one column of a file failed; says which.
     #[error("{}, column `{column}`: {error}", path.display())]
     Analysis {
+        /// The file.
         path: PathBuf,
+        /// The column's name.
         column: String,
+        /// The analysis error.
         error: Box<PostError>,
     },
 
     /// An in-memory signal is unusable (length mismatch, non-finite value, bad time axis).
     #[error("invalid signal at sample {index}: {what}")]
-    InvalidSignal { index: usize, what: String },
+    InvalidSignal {
+        /// Index of the first bad sample.
+        index: usize,
+        /// What was computed.
+        what: String,
+    },
 
     /// Not enough regular crests for the requested estimator.
     #[error("found {found} regular {kind}, need at least {needed}: {hint}")]
     TooFewPeaks {
+        /// What was counted (crests, cycles, ...).
         kind: &'static str,
+        /// How many were found.
         found: usize,
+        /// How many are needed.
         needed: usize,
+        /// What to do next.
         hint: String,
     },
 
@@ -169,9 +224,13 @@ pub enum PostError {
     /// record, ...).
     #[error("{what}: {found} usable points, need at least {needed}; {hint}")]
     TooFewPoints {
+        /// What was computed.
         what: &'static str,
+        /// How many were found.
         found: usize,
+        /// How many are needed.
         needed: usize,
+        /// What to do next.
         hint: String,
     },
 
@@ -182,15 +241,23 @@ pub enum PostError {
          shrinks"
     )]
     NoLoadingBranch {
+        /// Points given.
         points: usize,
+        /// Points on the increasing branch.
         increasing: usize,
+        /// How many are needed.
         needed: usize,
     },
 
     /// The data do not determine a quantity (a singular fit, a value no model parameter can
     /// produce).
     #[error("{what} cannot be identified: {why}")]
-    Unidentifiable { what: &'static str, why: String },
+    Unidentifiable {
+        /// What was computed.
+        what: &'static str,
+        /// Why.
+        why: String,
+    },
 
     /// An option value is out of its valid range.
     #[error("invalid option: {0}")]
@@ -199,13 +266,20 @@ pub enum PostError {
     /// Writing an output file failed; nothing was left at the destination.
     #[error("{}: cannot write: {source}", path.display())]
     Write {
+        /// The file.
         path: PathBuf,
+        /// The underlying error.
         source: std::io::Error,
     },
 
     /// The plotting backend failed.
     #[error("{}: cannot draw the plot: {message}", path.display())]
-    Plot { path: PathBuf, message: String },
+    Plot {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and what was expected.
+        message: String,
+    },
 }
 
 /// Result alias of the crate.

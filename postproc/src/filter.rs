@@ -76,7 +76,9 @@ impl Section {
 /// Low- or high-pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Band {
+    /// Low-pass.
     Lowpass,
+    /// High-pass.
     Highpass,
 }
 

@@ -2,11 +2,13 @@
 //! spectra, envelopes and plots.
 //!
 //! The crate stands alone (no other coil crate): it reads any CSV with a `time_s` column
-//! ([`signal::read_csv`]) and works on plain slices, so the tuner can call it on in-memory
-//! histories. Each module documents its formulation and measured accuracy; `docs/postproc.md`
-//! gathers them.
+//! ([`signal::read_csv`]) and works on in-memory histories too: every analysis takes a
+//! [`signal::Signal`], checked once when it is made. Each module documents its formulation
+//! and measured accuracy; `docs/postproc.md` gathers them.
 //!
-//! - [`signal`]: CSV reading, time-axis checks, offset removal.
+//! - [`signal`]: CSV reading and the checked [`signal::Signal`] every analysis takes.
+//! - [`offset`]: what constant is removed before analysis ([`offset::Detrend`]).
+//! - [`stats`]: the median, the robust white-noise level, a value with its standard error.
 //! - [`peaks`]: crests to sub-sample accuracy.
 //! - [`decrement`]: the paper's Eqs. 2-3 and an exponential envelope fit.
 //! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
@@ -17,10 +19,14 @@
 //! - [`spectrum`]: windowed, zero-padded amplitude spectrum with interpolated peaks.
 //! - [`envelope`]: Hilbert envelope, instantaneous frequency, backbone and damping curves.
 //! - [`signature`]: per-cycle amplitude and frequency, loss per cycle, backbone, envelope
-//!   shape and side peaks: what a linear model misses.
+//!   shape and side peaks (one module each): what a linear model misses.
 //! - [`static_curve`]: force-compression records: stiffness, cubic term, friction.
 //! - [`plot`]: PNG/SVG plots with an embedded font.
+//! - [`report`]: each `coil-post` command's JSON report and table, and its plots (the
+//!   binary only parses arguments, calls these and prints).
 //! - [`output`]: temp-file-and-rename writing.
+
+#![warn(missing_docs)]
 
 pub mod decrement;
 pub mod differentiate;
@@ -29,13 +35,16 @@ pub mod error;
 pub mod filter;
 mod fit;
 pub mod noise;
+pub mod offset;
 pub mod output;
 pub mod peaks;
 pub mod plot;
+pub mod report;
 pub mod signal;
 pub mod signature;
 pub mod spectrum;
 pub mod static_curve;
+pub mod stats;
 
 #[cfg(test)]
 mod test_signals;

@@ -2,7 +2,7 @@
 //! the signal's lines.
 //!
 //! # Why not differences
-//! [`crate::peaks::noise_rms`] reads white noise from fourth differences, which pass
+//! [`crate::stats::noise_rms`] reads white noise from fourth differences, which pass
 //! mostly the top of the band. A record low-passed before it reaches us (an
 //! anti-alias or display filter, a position differentiated by [`crate::differentiate`])
 //! has no noise there, and the differences read almost nothing: a model would then
@@ -48,7 +48,7 @@ pub struct NoiseFloor {
     /// Standard deviation of the noise (the record's unit).
     pub rms: f64,
     /// The fourth-difference estimate of white noise, for comparison
-    /// ([`crate::peaks::noise_rms`]).
+    /// ([`crate::stats::noise_rms`]).
     pub white_rms: f64,
     /// Welch segment length (samples).
     pub segment: usize,
@@ -60,7 +60,7 @@ pub struct NoiseFloor {
 /// back to the fourth differences.
 pub fn noise_floor(x: &[f64]) -> NoiseFloor {
     let n = x.len();
-    let white_rms = crate::peaks::noise_rms(x);
+    let white_rms = crate::stats::noise_rms(x);
     if n < MIN_SEGMENT {
         return NoiseFloor {
             rms: white_rms,

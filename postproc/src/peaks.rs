@@ -50,7 +50,8 @@
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::signal::uniform_step;
+use crate::signal::Signal;
+use crate::stats::{median, noise_rms};
 
 /// Smallest hysteresis, relative to the largest magnitude of the signal.
 pub const MIN_HYSTERESIS: f64 = 1e-3;
@@ -72,7 +73,9 @@ pub const LSQ_HALF_WINDOW_PERIODS: f64 = 1.0 / 8.0;
 #[serde(rename_all = "snake_case")]
 pub enum Polarity {
     #[default]
+    /// Crests (maxima).
     Crests,
+    /// Troughs (minima, reported as positive magnitudes).
     Troughs,
 }
 
@@ -102,7 +105,9 @@ pub enum PeakFit {
 /// Options of [`find_peaks`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PeakOptions {
+    /// Crests or troughs.
     pub polarity: Polarity,
+    /// How it was fitted.
     pub fit: PeakFit,
     /// Half-width of the least-squares window, periods (default [`LSQ_HALF_WINDOW_PERIODS`]).
     pub half_window_periods: f64,
@@ -149,9 +154,9 @@ pub struct PeakSearch {
     pub fit_half_width: usize,
 }
 
-/// Locates the crests (or troughs) of `values` sampled at `time_s`; see the module doc.
-pub fn find_peaks(time_s: &[f64], values: &[f64], options: &PeakOptions) -> Result<PeakSearch> {
-    let step_s = uniform_step(time_s, values)?;
+/// Locates the crests (or troughs) of a signal; see the module doc.
+pub fn find_peaks(signal: &Signal, options: &PeakOptions) -> Result<PeakSearch> {
+    let (time_s, values, step_s) = (signal.time_s(), signal.values(), signal.step_s());
     let sign = match options.polarity {
         Polarity::Crests => 1.0,
         Polarity::Troughs => -1.0,
@@ -199,21 +204,6 @@ pub fn find_peaks(time_s: &[f64], values: &[f64], options: &PeakOptions) -> Resu
         period_s: samples_per_period * step_s,
         fit_half_width,
     })
-}
-
-/// Robust white-noise standard deviation from the median absolute fourth difference.
-pub fn noise_rms(y: &[f64]) -> f64 {
-    if y.len() < 5 {
-        return 0.0;
-    }
-    let mut fourth: Vec<f64> = y
-        .windows(5)
-        .map(|w| (w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]).abs())
-        .collect();
-    fourth.sort_by(f64::total_cmp);
-    // For Gaussian noise the fourth difference has standard deviation sqrt(70) sigma, and the
-    // median absolute value of a normal variable is 0.6745 of its standard deviation.
-    fourth[fourth.len() / 2] / (0.6745 * 70f64.sqrt())
 }
 
 /// Index of the largest sample of each closed positive lobe (see the module doc).
@@ -388,25 +378,14 @@ fn longest_regular_run(refined: &[Option<Peak>], samples_per_period: f64) -> Vec
     best.iter().flatten().copied().collect()
 }
 
-/// Median of a slice (`None` when empty).
-pub(crate) fn median(values: &[f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let middle = sorted.len() / 2;
-    Some(if sorted.len() % 2 == 1 {
-        sorted[middle]
-    } else {
-        0.5 * (sorted[middle - 1] + sorted[middle])
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::test_signals::{damped_sine, DampedSine, Rng};
+
+    fn sig(time_s: &[f64], values: &[f64]) -> Signal {
+        Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
+    }
 
     fn true_crest_amplitudes(sine: &DampedSine, times: &[f64]) -> Vec<f64> {
         times.iter().map(|&t| sine.value(t)).collect()
@@ -422,7 +401,7 @@ mod tests {
             offset: 0.0,
         };
         let (time, x) = damped_sine(&sine, 1000.0, 20.0);
-        let search = find_peaks(&time, &x, &PeakOptions::default()).unwrap();
+        let search = find_peaks(&sig(&time, &x), &PeakOptions::default()).unwrap();
         let crests = sine.crest_times(20.0);
         // A crest at the very start or end has no closed lobe around it.
         assert!(
@@ -459,7 +438,7 @@ mod tests {
                 half_window_periods,
                 ..PeakOptions::default()
             };
-            for peak in find_peaks(&time, &x, &options).unwrap().peaks {
+            for peak in find_peaks(&sig(&time, &x), &options).unwrap().peaks {
                 lo = lo.min(peak.amplitude - 1.0);
                 hi = hi.max(peak.amplitude - 1.0);
             }
@@ -492,7 +471,7 @@ mod tests {
             half_window_periods,
             ..PeakOptions::default()
         };
-        let peaks = find_peaks(&time, &x, &options).unwrap().peaks;
+        let peaks = find_peaks(&sig(&time, &x), &options).unwrap().peaks;
         let n = peaks.len() as f64;
         (peaks
             .iter()
@@ -562,7 +541,7 @@ mod tests {
         for v in &mut x {
             *v += 0.01 * rng.normal();
         }
-        let search = find_peaks(&time, &x, &PeakOptions::default()).unwrap();
+        let search = find_peaks(&sig(&time, &x), &PeakOptions::default()).unwrap();
         // 10 000 samples: the median-based estimate scatters by ~1.5%; the signal adds
         // (2 pi / 230)^4 / 8.4 ~ 7e-8, nothing.
         assert!(
@@ -599,7 +578,7 @@ mod tests {
         for v in &mut x[2000..2700] {
             *v = 0.0;
         }
-        let search = find_peaks(&time, &x, &PeakOptions::default()).unwrap();
+        let search = find_peaks(&sig(&time, &x), &PeakOptions::default()).unwrap();
         assert!(search.peaks.iter().all(|p| p.time_s > 2.7));
         assert!(search.rejected >= 8);
     }
@@ -615,8 +594,7 @@ mod tests {
         };
         let (time, x) = damped_sine(&sine, 800.0, 5.0);
         let troughs = find_peaks(
-            &time,
-            &x,
+            &sig(&time, &x),
             &PeakOptions {
                 polarity: Polarity::Troughs,
                 ..PeakOptions::default()

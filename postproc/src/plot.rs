@@ -16,6 +16,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle, RGBColor};
@@ -37,6 +38,41 @@ pub const MAX_POINTS: usize = 4000;
 /// Picture size in pixels (SVG units for SVG).
 pub const SIZE: (u32, u32) = (1400, 900);
 
+/// Text sizes of a chart's axes, in points: the axis names and the tick labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisText {
+    /// The axis names (`x_desc`, `y_desc`).
+    pub names: u32,
+    /// The tick labels.
+    pub ticks: u32,
+}
+
+/// The axes of `coil-post`'s own figures.
+pub const POST_AXES: AxisText = AxisText {
+    names: 20,
+    ticks: 17,
+};
+
+/// The axis styling every coil figure shares: both axes named and their text in the
+/// embedded [`FONT`] at `text`'s sizes. Returns the mesh for the figure's own tick
+/// formatters, label counts and grid lines; `.draw()` it.
+pub fn axes<'m, 'a, 'b, X, Y, DB>(
+    mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+    x_desc: &str,
+    y_desc: &str,
+    text: AxisText,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: Ranged,
+    Y: Ranged,
+    DB: DrawingBackend,
+{
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, text.names))
+        .label_style((FONT, text.ticks))
+}
+
 const PALETTE: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -51,24 +87,31 @@ pub struct Trace<'a> {
     pub label: &'a str,
     /// Unit of the values, e.g. `m/s^2` (see [`unit_of`]).
     pub unit: &'a str,
+    /// Time, s.
     pub time_s: &'a [f64],
+    /// The values.
     pub values: &'a [f64],
 }
 
 /// One spectrum and its listed peaks.
 #[derive(Debug, Clone, Copy)]
 pub struct SpectrumTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
+    /// The spectrum.
     pub spectrum: &'a Spectrum,
+    /// Its peaks.
     pub peaks: &'a [SpectralPeak],
 }
 
 /// One envelope analysis.
 #[derive(Debug, Clone, Copy)]
 pub struct EnvelopeTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
     /// Unit of the signal, for the amplitude axis (e.g. `m/s^2`).
     pub unit: &'a str,
+    /// The report.
     pub report: &'a EnvelopeReport,
 }
 
@@ -176,6 +219,7 @@ fn ensure_font() -> Result<()> {
 /// A picture that can be drawn on any plotters backend; [`render`] writes it as PNG or
 /// SVG. Other crates (the tuner's figures) implement it to share the font and output.
 pub trait Figure {
+    /// Draws the figure into `root`.
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
 }
 
@@ -377,12 +421,7 @@ impl Figure for TimeFigure<'_> {
                 .y_label_area_size(90)
                 .build_cartesian_2d(t0..t1, y0..y1)
                 .map_err(text)?;
-            chart
-                .configure_mesh()
-                .x_desc("time [s]")
-                .y_desc(y_desc)
-                .axis_desc_style((FONT, 20))
-                .label_style((FONT, 17))
+            axes(&mut chart.configure_mesh(), "time [s]", &y_desc, POST_AXES)
                 .y_label_formatter(if physical { &tick_physical } else { &tick })
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
@@ -452,15 +491,15 @@ impl Figure for SpectrumFigure<'_> {
             .y_label_area_size(90)
             .build_cartesian_2d(0.0..max_frequency_hz, (floor..2.0).log_scale())
             .map_err(text)?;
-        chart
-            .configure_mesh()
-            .x_desc("frequency [Hz]")
-            .y_desc("amplitude / largest peak [-]")
-            .axis_desc_style((FONT, 20))
-            .label_style((FONT, 17))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(text)?;
+        axes(
+            &mut chart.configure_mesh(),
+            "frequency [Hz]",
+            "amplitude / largest peak [-]",
+            POST_AXES,
+        )
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(text)?;
         for (index, trace) in traces.iter().enumerate() {
             let color = PALETTE[index % PALETTE.len()];
             let largest = trace
@@ -551,16 +590,16 @@ impl Figure for EnvelopeFigure<'_> {
             .y_label_area_size(80)
             .build_cartesian_2d(t0..t1, -1.1..1.1)
             .map_err(text)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("x / max|z| [-]")
-            .axis_desc_style((FONT, 20))
-            .label_style((FONT, 17))
-            .y_label_formatter(&tick)
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(text)?;
+        axes(
+            &mut chart.configure_mesh(),
+            "time [s]",
+            "x / max|z| [-]",
+            POST_AXES,
+        )
+        .y_label_formatter(&tick)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(text)?;
         for (index, trace) in traces.iter().enumerate() {
             let color = PALETTE[index % PALETTE.len()];
             let report = trace.report;
@@ -639,18 +678,21 @@ fn curve_panel<DB: DrawingBackend>(
         .y_label_area_size(100)
         .build_cartesian_2d(a0..a1, y0..y1)
         .map_err(text)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc(y_desc)
-        .axis_desc_style((FONT, 20))
-        .label_style((FONT, 16))
-        .x_labels(6)
-        .y_labels(6)
-        .y_label_formatter(&|v| format!("{v:.5}"))
-        .x_label_formatter(&|v| format!("{v:.3}"))
-        .draw()
-        .map_err(text)?;
+    axes(
+        &mut chart.configure_mesh(),
+        x_desc,
+        y_desc,
+        AxisText {
+            names: 20,
+            ticks: 16,
+        },
+    )
+    .x_labels(6)
+    .y_labels(6)
+    .y_label_formatter(&|v| format!("{v:.5}"))
+    .x_label_formatter(&|v| format!("{v:.3}"))
+    .draw()
+    .map_err(text)?;
     for (index, trace) in traces.iter().enumerate() {
         let color = PALETTE[index % PALETTE.len()];
         let points: Vec<(f64, f64)> = trace

@@ -1,5 +1,5 @@
-//! Uniformly sampled signals: reading them from CSV, checking their time axis, removing
-//! their offset.
+//! Uniformly sampled signals: reading them from CSV and checking their time axis once, into
+//! a [`Signal`] that every analysis takes.
 //!
 //! # File format
 //! Any comma-separated file whose first line is a header naming the columns, one of them
@@ -20,16 +20,13 @@
 //! sample (a step of twice the median) or a change of sampling rate is reported with its line.
 //!
 //! # Offsets
-//! [`Detrend`] says what constant is removed before analysis; see its variants for what each
-//! choice does to a decaying oscillation.
+//! [`crate::offset::Detrend`] says what constant is removed before analysis; see its
+//! variants for what each choice does to a decaying oscillation.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-
 use crate::error::{PostError, Result};
-use crate::peaks::{self, PeakOptions, Polarity};
 
 /// Name of the mandatory time column.
 pub const TIME_COLUMN: &str = "time_s";
@@ -73,7 +70,7 @@ impl Table {
             })
     }
 
-    /// One column as a [`Signal`].
+    /// One column as a [`Signal`] (the time axis was checked when the file was read).
     pub fn signal(&self, name: &str) -> Result<Signal> {
         Ok(Signal {
             source: self.path.clone(),
@@ -85,33 +82,163 @@ impl Table {
     }
 }
 
-/// One named column with its time axis.
+/// One named column with its time axis, checked once when it is made: at least
+/// [`MIN_SAMPLES`] samples, finite values, a finite time that increases uniformly (see the
+/// module doc), and its sampling step computed then. The fields are private so that no
+/// analysis re-derives or re-checks them: every analysis of the crate takes a `&Signal`.
 #[derive(Debug, Clone)]
 pub struct Signal {
-    /// The file it came from.
-    pub source: PathBuf,
-    /// Its column name.
-    pub column: String,
-    /// Time, seconds.
-    pub time_s: Vec<f64>,
-    /// Mean sampling step, seconds.
-    pub step_s: f64,
-    /// The values, in the unit the column name gives.
-    pub values: Vec<f64>,
-}
-
-/// Which columns to parse.
-#[derive(Debug, Clone, Copy)]
-pub enum Columns<'a> {
-    /// Every column of the header must be numeric.
-    All,
-    /// Only these (plus `time_s`); other columns may hold anything.
-    Named(&'a [&'a str]),
+    source: PathBuf,
+    column: String,
+    time_s: Vec<f64>,
+    step_s: f64,
+    values: Vec<f64>,
 }
 
 impl Signal {
-    /// Wraps an analysis error with this signal's file and column.
+    /// An in-memory signal: checks equal lengths, at least [`MIN_SAMPLES`] samples, finite
+    /// numbers and a uniform increasing time (within [`STEP_TOLERANCE`]); the step is the
+    /// mean step `(t[n-1] - t[0]) / (n - 1)`. Errors are [`PostError::InvalidSignal`] with
+    /// the first bad index. It has no file or column name until [`Signal::named`].
+    pub fn new(time_s: Vec<f64>, values: Vec<f64>) -> Result<Signal> {
+        let step_s = uniform_step(&time_s, &values)?;
+        Ok(Signal::unnamed(time_s, step_s, values))
+    }
+
+    /// A signal sampled at `start_s + i * step_s` (exactly that grid): checks a finite
+    /// start, a finite positive step, at least [`MIN_SAMPLES`] finite values.
+    pub fn uniform(start_s: f64, step_s: f64, values: Vec<f64>) -> Result<Signal> {
+        if !(start_s.is_finite() && step_s.is_finite() && step_s > 0.0) {
+            return Err(PostError::InvalidSignal {
+                index: 0,
+                what: format!(
+                    "start {start_s} s, step {step_s} s: expected a finite start and a positive step"
+                ),
+            });
+        }
+        if values.len() < MIN_SAMPLES {
+            return Err(PostError::InvalidSignal {
+                index: values.len(),
+                what: format!("{} samples; need at least {MIN_SAMPLES}", values.len()),
+            });
+        }
+        let time_s: Vec<f64> = (0..values.len())
+            .map(|i| start_s + i as f64 * step_s)
+            .collect();
+        check_finite(&time_s, &values)?;
+        Ok(Signal::unnamed(time_s, step_s, values))
+    }
+
+    /// A checked axis and values without a file or column name.
+    fn unnamed(time_s: Vec<f64>, step_s: f64, values: Vec<f64>) -> Signal {
+        Signal {
+            source: PathBuf::new(),
+            column: String::new(),
+            time_s,
+            step_s,
+            values,
+        }
+    }
+
+    /// The same signal, named by the file and column it stands for (for messages).
+    pub fn named(self, source: impl Into<PathBuf>, column: impl Into<String>) -> Signal {
+        Signal {
+            source: source.into(),
+            column: column.into(),
+            ..self
+        }
+    }
+
+    /// Other values on the same (already checked) time axis: checks their count and that
+    /// they are finite.
+    pub fn with_values(&self, values: Vec<f64>) -> Result<Signal> {
+        if values.len() != self.time_s.len() {
+            return Err(PostError::InvalidSignal {
+                index: self.time_s.len().min(values.len()),
+                what: format!(
+                    "time has {} samples but the signal has {}; expected equal lengths",
+                    self.time_s.len(),
+                    values.len()
+                ),
+            });
+        }
+        check_finite(&self.time_s, &values)?;
+        Ok(Signal {
+            source: self.source.clone(),
+            column: self.column.clone(),
+            time_s: self.time_s.clone(),
+            step_s: self.step_s,
+            values,
+        })
+    }
+
+    /// The samples `range` (at least [`MIN_SAMPLES`] of them), with the same step.
+    pub fn slice(&self, range: std::ops::Range<usize>) -> Result<Signal> {
+        let n = self.time_s.len();
+        if range.start > range.end || range.end > n || range.len() < MIN_SAMPLES {
+            return Err(PostError::InvalidSignal {
+                index: range.start.min(n),
+                what: format!(
+                    "samples {}..{} of {n}; expected a range of at least {MIN_SAMPLES} inside the record",
+                    range.start, range.end
+                ),
+            });
+        }
+        Ok(Signal {
+            source: self.source.clone(),
+            column: self.column.clone(),
+            time_s: self.time_s[range.clone()].to_vec(),
+            step_s: self.step_s,
+            values: self.values[range].to_vec(),
+        })
+    }
+
+    /// The file it came from (empty for an in-memory signal).
+    pub fn source(&self) -> &Path {
+        &self.source
+    }
+
+    /// Its column name (empty for an in-memory signal).
+    pub fn column(&self) -> &str {
+        &self.column
+    }
+
+    /// Time, seconds (uniform within [`STEP_TOLERANCE`], increasing).
+    pub fn time_s(&self) -> &[f64] {
+        &self.time_s
+    }
+
+    /// Mean sampling step, seconds.
+    pub fn step_s(&self) -> f64 {
+        self.step_s
+    }
+
+    /// The values, in the unit the column name gives.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The number of samples (at least [`MIN_SAMPLES`]).
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Always false: a signal has at least [`MIN_SAMPLES`] samples.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// The time and the values.
+    pub fn into_parts(self) -> (Vec<f64>, Vec<f64>) {
+        (self.time_s, self.values)
+    }
+
+    /// Wraps an analysis error with this signal's file and column (an unnamed, in-memory
+    /// signal returns it as is).
     pub fn locate(&self, error: PostError) -> PostError {
+        if self.source.as_os_str().is_empty() && self.column.is_empty() {
+            return error;
+        }
         match error {
             PostError::TooFewPeaks { .. }
             | PostError::TooFewPoints { .. }
@@ -125,6 +252,15 @@ impl Signal {
             other => other,
         }
     }
+}
+
+/// Which columns to parse.
+#[derive(Debug, Clone, Copy)]
+pub enum Columns<'a> {
+    /// Every column of the header must be numeric.
+    All,
+    /// Only these (plus `time_s`); other columns may hold anything.
+    Named(&'a [&'a str]),
 }
 
 /// Reads every column of a CSV file (all must be numeric).
@@ -278,7 +414,9 @@ pub fn read_header(path: &Path) -> Result<(Vec<String>, u64)> {
 
 /// Named columns of a CSV file, every cell checked, with the physical line of each row.
 pub struct Fields {
+    /// Every header name in file order.
     pub header: Vec<String>,
+    /// Line of the header.
     pub header_line: u64,
     /// One vector per requested name, in the order requested.
     pub values: Vec<Vec<f64>>,
@@ -390,7 +528,7 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
     }
     // The record's print resolution is the median over its cells: "%g" drops trailing zeros
     // ("0.1" among "0.1234"), a leading "0" has no decimals at all.
-    let rounding = crate::peaks::median(&time_resolution).unwrap_or(0.0);
+    let rounding = crate::stats::median(&time_resolution).unwrap_or(0.0);
     let step_s = check_time_axis(&time_s, rounding).map_err(|fault| match fault {
         TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
             path: path.to_path_buf(),
@@ -473,7 +611,7 @@ fn check_time_axis(time_s: &[f64], rounding: f64) -> std::result::Result<f64, Ti
     let n = time_s.len();
     let steps: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
     // The median step is the sampling step even when a few samples are missing.
-    let median_step_s = crate::peaks::median(&steps).unwrap_or(0.0);
+    let median_step_s = crate::stats::median(&steps).unwrap_or(0.0);
     // Two printed times are each within half their resolution of the truth, so a step is
     // within one resolution; capped so that a dropped sample (an error of one whole step) is
     // always caught.
@@ -492,7 +630,7 @@ fn check_time_axis(time_s: &[f64], rounding: f64) -> std::result::Result<f64, Ti
 
 /// Checks an in-memory signal (equal lengths, finite values, at least [`MIN_SAMPLES`],
 /// uniform increasing time) and returns its mean step, seconds.
-pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
+fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
     if time_s.len() != values.len() {
         return Err(PostError::InvalidSignal {
             index: time_s.len().min(values.len()),
@@ -509,14 +647,7 @@ pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
             what: format!("{} samples; need at least {MIN_SAMPLES}", time_s.len()),
         });
     }
-    for (index, (t, x)) in time_s.iter().zip(values).enumerate() {
-        if !t.is_finite() || !x.is_finite() {
-            return Err(PostError::InvalidSignal {
-                index,
-                what: format!("time {t} s, value {x}: expected finite numbers"),
-            });
-        }
-    }
+    check_finite(time_s, values)?;
     check_time_axis(time_s, 0.0).map_err(|fault| match fault {
         TimeFault::NotIncreasing { index } => PostError::InvalidSignal {
             index,
@@ -540,106 +671,28 @@ pub fn uniform_step(time_s: &[f64], values: &[f64]) -> Result<f64> {
     })
 }
 
-/// What constant to remove from a signal before analysis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Detrend {
-    /// Analyse the signal as given. Right for AC-coupled accelerometer records and for FE
-    /// accelerations (zero at static equilibrium).
-    #[default]
-    None,
-    /// Subtract the record's mean. On a decaying oscillation the mean is not the midline: it
-    /// leaves a residual of order `A / (omega * T_record)` (about 0.2% of the first amplitude
-    /// for the paper's 20 s, 4.35 Hz record), enough to bias the decrement by ~0.2%. Fine for
-    /// spectra and envelopes, not recommended for the decrement.
-    Mean,
-    /// Estimate the equilibrium line from crest/trough triples: for a crest `P` between
-    /// troughs `T1` and `T2` of an exponential decay about an offset `c`,
-    /// `(P - c)^2 = (c - T1)(c - T2)`, so `c = (P^2 - T1 T2) / (2P - T1 - T2)` exactly; the
-    /// median over all cycles is subtracted. Use it for FE displacements that oscillate about
-    /// a gravity-preloaded position.
-    Midline,
-}
-
-/// Removes the offset chosen by `detrend`; returns the new signal and the constant removed.
-pub fn remove_offset(time_s: &[f64], values: &[f64], detrend: Detrend) -> Result<(Vec<f64>, f64)> {
-    let offset = match detrend {
-        Detrend::None => 0.0,
-        Detrend::Mean => mean(values),
-        Detrend::Midline => midline_offset(time_s, values)?,
-    };
-    Ok((values.iter().map(|x| x - offset).collect(), offset))
-}
-
-fn mean(values: &[f64]) -> f64 {
-    if values.is_empty() {
-        0.0
-    } else {
-        values.iter().sum::<f64>() / values.len() as f64
-    }
-}
-
-/// The equilibrium line of a decaying oscillation from crest/trough triples (see
-/// [`Detrend::Midline`]).
-pub fn midline_offset(time_s: &[f64], values: &[f64]) -> Result<f64> {
-    // The mean is a coarse first guess, good enough to segment the signal into half-cycles.
-    let coarse = mean(values);
-    let centred: Vec<f64> = values.iter().map(|x| x - coarse).collect();
-    let options = |polarity| PeakOptions {
-        polarity,
-        ..PeakOptions::default()
-    };
-    let crests = peaks::find_peaks(time_s, &centred, &options(Polarity::Crests))?;
-    let troughs = peaks::find_peaks(time_s, &centred, &options(Polarity::Troughs))?;
-    let half_period = 0.5 * crests.period_s;
-    let mut estimates = Vec::new();
-    for crest in &crests.peaks {
-        let before = troughs
-            .peaks
-            .iter()
-            .rev()
-            .find(|trough| trough.time_s < crest.time_s);
-        let after = troughs
-            .peaks
-            .iter()
-            .find(|trough| trough.time_s > crest.time_s);
-        let (Some(before), Some(after)) = (before, after) else {
-            continue;
-        };
-        let regular = |gap: f64| (gap - half_period).abs() < 0.25 * half_period;
-        if !regular(crest.time_s - before.time_s) || !regular(after.time_s - crest.time_s) {
-            continue;
-        }
-        let p = crest.amplitude;
-        let (t1, t2) = (-before.amplitude, -after.amplitude);
-        let denominator = 2.0 * p - t1 - t2;
-        if denominator > 0.0 {
-            estimates.push((p * p - t1 * t2) / denominator);
+/// The first sample whose time or value is not finite, as an error.
+fn check_finite(time_s: &[f64], values: &[f64]) -> Result<()> {
+    for (index, (t, x)) in time_s.iter().zip(values).enumerate() {
+        if !t.is_finite() || !x.is_finite() {
+            return Err(PostError::InvalidSignal {
+                index,
+                what: format!("time {t} s, value {x}: expected finite numbers"),
+            });
         }
     }
-    if estimates.is_empty() {
-        return Err(PostError::TooFewPeaks {
-            kind: "crest/trough triples",
-            found: 0,
-            needed: 1,
-            hint: "the midline detrend needs a crest between two troughs half a period away"
-                .to_string(),
-        });
-    }
-    estimates.sort_by(f64::total_cmp);
-    let middle = estimates.len() / 2;
-    let median = if estimates.len() % 2 == 1 {
-        estimates[middle]
-    } else {
-        0.5 * (estimates[middle - 1] + estimates[middle])
-    };
-    Ok(coarse + median)
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_signals::{damped_sine, DampedSine};
+
+    fn write(folder: &Path, name: &str, text: &str) -> PathBuf {
+        let path = folder.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
 
     #[test]
     fn printed_resolution_follows_the_text() {
@@ -675,36 +728,6 @@ mod tests {
         assert!(uniform_step(&[0.0, 1.0, 3.0, 4.0], &[1.0, 2.0, 3.0, 4.0]).is_err());
         let step = uniform_step(&[0.0, 0.5, 1.0, 1.5], &[1.0, 2.0, 3.0, 4.0]);
         assert!(matches!(step, Ok(s) if (s - 0.5).abs() < 1e-15));
-    }
-
-    #[test]
-    fn midline_recovers_an_offset_exactly_where_the_mean_does_not() {
-        // zeta = 0.01 decays fast enough that the mean of 10 s misses the midline.
-        let offset = 3.7;
-        let sine = DampedSine {
-            frequency_hz: 4.35,
-            zeta: 0.01,
-            amplitude: 1.0,
-            phase: 0.3,
-            offset,
-        };
-        let (time, x) = damped_sine(&sine, 1000.0, 10.0);
-        let midline = midline_offset(&time, &x).unwrap();
-        let mean_error = (mean(&x) - offset).abs();
-        let midline_error = (midline - offset).abs();
-        // The triple formula is exact for an exponential decay; what is left comes from the
-        // crest fits (relative ~1e-7 of the amplitude).
-        assert!(midline_error < 1e-5, "midline error {midline_error:e}");
-        assert!(
-            mean_error > 100.0 * midline_error,
-            "mean error {mean_error:e}"
-        );
-    }
-
-    fn write(folder: &Path, name: &str, text: &str) -> PathBuf {
-        let path = folder.join(name);
-        std::fs::write(&path, text).unwrap();
-        path
     }
 
     #[test]

@@ -31,7 +31,8 @@ use serde::Serialize;
 use std::f64::consts::TAU;
 
 use crate::error::{PostError, Result};
-use crate::signal::{self, Detrend};
+use crate::offset::{remove_offset, Detrend};
+use crate::signal::Signal;
 
 /// Taper applied before the transform.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -84,9 +85,11 @@ pub const MAX_FFT_LENGTH: usize = 1 << 28;
 /// Options of [`amplitude_spectrum`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpectrumOptions {
+    /// Taper applied before the transform.
     pub window: Window,
     /// The transform length is the next power of two of `zero_pad * n` (at least 1).
     pub zero_pad: usize,
+    /// Offset removed before analysis.
     pub detrend: Detrend,
 }
 
@@ -113,31 +116,33 @@ pub struct Spectrum {
     pub native_bin_hz: f64,
     /// `1 / (n_fft dt)`: the grid spacing, Hz.
     pub grid_bin_hz: f64,
+    /// Taper applied before the transform.
     pub window: Window,
+    /// Number of samples.
     pub samples: usize,
+    /// Transform length.
     pub fft_length: usize,
 }
 
 /// An interpolated spectral peak.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SpectralPeak {
+    /// Frequency, Hz.
     pub frequency_hz: f64,
+    /// Amplitude, signal unit.
     pub amplitude: f64,
 }
 
-/// Computes the amplitude spectrum of `values` sampled at `time_s` (see the module doc).
-pub fn amplitude_spectrum(
-    time_s: &[f64],
-    values: &[f64],
-    options: &SpectrumOptions,
-) -> Result<Spectrum> {
-    let step_s = signal::uniform_step(time_s, values)?;
+/// Computes the amplitude spectrum of a signal (see the module doc).
+pub fn amplitude_spectrum(signal: &Signal, options: &SpectrumOptions) -> Result<Spectrum> {
+    let step_s = signal.step_s();
     if options.zero_pad == 0 {
         return Err(PostError::InvalidOption(
             "zero padding factor 0; expected 1 or more".to_string(),
         ));
     }
-    let (y, _) = signal::remove_offset(time_s, values, options.detrend)?;
+    let (y, _) = remove_offset(signal, options.detrend)?;
+    let y = y.values();
     let n = y.len();
     let fft_length = options
         .zero_pad
@@ -270,15 +275,19 @@ impl Spectrum {
 mod tests {
     use super::*;
 
+    fn sig(time_s: &[f64], values: &[f64]) -> Signal {
+        Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
+    }
+
     #[test]
     fn overflowing_spectrum_is_an_error_and_zero_peaks_means_none() {
         let t: Vec<f64> = (0..512).map(|i| i as f64 * 1e-3).collect();
         let x: Vec<f64> = (0..512)
             .map(|i| if i % 2 == 0 { 1e308 } else { -1e308 })
             .collect();
-        assert!(amplitude_spectrum(&t, &x, &SpectrumOptions::default()).is_err());
+        assert!(amplitude_spectrum(&sig(&t, &x), &SpectrumOptions::default()).is_err());
         let y: Vec<f64> = (0..512).map(|i| (0.3 * i as f64).sin()).collect();
-        let s = amplitude_spectrum(&t, &y, &SpectrumOptions::default()).unwrap();
+        let s = amplitude_spectrum(&sig(&t, &y), &SpectrumOptions::default()).unwrap();
         assert!(s.peaks(0, 0.01).is_empty());
         assert_eq!(s.peaks(1, 0.01).len(), 1);
     }
@@ -296,7 +305,7 @@ mod tests {
     #[test]
     fn two_tones_are_found_within_a_small_fraction_of_a_bin() {
         let (time, x) = two_tone(1000.0, 10.0);
-        let spectrum = amplitude_spectrum(&time, &x, &SpectrumOptions::default()).unwrap();
+        let spectrum = amplitude_spectrum(&sig(&time, &x), &SpectrumOptions::default()).unwrap();
         let peaks = spectrum.peaks(5, 0.05);
         assert_eq!(peaks.len(), 2, "{peaks:?}");
         let bin = spectrum.native_bin_hz;
@@ -323,7 +332,7 @@ mod tests {
             window: Window::Rectangular,
             ..SpectrumOptions::default()
         };
-        let spectrum = amplitude_spectrum(&time, &x, &options).unwrap();
+        let spectrum = amplitude_spectrum(&sig(&time, &x), &options).unwrap();
         let peak = spectrum.dominant_peak().unwrap();
         assert!((peak.frequency_hz - 4.35).abs() < 0.05 * spectrum.native_bin_hz);
     }
@@ -349,7 +358,7 @@ mod tests {
                     zero_pad: pad,
                     ..SpectrumOptions::default()
                 };
-                let spectrum = amplitude_spectrum(&time, &x, &options).unwrap();
+                let spectrum = amplitude_spectrum(&sig(&time, &x), &options).unwrap();
                 let peak = spectrum.dominant_peak().unwrap();
                 worst_bins = worst_bins.max((peak.frequency_hz - f).abs() / spectrum.native_bin_hz);
                 worst_amplitude = worst_amplitude.max((peak.amplitude - 1.0).abs());

@@ -10,7 +10,7 @@
 //! centred moving mean of half-width `h = max(2, n / 50)` points, and the point is loading
 //! (`s = +1`) when the smoothed compression `h` points later exceeds that `h` points earlier
 //! by more than `3 sigma_x sqrt(2 / (2h + 1))` (the noise of that difference, `sigma_x` the
-//! robust noise estimate of [`crate::peaks::noise_rms`]), unloading (`s = -1`) when it falls
+//! robust noise estimate of [`crate::stats::noise_rms`]), unloading (`s = -1`) when it falls
 //! by as much, and left out otherwise (dwells, turning points). A record without loading
 //! points is an error ([`PostError::NoLoadingBranch`]): one that only unloads or stays flat.
 //!
@@ -37,8 +37,7 @@ use serde::Serialize;
 
 use crate::error::{PostError, Result};
 use crate::fit::weighted_fit;
-use crate::peaks::noise_rms;
-use crate::signature::Estimate;
+use crate::stats::{noise_rms, Estimate};
 
 /// Fewest points of a static record.
 pub const MIN_STATIC_POINTS: usize = 8;
@@ -58,26 +57,37 @@ pub struct FitQuality {
 /// `F = k x + s F_f`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LinearStatic {
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: Estimate,
+    /// Dry-friction force, N (when the record has an unloading branch).
     pub friction_n: Option<Estimate>,
+    /// How well the fit matches.
     pub quality: FitQuality,
 }
 
 /// `F = F_0 + k x + k3 x^3 + s F_f`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct OffsetStatic {
+    /// Force offset F0, N.
     pub offset_n: Estimate,
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: Estimate,
+    /// Cubic stiffness k3, N/mm^3.
     pub cubic_n_mm3: Estimate,
+    /// Dry-friction force, N (when the record has an unloading branch).
     pub friction_n: Option<Estimate>,
+    /// How well the fit matches.
     pub quality: FitQuality,
 }
 
 /// Result of [`analyze_static`].
 #[derive(Debug, Clone, Serialize)]
 pub struct StaticFit {
+    /// Points used.
     pub points: usize,
+    /// Points on the loading branch.
     pub loading_points: usize,
+    /// Points on the unloading branch.
     pub unloading_points: usize,
     /// Points on neither branch (dwells, turning points).
     pub excluded_points: usize,
@@ -91,8 +101,11 @@ pub struct StaticFit {
     pub cubic_n_m3: Estimate,
     /// `F_f`, N; `None` without an unloading branch.
     pub friction_n: Option<Estimate>,
+    /// The cubic fit.
     pub cubic: FitQuality,
+    /// The linear fit.
     pub linear: LinearStatic,
+    /// The fit with a force offset.
     pub with_offset: OffsetStatic,
 }
 

@@ -108,7 +108,8 @@ fn decrement(
         }),
         ..Default::default()
     };
-    let report = coil_postproc::decrement::analyze(&time_s, &values, &options).map_err(fail)?;
+    let signal = coil_postproc::signal::Signal::new(time_s, values).map_err(fail)?;
+    let report = coil_postproc::decrement::analyze(&signal, &options).map_err(fail)?;
     json(&report)
 }
 

@@ -12,6 +12,28 @@ pub const STEEL_NU: f64 = 0.3;
 /// 7850 kg/m^3 in t/mm^3.
 pub const STEEL_DENSITY: f64 = 7.85e-9;
 
+/// The paper's calibrated Young's modulus (its Table 3), MPa.
+pub const PAPER_YOUNGS_MODULUS_MPA: f64 = 190_708.0;
+
+/// The paper's spring as the mesher builds it by default (n = 14, D = 24 mm, d = 3 mm,
+/// h = 6.2 mm, 24 type-98 beams per coil, steel with nu = 0.3 and 7850 kg/m^3) at the
+/// paper's calibrated E: the one fixture of the end-to-end tests (each sets its own mesh,
+/// weight and analyses on top).
+pub fn paper_spec() -> coil_mesher::SpringSpec {
+    coil_mesher::SpringSpec {
+        youngs_modulus_mpa: PAPER_YOUNGS_MODULUS_MPA,
+        ..coil_mesher::SpringSpec::default()
+    }
+}
+
+/// The model of `spec` written as a deck and read back, so the deck's text path (the
+/// cards' writer and reader, `INITIAL VEL, QUASI STATIC`) is part of every run using it.
+pub fn through_deck(spec: &coil_mesher::SpringSpec) -> Model {
+    let model = spec.build().expect("valid spec");
+    coil_solver::deck::read_str(&coil_solver::deck::write(&model), "spring.dat")
+        .expect("the deck reads back")
+}
+
 /// A model with nothing in it but a title.
 pub fn empty_model(title: &str) -> Model {
     Model {

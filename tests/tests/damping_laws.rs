@@ -325,13 +325,9 @@ mod spring {
             })
             .unwrap();
         let a = t.history.column(coil_mesher::WEIGHT_ACCEL_COLUMN).unwrap();
-        let signal = coil_postproc::signal::Signal {
-            source: "direct".into(),
-            column: "accel".into(),
-            time_s: t.history.time_s.clone(),
-            step_s: t.history.time_s[1] - t.history.time_s[0],
-            values: a.to_vec(),
-        };
+        let signal = coil_postproc::signal::Signal::new(t.history.time_s.clone(), a.to_vec())
+            .unwrap()
+            .named("direct", "accel");
         let (_, zeta, _, _) = coil_tuner::law::fit_decay(&signal).unwrap();
         println!(
             "direct, loss factor {ETA}: zeta {zeta:.7} (eta / 2 = {}, {:+.2e})",

@@ -67,7 +67,6 @@ fn two_records_at_two_masses_are_fitted_as_one_spring() {
         .expect("the drag's value");
 
     let dir = tempfile::tempdir().expect("temp dir");
-    let dir = tempfile::tempdir().expect("temp dir");
     let alone = dir.path().join("alone");
     let joint = dir.path().join("joint");
     let other = dir.path().join("other");

@@ -11,6 +11,7 @@
 use coil_mesher::{AnalysisKind, SpringSpec, WEIGHT_NODE};
 use coil_solver::analysis::{run, CaseSolution, StaticSolution, TransientSolution};
 use coil_solver::model::{units, Analysis, Model, PointElement, PointLoad};
+use coil_tests::{paper_spec, through_deck};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
@@ -349,25 +350,17 @@ fn modal_superposition_and_other_schemes_refuse_point_elements() {
 
 /// The paper's spring, coarse enough for a fast test: 12 elements per coil, type 98,
 /// E = 190708 MPa, a 5.26 kg weight on the guided top.
-fn paper_spec() -> SpringSpec {
+fn coarse_paper_spec() -> SpringSpec {
     SpringSpec {
-        youngs_modulus_mpa: 190_708.0,
         elements_per_coil: 12,
         mass_kg: 5.26,
-        ..SpringSpec::default()
+        ..paper_spec()
     }
-}
-
-/// The model through the deck text (the cards' writer and reader are on the path).
-fn through_deck(spec: &SpringSpec) -> Model {
-    let model = spec.build().expect("valid spec");
-    coil_solver::deck::read_str(&coil_solver::deck::write(&model), "spring.dat")
-        .expect("the deck reads back")
 }
 
 #[test]
 fn paper_spring_with_friction_loses_four_f_over_k_per_cycle() {
-    let linear = statics(&through_deck(&paper_spec()));
+    let linear = statics(&through_deck(&coarse_paper_spec()));
     let k_fe = linear[0].stiffness_n_mm.expect("stiffness");
     let friction_n = 0.5;
     let spec = SpringSpec {
@@ -376,7 +369,7 @@ fn paper_spring_with_friction_loses_four_f_over_k_per_cycle() {
         initial_velocity_m_s: 0.1,
         dt_s: 1e-3,
         duration_s: 1.2,
-        ..paper_spec()
+        ..coarse_paper_spec()
     };
     let model = through_deck(&spec);
     assert_eq!(model.point_laws[0].node, WEIGHT_NODE);
@@ -413,8 +406,8 @@ fn paper_spring_with_friction_loses_four_f_over_k_per_cycle() {
 #[test]
 fn paper_spring_with_cubic_stiffness_solves_k_x_plus_k3_x3_under_gravity() {
     let gravity = 9.81;
-    let weight_n = paper_spec().mass_kg * gravity;
-    let linear = statics(&through_deck(&paper_spec()));
+    let weight_n = coarse_paper_spec().mass_kg * gravity;
+    let linear = statics(&through_deck(&coarse_paper_spec()));
     let k_fe = linear[0].stiffness_n_mm.expect("stiffness");
     // k3 such that the cubic carries a tenth of the load at the linear deflection.
     let x_lin = weight_n / k_fe;
@@ -423,7 +416,7 @@ fn paper_spring_with_cubic_stiffness_solves_k_x_plus_k3_x3_under_gravity() {
         analyses: vec![AnalysisKind::Static],
         force_n: weight_n,
         cubic_stiffness_n_m3: units::cubic_stiffness_to_si(k3),
-        ..paper_spec()
+        ..coarse_paper_spec()
     };
     let model = through_deck(&spec);
     let solution = &statics(&model)[0];

@@ -8,23 +8,11 @@ use coil_mesher::{AnalysisKind, SpringSpec, Top, WEIGHT_NODE};
 use coil_solver::analysis::{run, CaseSolution, ModalSolution};
 use coil_solver::model::units;
 
-const E_PAPER: f64 = 190708.0;
-
-fn paper_spec() -> SpringSpec {
-    SpringSpec {
-        youngs_modulus_mpa: E_PAPER,
-        poisson: 0.3,
-        density_kg_m3: 7850.0,
-        ..SpringSpec::default()
-    }
-}
+use coil_tests::{paper_spec, through_deck, PAPER_YOUNGS_MODULUS_MPA as E_PAPER};
 
 /// Meshes, writes the deck, reads it back (so the whole text path is exercised) and runs.
 fn solve(spec: &SpringSpec) -> Vec<CaseSolution> {
-    let model = spec.build().expect("valid spec");
-    let text = coil_solver::deck::write(&model);
-    let model = coil_solver::deck::read_str(&text, "paper.dat").expect("deck reads back");
-    run(&model)
+    run(&through_deck(spec))
         .expect("solves")
         .into_iter()
         .map(|c| c.solution)

@@ -14,12 +14,14 @@ use coil_mesher::{
     AnalysisKind, SpringSpec, TransientScheme, VelocityField, WEIGHT_ACCEL_COLUMN, WEIGHT_NODE,
 };
 use coil_postproc::decrement::{analyze, DecrementOptions, DecrementReport, Lowpass};
+use coil_postproc::signal::Signal;
 use coil_postproc::PostError;
 use coil_solver::analysis::transient::{override_method, MethodOverride};
 use coil_solver::analysis::{modal, run, CaseSolution, Mode, System, TransientSolution};
 use coil_solver::integrate::Scheme;
 use coil_solver::linalg::sym_upper_matvec;
 use coil_solver::model::{units, Analysis, Integrator, Model, PointLoad, Table, TransientMethod};
+use coil_tests::{paper_spec, through_deck as model_of};
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
@@ -30,25 +32,6 @@ const PEER_PERIOD_S: f64 = 0.23045;
 const PEER_ZETA_ALPHA_ON_WEIGHT: f64 = 0.0163;
 
 const WEIGHT_DISP_COLUMN: &str = "node1_uz_disp_m";
-
-fn paper_spec() -> SpringSpec {
-    SpringSpec {
-        youngs_modulus_mpa: 190_708.0,
-        poisson: 0.3,
-        density_kg_m3: 7850.0,
-        elements_per_coil: 24,
-        element: 98,
-        ..SpringSpec::default()
-    }
-}
-
-/// Meshes, writes the deck and reads it back, so the text path (including `INITIAL VEL,
-/// QUASI STATIC`) is part of every run.
-fn model_of(spec: &SpringSpec) -> Model {
-    let model = spec.build().expect("valid spec");
-    let text = coil_solver::deck::write(&model);
-    coil_solver::deck::read_str(&text, "transient.dat").expect("the deck reads back")
-}
 
 /// The model's static stiffness at the weight (N/mm) and the peer's weight mass (kg).
 fn stiffness_and_mass() -> (f64, f64) {
@@ -98,9 +81,9 @@ fn decrement(
     lowpass_hz: Option<f64>,
 ) -> Result<DecrementReport, PostError> {
     let values = t.history.column(column).expect("recorded column");
+    let signal = Signal::new(t.history.time_s.clone(), values.to_vec())?;
     analyze(
-        &t.history.time_s,
-        values,
+        &signal,
         &DecrementOptions {
             every: 10,
             lowpass: lowpass_hz.map(|cutoff_hz| Lowpass {
@@ -559,10 +542,9 @@ fn history_files_read_in_coil_post_and_name_further_cases() {
     let first = dir.path().join("history.csv");
     assert!(dir.path().join("case2_history.csv").is_file());
     let signal = coil_postproc::signal::read_signal(&first, WEIGHT_ACCEL_COLUMN).expect("read");
-    assert_eq!(signal.time_s.len(), 501, "every 10th step of 5000");
+    assert_eq!(signal.time_s().len(), 501, "every 10th step of 5000");
     let report = analyze(
-        &signal.time_s,
-        &signal.values,
+        &signal,
         &DecrementOptions {
             every: 10,
             ..DecrementOptions::default()

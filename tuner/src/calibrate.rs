@@ -17,7 +17,9 @@ use serde::Serialize;
 /// Settings of a calibration.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CalibrateSettings {
+    /// Mesh and solver settings.
     pub fe: FeSettings,
+    /// Loop 3 settings.
     pub damping: DampingSettings,
     /// Relative tolerance of loop 1 (the paper: 0.001% = 1e-5).
     pub stiffness_tolerance: f64,
@@ -39,8 +41,11 @@ impl Default for CalibrateSettings {
 /// The three targets of Figure 6.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Targets {
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: f64,
+    /// Period of the axial mode, s.
     pub period_s: f64,
+    /// Damping ratio zeta (-).
     pub damping_ratio: f64,
 }
 
@@ -63,15 +68,23 @@ impl Targets {
 /// A finished calibration.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Calibration {
+    /// The case's name.
     pub case: String,
+    /// The targets.
     pub targets: Targets,
+    /// The settings.
     pub settings: CalibrateSettings,
+    /// The nominal values.
     pub nominal: SpringState,
+    /// Loop 1 (E to K).
     pub stiffness: LoopReport,
+    /// Loop 2 (mass to T).
     pub period: LoopReport,
+    /// Loop 3 settings.
     pub damping: DampingReport,
     /// The validated values: E, mass, alpha, beta with the geometry.
     pub state: SpringState,
+    /// Wall time, s.
     pub elapsed_s: f64,
 }
 

@@ -24,46 +24,67 @@ use std::path::{Path, PathBuf};
 /// Helix geometry of the active coils (Table 4's n, D, d, h).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SpringGeometry {
+    /// Number of active coils n.
     pub active_coils: f64,
+    /// Mean coil diameter D, mm.
     pub mean_diameter_mm: f64,
+    /// Wire diameter d, mm.
     pub wire_diameter_mm: f64,
+    /// Pitch h, mm.
     pub pitch_mm: f64,
 }
 
 /// Handbook material values: starting points of the calibration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct NominalMaterial {
+    /// Young's modulus E, MPa.
     pub youngs_modulus_mpa: f64,
+    /// Poisson's ratio (-).
     pub poisson_ratio: f64,
+    /// Wire density, kg/m^3.
     pub density_kg_m3: f64,
 }
 
 /// The paper's reduced figures, given instead of (or beside) raw records.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Targets {
+    /// Axial stiffness K, N/mm, if given.
     pub stiffness_n_mm: Option<f64>,
+    /// Damping ratio zeta (-), if given.
     pub damping_ratio: Option<f64>,
+    /// Period of the axial mode, s, if given.
     pub period_s: Option<f64>,
 }
 
 /// One spring of the paper's Table 1.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TestedSpring {
+    /// Its name.
     pub name: String,
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: f64,
+    /// Damping ratio zeta (-).
     pub damping_ratio: f64,
 }
 
 /// What the paper reports for its case (Tables 2 and 3, the loop counts).
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct PaperFigures {
+    /// Where the values come from (a citation), if given.
     pub source: Option<String>,
+    /// Young's modulus E, MPa, if given.
     pub youngs_modulus_mpa: Option<f64>,
+    /// Axial stiffness K, N/mm, if given.
     pub stiffness_n_mm: Option<f64>,
+    /// Damping ratio zeta (-), if given.
     pub damping_ratio: Option<f64>,
+    /// The paper's alpha, 1/s.
     pub rayleigh_alpha: Option<f64>,
+    /// The paper's beta, s.
     pub rayleigh_beta: Option<f64>,
+    /// The paper's iterations of loop 1.
     pub stiffness_iterations: Option<f64>,
+    /// The paper's iterations of loop 2.
     pub mass_iterations: Option<f64>,
 }
 
@@ -72,10 +93,15 @@ pub struct PaperFigures {
 pub struct MeasuredCase {
     /// The `case.json` that was read.
     pub file: PathBuf,
+    /// Its name.
     pub name: String,
+    /// The spring geometry.
     pub spring: SpringGeometry,
+    /// The material and weight.
     pub material: NominalMaterial,
+    /// The weight's mass, kg.
     pub mass_kg: f64,
+    /// Gravity, m/s^2.
     pub gravity_m_s2: f64,
     /// Static records, resolved against the case folder (they exist).
     pub static_files: Vec<PathBuf>,
@@ -84,11 +110,14 @@ pub struct MeasuredCase {
     /// What each decay record says about itself, in `decay_files` order (a plain file
     /// name: the case's mass, the axial mode, at the weight).
     pub decay_info: Vec<DecayInfo>,
+    /// The targets.
     pub targets: Targets,
     /// Line and column of the `targets` object (for messages about a missing target).
     #[serde(skip)]
     pub targets_at: Option<(usize, usize)>,
+    /// The tested springs (the paper's Table 1).
     pub tested_springs: Vec<TestedSpring>,
+    /// The paper's values.
     pub paper: Option<PaperFigures>,
 }
 
@@ -108,6 +137,7 @@ pub enum DecayMode {
 pub struct DecayInfo {
     /// The attached mass of this record (kg); `None`: the case's `mass_kg`.
     pub mass_kg: Option<f64>,
+    /// Which mode the record shows.
     pub mode: DecayMode,
     /// Where the sensor sat, in words (`"weight"` by default).
     pub location: String,
@@ -165,6 +195,7 @@ fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldErro
 /// A static force-compression record (`displacement_mm,force_n`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticRecord {
+    /// The file it was read from.
     pub file: PathBuf,
     /// Compression from the free length (mm, positive = shorter).
     pub displacement_mm: Vec<f64>,
@@ -176,18 +207,27 @@ pub struct StaticRecord {
 #[derive(Debug, thiserror::Error)]
 pub enum CaseError {
     #[error("{}: cannot read the file: {source}", path.display())]
+    /// Reading or writing failed.
     Io {
+        /// The file.
         path: PathBuf,
+        /// Where the values come from (a citation), if given.
         source: std::io::Error,
     },
     #[error("{}:{line}:{column}: invalid JSON: {message}", path.display())]
+    /// A file that is not valid JSON.
     Syntax {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: usize,
+        /// Its column (1-based).
         column: usize,
+        /// What is wrong and what was expected.
         message: String,
     },
     #[error(transparent)]
+    /// A field missing or out of range.
     Field(#[from] FieldError),
     /// An input outside its limits or its folder (docs/files.md).
     #[error(transparent)]
@@ -198,17 +238,25 @@ pub enum CaseError {
     /// A decay record whose columns or time stamps are wrong.
     #[error("{}:{line}: {problem}; expected {expected}", path.display())]
     DecayRecord {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: usize,
+        /// What is wrong.
         problem: String,
+        /// What was expected.
         expected: String,
     },
     /// A static record that cannot be read.
     #[error("{}:{line}: {problem}; expected {expected}", path.display())]
     StaticRecord {
+        /// The file.
         path: PathBuf,
+        /// Its line (1-based).
         line: usize,
+        /// What is wrong.
         problem: String,
+        /// What was expected.
         expected: String,
     },
 }
@@ -577,7 +625,9 @@ impl Quantity {
 /// diagnosis to judge, `diagnose::data`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeasuredDecay {
+    /// The file it was read from.
     pub file: PathBuf,
+    /// What the column measures.
     pub quantity: Quantity,
     /// Time stamps (s).
     pub time_s: Vec<f64>,
@@ -779,9 +829,13 @@ pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
 /// One alternative spring of a variants file (Table 4), with the paper's figures if given.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Variant {
+    /// Its name.
     pub name: String,
+    /// The spring geometry.
     pub spring: SpringGeometry,
+    /// The paper's K, N/mm.
     pub paper_stiffness_n_mm: Option<f64>,
+    /// The paper's zeta (-).
     pub paper_damping_ratio: Option<f64>,
 }
 
@@ -790,8 +844,11 @@ pub struct Variant {
 /// "paper_damping_ratio"?}, ..]}`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct VariantsFile {
+    /// The file it was read from.
     pub file: PathBuf,
+    /// Where the values come from (a citation), if given.
     pub source: Option<String>,
+    /// The variants.
     pub variants: Vec<Variant>,
 }
 
@@ -897,7 +954,7 @@ mod tests {
         let statics = case.static_records().unwrap();
         assert_eq!(statics[0].force_n, vec![0.0, 3.9, 7.9]);
         let decays = case.decay_records().unwrap();
-        assert_eq!(decays[0].values.len(), 100);
+        assert_eq!(decays[0].values().len(), 100);
     }
 
     /// Each broken field is named with its line and what was expected.

@@ -1,5 +1,5 @@
 //! The `coil-tune` command line: argument parsing and dispatch. The binary only calls
-//! [`main`] and maps its error to the exit code (1 for an error in the data or a run, 2 for
+//! `main` and maps its error to the exit code (1 for an error in the data or a run, 2 for
 //! a usage error, as clap does).
 
 use crate::calibrate::{calibrate, CalibrateSettings, Targets};
@@ -48,6 +48,7 @@ stdout (| head) ends the printing, not the run."
 )]
 pub struct Cli {
     #[command(subcommand)]
+    /// The command to run.
     pub command: Command,
 }
 
@@ -90,6 +91,7 @@ impl ModelArgs {
         s
     }
 
+    /// How long grids may run.
     pub fn control(&self) -> RunControl {
         RunControl {
             max_new_points: self.max_points,
@@ -153,18 +155,22 @@ pub struct MaterialArgs {
 }
 
 #[derive(Debug, Subcommand)]
+/// The commands of `coil-tune`.
 pub enum Command {
     /// Loops 1-3 of the paper's Figure 6 on a case (folder or case.json).
     Calibrate {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// Output folder for decks, logs, grids and figures.
         #[arg(long, default_value = "out/calibrate")]
         out: PathBuf,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// K and zeta of spring variants with the validated material (Table 4).
     Sweep {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// The variants file (e.g. cases/160ect/table4.json).
         #[arg(long)]
@@ -173,18 +179,21 @@ pub enum Command {
         #[arg(long, default_value = "out/sweep")]
         out: PathBuf,
         #[command(flatten)]
+        /// Where the validated material comes from.
         material: MaterialArgs,
         /// Run only shard I of N (round robin over the variants) and write
         /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
         #[arg(long, value_name = "I/N")]
         shard: Option<crate::study::Shard>,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// K and zeta distributions of the variants as manufactured: each spring sampled
     /// within tolerances (wire and coil diameter, coils, E, mass), seeded
     /// (docs/scale-out.md).
     Tolerance {
+        /// The measured case (a folder with case.json, or the file).
         case: PathBuf,
         /// The variants file (e.g. cases/160ect/table4.json).
         #[arg(long)]
@@ -193,6 +202,7 @@ pub enum Command {
         #[arg(long, default_value = "out/tolerance")]
         out: PathBuf,
         #[command(flatten)]
+        /// The tolerances sampled.
         tolerance: ToleranceArgs,
         /// Run only shard I of N (round robin over the tasks) and write
         /// DIR/part-IIII-of-NNNN.csv; `coil-tune merge` joins the parts.
@@ -202,8 +212,10 @@ pub enum Command {
         #[arg(long)]
         no_plots: bool,
         #[command(flatten)]
+        /// Where the validated material comes from.
         material: MaterialArgs,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// Join the parts of a sharded `sweep` or `tolerance` into the table a single run
@@ -232,6 +244,7 @@ pub enum Command {
         #[arg(long, default_value = "cases/160ect/table4.json")]
         variants: PathBuf,
         #[command(flatten)]
+        /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
     /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
@@ -278,8 +291,9 @@ pub enum Command {
     },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
+        /// The procedure file.
         procedure: PathBuf,
-        /// Output folder (overrides the file's `out`; default out/<procedure name>).
+        /// Output folder (overrides the file's `out`; default `out/<procedure name>`).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Only parse and check the file.
@@ -317,42 +331,7 @@ pub fn run(cli: Cli) -> Result<()> {
             material,
             shard,
             model,
-        } => {
-            if let Some(shard) = shard {
-                // A shard writes one part file into a folder shared by concurrent shards:
-                // no output set (its lock would refuse the other shards), one atomic file.
-                let sweep = sweep_study(&case, &variants, &material, &model, None, Some(shard))?;
-                let study = crate::study::Study::Sweep(sweep);
-                let path = crate::study::run_shard(&study, shard, &out)?;
-                say!("shard {shard}: {}", path.display())?;
-                return Ok(());
-            }
-            let out = OutDir::create(out)?;
-            let sweep = sweep_study(&case, &variants, &material, &model, Some(&out), None)?;
-            let state = sweep.material;
-            let variants = crate::case::VariantsFile {
-                file: variants,
-                source: None,
-                variants: sweep.variants.clone(),
-            };
-            let (settings, decay) = (&sweep.fe, &sweep.decay);
-            let result = crate::sweep::sweep(&state, &variants, settings, decay)?;
-            out.write("sweep.csv", result.csv().as_bytes())?;
-            let json = serde_json::to_string_pretty(&result)
-                .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
-            out.write("sweep.json", json.as_bytes())?;
-            out.commit()?;
-            say!(
-                "material: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
-                state.youngs_modulus_mpa,
-                state.mass_kg,
-                state.alpha,
-                state.beta
-            )?;
-            text(&result.table())?;
-            say!("files in {}", out.root().display())?;
-            Ok(())
-        }
+        } => sweep_command(case, variants, out, material, shard, model),
         Command::Tolerance {
             case,
             variants,
@@ -362,60 +341,9 @@ pub fn run(cli: Cli) -> Result<()> {
             no_plots,
             material,
             model,
-        } => {
-            if let Some(shard) = shard {
-                let study = crate::study::Study::Tolerance(tolerance_study(
-                    &case,
-                    &variants,
-                    &tolerance,
-                    &material,
-                    &model,
-                    None,
-                    Some(shard),
-                )?);
-                let clock = std::time::Instant::now();
-                let path = crate::study::run_shard(&study, shard, &out)?;
-                say!(
-                    "shard {shard}: {} of {} tasks in {:.2} s: {}",
-                    shard.tasks(study.tasks()).len(),
-                    study.tasks(),
-                    clock.elapsed().as_secs_f64(),
-                    path.display()
-                )?;
-                return Ok(());
-            }
-            let out = OutDir::create(out)?;
-            let study = crate::study::Study::Tolerance(tolerance_study(
-                &case,
-                &variants,
-                &tolerance,
-                &material,
-                &model,
-                Some(&out),
-                None,
-            )?);
-            let clock = std::time::Instant::now();
-            let rows = study.run_all()?;
-            let elapsed = clock.elapsed().as_secs_f64();
-            let merged = crate::study::Merged {
-                columns: study.columns(),
-                rows: rows
-                    .iter()
-                    .map(|r| r.iter().map(crate::study::Cell::csv).collect())
-                    .collect(),
-                study,
-            };
-            let summary = write_table(&merged, &out, !no_plots)?;
-            out.commit()?;
-            text(&summary)?;
-            say!(
-                "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
-                merged.rows.len(),
-                merged.rows.len() as f64 / elapsed,
-                out.root().display()
-            )?;
-            Ok(())
-        }
+        } => tolerance_command(
+            case, variants, out, tolerance, shard, no_plots, material, model,
+        ),
         Command::Merge {
             parts,
             out,
@@ -494,75 +422,197 @@ pub fn run(cli: Cli) -> Result<()> {
             case,
             variants,
             model,
-        } => {
-            let out = OutDir::create(out)?;
-            let options = crate::paper::PaperOptions {
-                case,
-                variants,
-                settings: model.settings(),
-                control: model.control(),
-            };
-            let report = crate::paper::run_paper(&options, &out)?;
-            out.commit()?;
-            say!("Table 3 ({}):", report.case)?;
-            text(&crate::report::table3(&report))?;
-            say!("\nTable 4:")?;
-            text(&crate::report::table4(&report))?;
-            let m = &report.mesh_study;
-            say!(
-                "\nmesh bias: the paper's E = {} MPa at ~{} elements per coil; mesh-converged E = {:.0} MPa",
-                m.paper_youngs_modulus_mpa,
-                m.elements_per_coil_matching_paper
-                    .map_or("?".into(), |n| format!("{n:.1}")),
-                m.converged_youngs_modulus_mpa
-            )?;
-            say!(
-                "total {:.2} s; report in {}",
-                report.timings.total_s,
-                out.path("report.md").display()
-            )?;
-            Ok(())
-        }
+        } => paper_command(out, case, variants, model),
         Command::Run {
             procedure,
             out,
             dry_run,
             max_points,
-        } => {
-            let parsed = crate::procedure::read(&procedure)?;
-            if dry_run {
-                say!(
-                    "{}: {} commands, no errors",
-                    procedure.display(),
-                    parsed.statements.len()
-                )?;
-                return Ok(());
-            }
-            let control = RunControl {
-                max_new_points: max_points,
-            };
-            // A closed stdout ends the printing, not the run (coil_io::stdout).
-            let mut failed = None;
-            let result = crate::procedure::run(&parsed, out.as_deref(), &control, &mut |l| {
-                if let Err(e) = line(l) {
-                    failed.get_or_insert(e);
-                }
-            })?;
-            if let Some(e) = failed {
-                return Err(stdout_error(e));
-            }
-            if let Some(s) = result.state {
-                say!(
-                    "final: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
-                    s.youngs_modulus_mpa,
-                    s.mass_kg,
-                    s.alpha,
-                    s.beta
-                )?;
-            }
-            Ok(())
-        }
+        } => procedure_command(procedure, out, dry_run, max_points),
     }
+}
+
+/// `coil-tune sweep`: Table 4's variants with the validated material (or one shard of them).
+fn sweep_command(
+    case: PathBuf,
+    variants: PathBuf,
+    out: PathBuf,
+    material: MaterialArgs,
+    shard: Option<crate::study::Shard>,
+    model: ModelArgs,
+) -> Result<()> {
+    if let Some(shard) = shard {
+        // A shard writes one part file into a folder shared by concurrent shards:
+        // no output set (its lock would refuse the other shards), one atomic file.
+        let sweep = sweep_study(&case, &variants, &material, &model, None, Some(shard))?;
+        let study = crate::study::Study::Sweep(sweep);
+        let path = crate::study::run_shard(&study, shard, &out)?;
+        say!("shard {shard}: {}", path.display())?;
+        return Ok(());
+    }
+    let out = OutDir::create(out)?;
+    let sweep = sweep_study(&case, &variants, &material, &model, Some(&out), None)?;
+    let state = sweep.material;
+    let variants = crate::case::VariantsFile {
+        file: variants,
+        source: None,
+        variants: sweep.variants.clone(),
+    };
+    let (settings, decay) = (&sweep.fe, &sweep.decay);
+    let result = crate::sweep::sweep(&state, &variants, settings, decay)?;
+    out.write("sweep.csv", result.csv().as_bytes())?;
+    let json = serde_json::to_string_pretty(&result)
+        .map_err(|e| crate::TuneError::Invalid(format!("sweep.json: {e}")))?;
+    out.write("sweep.json", json.as_bytes())?;
+    out.commit()?;
+    say!(
+        "material: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
+        state.youngs_modulus_mpa,
+        state.mass_kg,
+        state.alpha,
+        state.beta
+    )?;
+    text(&result.table())?;
+    say!("files in {}", out.root().display())?;
+    Ok(())
+}
+
+/// `coil-tune tolerance`: springs sampled within their tolerances (or one shard of them).
+#[allow(clippy::too_many_arguments)]
+fn tolerance_command(
+    case: PathBuf,
+    variants: PathBuf,
+    out: PathBuf,
+    tolerance: ToleranceArgs,
+    shard: Option<crate::study::Shard>,
+    no_plots: bool,
+    material: MaterialArgs,
+    model: ModelArgs,
+) -> Result<()> {
+    if let Some(shard) = shard {
+        let study = crate::study::Study::Tolerance(tolerance_study(
+            &case,
+            &variants,
+            &tolerance,
+            &material,
+            &model,
+            None,
+            Some(shard),
+        )?);
+        let clock = std::time::Instant::now();
+        let path = crate::study::run_shard(&study, shard, &out)?;
+        say!(
+            "shard {shard}: {} of {} tasks in {:.2} s: {}",
+            shard.tasks(study.tasks()).len(),
+            study.tasks(),
+            clock.elapsed().as_secs_f64(),
+            path.display()
+        )?;
+        return Ok(());
+    }
+    let out = OutDir::create(out)?;
+    let study = crate::study::Study::Tolerance(tolerance_study(
+        &case,
+        &variants,
+        &tolerance,
+        &material,
+        &model,
+        Some(&out),
+        None,
+    )?);
+    let clock = std::time::Instant::now();
+    let rows = study.run_all()?;
+    let elapsed = clock.elapsed().as_secs_f64();
+    let merged = crate::study::Merged {
+        columns: study.columns(),
+        rows: rows
+            .iter()
+            .map(|r| r.iter().map(crate::study::Cell::csv).collect())
+            .collect(),
+        study,
+    };
+    let summary = write_table(&merged, &out, !no_plots)?;
+    out.commit()?;
+    text(&summary)?;
+    say!(
+        "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
+        merged.rows.len(),
+        merged.rows.len() as f64 / elapsed,
+        out.root().display()
+    )?;
+    Ok(())
+}
+
+/// `coil-tune paper`: the README's main job, Tables 3 and 4 printed beside the paper's.
+fn paper_command(out: PathBuf, case: PathBuf, variants: PathBuf, model: ModelArgs) -> Result<()> {
+    let out = OutDir::create(out)?;
+    let options = crate::paper::PaperOptions {
+        case,
+        variants,
+        settings: model.settings(),
+        control: model.control(),
+    };
+    let report = crate::paper::run_paper(&options, &out)?;
+    out.commit()?;
+    say!("Table 3 ({}):", report.case)?;
+    text(&crate::report::table3(&report))?;
+    say!("\nTable 4:")?;
+    text(&crate::report::table4(&report))?;
+    let m = &report.mesh_study;
+    say!(
+        "\nmesh bias: the paper's E = {} MPa at ~{} elements per coil; mesh-converged E = {:.0} MPa",
+        m.paper_youngs_modulus_mpa,
+        m.elements_per_coil_matching_paper
+            .map_or("?".into(), |n| format!("{n:.1}")),
+        m.converged_youngs_modulus_mpa
+    )?;
+    say!(
+        "total {:.2} s; report in {}",
+        report.timings.total_s,
+        out.path("report.md").display()
+    )?;
+    Ok(())
+}
+
+/// `coil-tune run`: a procedure file, parsed and checked, then run (or only checked).
+fn procedure_command(
+    procedure: PathBuf,
+    out: Option<PathBuf>,
+    dry_run: bool,
+    max_points: Option<usize>,
+) -> Result<()> {
+    let parsed = crate::procedure::read(&procedure)?;
+    if dry_run {
+        say!(
+            "{}: {} commands, no errors",
+            procedure.display(),
+            parsed.statements.len()
+        )?;
+        return Ok(());
+    }
+    let control = RunControl {
+        max_new_points: max_points,
+    };
+    // A closed stdout ends the printing, not the run (coil_io::stdout).
+    let mut failed = None;
+    let result = crate::procedure::run(&parsed, out.as_deref(), &control, &mut |l| {
+        if let Err(e) = line(l) {
+            failed.get_or_insert(e);
+        }
+    })?;
+    if let Some(e) = failed {
+        return Err(stdout_error(e));
+    }
+    if let Some(s) = result.state {
+        say!(
+            "final: E = {:.1} MPa, mass = {:.5} kg, alpha = {:.4} 1/s, beta = {:.4e} s",
+            s.youngs_modulus_mpa,
+            s.mass_kg,
+            s.alpha,
+            s.beta
+        )?;
+    }
+    Ok(())
 }
 
 impl MaterialArgs {
@@ -680,7 +730,7 @@ fn read_calibrated_state(path: &std::path::Path) -> Result<crate::fe::SpringStat
     struct File {
         state: crate::fe::SpringState,
     }
-    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Procedure {
+    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Json {
         path: path.to_path_buf(),
         line: e.line(),
         message: format!(

@@ -52,6 +52,7 @@ use serde::Serialize;
 /// Settings of loop 3.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DampingSettings {
+    /// Decay-transient settings.
     pub decay: DecaySettings,
     /// The grids, in order (the paper's two domains by default).
     pub grids: Vec<GridSpec>,
@@ -83,10 +84,15 @@ impl Default for DampingSettings {
 /// Runs decay transients of one model (geometry, E, mass) for any alpha and beta.
 #[derive(Debug)]
 pub enum Simulator {
+    /// Modal superposition.
     Modal(Box<ModalDecay>),
+    /// Direct integration.
     Direct {
+        /// The model values.
         state: SpringState,
+        /// Mesh and solver settings.
         fe: FeSettings,
+        /// Decay-transient settings.
         decay: DecaySettings,
     },
 }
@@ -203,6 +209,7 @@ pub fn direct_decay(
 /// The least-squares plane `zeta = z0 + a alpha + b beta` through measured points.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Plane {
+    /// zeta at alpha = beta = 0 (-).
     pub z0: f64,
     /// d zeta / d alpha (s).
     pub a: f64,
@@ -210,6 +217,7 @@ pub struct Plane {
     pub b: f64,
     /// RMS of the residuals relative to the RMS zeta.
     pub relative_rms_residual: f64,
+    /// Points fitted.
     pub points: usize,
 }
 
@@ -256,35 +264,49 @@ pub fn fit_plane(points: &[(f64, f64, f64)]) -> Option<Plane> {
 /// One finished grid, summarised.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridSummary {
+    /// The grid's name.
     pub name: String,
+    /// Rayleigh alpha, 1/s.
     pub alpha: String,
+    /// Rayleigh beta, s.
     pub beta: String,
+    /// Transient runs.
     pub runs: usize,
+    /// Points run now.
     pub computed: usize,
+    /// Points read from the journal.
     pub resumed: usize,
     /// Points whose decrement failed (with the reason in the CSV).
     pub failed: usize,
+    /// Wall time, s.
     pub elapsed_s: f64,
+    /// The grid's point closest to the target.
     pub best: GridPoint,
+    /// The grid's CSV file.
     pub csv: String,
+    /// The heat map, if drawn.
     pub heat_map: Option<String>,
 }
 
 /// A point of the valley, found by transient runs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ValleyPoint {
+    /// Rayleigh alpha, 1/s.
     pub alpha: f64,
+    /// Rayleigh beta, s.
     pub beta: f64,
     /// Measured zeta (span mean).
     pub zeta: f64,
     /// Share of zeta from alpha (a alpha / zeta, with the fitted a).
     pub alpha_share: f64,
+    /// Transient runs.
     pub runs: usize,
 }
 
 /// The family of (alpha, beta) pairs with the target zeta.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Valley {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// The plane fitted to all grid points.
     pub plane: Plane,
@@ -296,6 +318,7 @@ pub struct Valley {
     pub alpha_alone: f64,
     /// d beta / d alpha along the valley (s^2): -a / b.
     pub beta_per_alpha: f64,
+    /// Points fitted.
     pub points: Vec<ValleyPoint>,
     /// What a single decay identifies, in words with the numbers.
     pub identifiable: String,
@@ -304,11 +327,17 @@ pub struct Valley {
 /// A checked point: zeta by the grid's method and by direct integration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CheckedPoint {
+    /// Rayleigh alpha, 1/s.
     pub alpha: f64,
+    /// Rayleigh beta, s.
     pub beta: f64,
+    /// How decay transients run.
     pub method: Method,
+    /// Damping ratio (-).
     pub zeta: f64,
+    /// Damped period of the decay, s.
     pub period_s: f64,
+    /// Damping ratio of the exponential fit (-).
     pub zeta_fit: f64,
     /// The same by direct integration, when run.
     pub direct: Option<DecayMeasure>,
@@ -316,19 +345,24 @@ pub struct CheckedPoint {
     pub direct_relative_difference: Option<f64>,
     /// Share of zeta from alpha at this point (fitted slopes).
     pub alpha_share: f64,
+    /// Share of zeta from beta (-).
     pub beta_share: f64,
 }
 
 /// Loop 3's result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DampingReport {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
+    /// How decay transients run.
     pub method: Method,
+    /// The grids.
     pub grids: Vec<GridSummary>,
     /// The chosen (grid-best) point, checked.
     pub chosen: CheckedPoint,
     /// The paper's point, if given, measured the same way.
     pub paper_point: Option<CheckedPoint>,
+    /// The valley past the grid, if traced.
     pub valley: Option<Valley>,
     /// Modal period (s) of the axial mode against the transient's measured period.
     pub transient_period_s: f64,
@@ -512,43 +546,7 @@ impl Loop3 {
             .collect();
         let plane = fit_plane(&triples);
 
-        let mut grids = Vec::new();
-        for (index, result) in results.iter().enumerate() {
-            let spec = &result.spec;
-            let heat_map = match out {
-                Some(out) => {
-                    let name = match index {
-                        0 => format!("fig8_{}.png", spec.name),
-                        1 => format!("fig9_{}.png", spec.name),
-                        _ => format!("fig_{}.png", spec.name),
-                    };
-                    let marks = HeatMapMarks {
-                        target_zeta,
-                        paper: paper_point,
-                        valley: plane.map(|p| (p.z0, p.a, p.b)),
-                    };
-                    plots::heat_map(result, &marks, &out.staged(&name)?)?;
-                    Some(name)
-                }
-                None => None,
-            };
-            grids.push(GridSummary {
-                name: spec.name.clone(),
-                alpha: spec.alpha.to_string(),
-                beta: spec.beta.to_string(),
-                runs: result.points.len(),
-                computed: result.computed,
-                resumed: result.resumed,
-                failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
-                elapsed_s: result.elapsed_s,
-                best: result
-                    .best(target_zeta)
-                    .cloned()
-                    .unwrap_or_else(|| best.clone()),
-                csv: format!("loop3_{}.csv", spec.name),
-                heat_map,
-            });
-        }
+        let grids = self.grid_summaries(&best, plane, paper_point)?;
 
         let state = &self.state;
         let fe = &self.fe;
@@ -646,81 +644,14 @@ impl Loop3 {
                     &out.staged("loop3_valley.png")?,
                 )?;
             }
-            // Decks of the transients that matter: the chosen point, the paper's point,
-            // the valley's points (a grid point's deck is the chosen one with its DAMPING
-            // line changed).
-            let mut decks = vec![("chosen".to_string(), best.alpha, best.beta)];
-            if let Some((a, b)) = paper_point {
-                decks.push(("paper_point".to_string(), a, b));
-            }
-            if let Some(v) = &valley {
-                for (k, p) in v.points.iter().enumerate() {
-                    decks.push((format!("valley_{:02}", k + 1), p.alpha, p.beta));
-                }
-            }
-            for (name, alpha, beta) in decks {
-                let model = decay_model(
-                    &SpringState {
-                        alpha,
-                        beta,
-                        ..*state
-                    },
-                    fe,
-                    decay,
-                )?;
-                out.write(
-                    format!("loop3/{name}.dat"),
-                    coil_solver::deck::write(&model).as_bytes(),
-                )?;
-            }
-            if chosen.direct.is_some() {
-                let direct = DecaySettings {
-                    method: Method::Direct,
-                    ..decay.clone()
-                };
-                let at = SpringState {
-                    alpha: best.alpha,
-                    beta: best.beta,
-                    ..*state
-                };
-                out.write(
-                    "loop3/chosen_direct.dat",
-                    coil_solver::deck::write(&decay_model(&at, fe, &direct)?).as_bytes(),
-                )?;
-            }
-            // The loop's log, the analogue of Fig. 7: every run with its relative error.
-            let mut rows = Vec::new();
-            for g in results {
-                for p in &g.points {
-                    rows.push(vec![
-                        g.spec.name.clone(),
-                        exact(p.alpha),
-                        exact(p.beta),
-                        p.zeta().map_or(String::new(), exact),
-                        p.zeta()
-                            .map_or(String::new(), |z| exact((z - target_zeta) / target_zeta)),
-                    ]);
-                }
-            }
-            if let Some(v) = &valley {
-                for p in &v.points {
-                    rows.push(vec![
-                        "valley".into(),
-                        exact(p.alpha),
-                        exact(p.beta),
-                        exact(p.zeta),
-                        exact((p.zeta - target_zeta) / target_zeta),
-                    ]);
-                }
-            }
-            out.write(
-                "loop3_log.csv",
-                csv(
-                    &["stage", "alpha", "beta", "zeta_mean", "relative_error"],
-                    rows,
-                )
-                .as_bytes(),
+            self.write_decks(
+                out,
+                &best,
+                paper_point,
+                valley.as_ref(),
+                chosen.direct.is_some(),
             )?;
+            write_log(out, results, valley.as_ref(), target_zeta)?;
         }
 
         Ok(DampingReport {
@@ -734,6 +665,153 @@ impl Loop3 {
             complete,
         })
     }
+
+    /// Each grid's summary, with its heat map drawn when there is an output folder.
+    fn grid_summaries(
+        &self,
+        best: &GridPoint,
+        plane: Option<Plane>,
+        paper_point: Option<(f64, f64)>,
+    ) -> Result<Vec<GridSummary>> {
+        let (target_zeta, out) = (self.target_zeta, self.out.as_ref());
+        let mut grids = Vec::new();
+        for (index, result) in self.results.iter().enumerate() {
+            let spec = &result.spec;
+            let heat_map = match out {
+                Some(out) => {
+                    let name = match index {
+                        0 => format!("fig8_{}.png", spec.name),
+                        1 => format!("fig9_{}.png", spec.name),
+                        _ => format!("fig_{}.png", spec.name),
+                    };
+                    let marks = HeatMapMarks {
+                        target_zeta,
+                        paper: paper_point,
+                        valley: plane.map(|p| (p.z0, p.a, p.b)),
+                    };
+                    plots::heat_map(result, &marks, &out.staged(&name)?)?;
+                    Some(name)
+                }
+                None => None,
+            };
+            grids.push(GridSummary {
+                name: spec.name.clone(),
+                alpha: spec.alpha.to_string(),
+                beta: spec.beta.to_string(),
+                runs: result.points.len(),
+                computed: result.computed,
+                resumed: result.resumed,
+                failed: result.points.iter().filter(|p| p.measure.is_none()).count(),
+                elapsed_s: result.elapsed_s,
+                best: result
+                    .best(target_zeta)
+                    .cloned()
+                    .unwrap_or_else(|| best.clone()),
+                csv: format!("loop3_{}.csv", spec.name),
+                heat_map,
+            });
+        }
+        Ok(grids)
+    }
+
+    /// Writes the decks of the transients that matter (`loop3/*.dat`).
+    fn write_decks(
+        &self,
+        out: &OutDir,
+        best: &GridPoint,
+        paper_point: Option<(f64, f64)>,
+        valley: Option<&Valley>,
+        chosen_direct: bool,
+    ) -> Result<()> {
+        let (state, fe, decay) = (&self.state, &self.fe, &self.settings.decay);
+        // Decks of the transients that matter: the chosen point, the paper's point,
+        // the valley's points (a grid point's deck is the chosen one with its DAMPING
+        // line changed).
+        let mut decks = vec![("chosen".to_string(), best.alpha, best.beta)];
+        if let Some((a, b)) = paper_point {
+            decks.push(("paper_point".to_string(), a, b));
+        }
+        if let Some(v) = valley {
+            for (k, p) in v.points.iter().enumerate() {
+                decks.push((format!("valley_{:02}", k + 1), p.alpha, p.beta));
+            }
+        }
+        for (name, alpha, beta) in decks {
+            let model = decay_model(
+                &SpringState {
+                    alpha,
+                    beta,
+                    ..*state
+                },
+                fe,
+                decay,
+            )?;
+            out.write(
+                format!("loop3/{name}.dat"),
+                coil_solver::deck::write(&model).as_bytes(),
+            )?;
+        }
+        if chosen_direct {
+            let direct = DecaySettings {
+                method: Method::Direct,
+                ..decay.clone()
+            };
+            let at = SpringState {
+                alpha: best.alpha,
+                beta: best.beta,
+                ..*state
+            };
+            out.write(
+                "loop3/chosen_direct.dat",
+                coil_solver::deck::write(&decay_model(&at, fe, &direct)?).as_bytes(),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `loop3_log.csv`, the analogue of Fig. 7: every run of loop 3 with its relative
+/// error, then the valley's points.
+fn write_log(
+    out: &OutDir,
+    results: &[GridResult],
+    valley: Option<&Valley>,
+    target_zeta: f64,
+) -> Result<()> {
+    // The loop's log, the analogue of Fig. 7: every run with its relative error.
+    let mut rows = Vec::new();
+    for g in results {
+        for p in &g.points {
+            rows.push(vec![
+                g.spec.name.clone(),
+                exact(p.alpha),
+                exact(p.beta),
+                p.zeta().map_or(String::new(), exact),
+                p.zeta()
+                    .map_or(String::new(), |z| exact((z - target_zeta) / target_zeta)),
+            ]);
+        }
+    }
+    if let Some(v) = valley {
+        for p in &v.points {
+            rows.push(vec![
+                "valley".into(),
+                exact(p.alpha),
+                exact(p.beta),
+                exact(p.zeta),
+                exact((p.zeta - target_zeta) / target_zeta),
+            ]);
+        }
+    }
+    out.write(
+        "loop3_log.csv",
+        csv(
+            &["stage", "alpha", "beta", "zeta_mean", "relative_error"],
+            rows,
+        )
+        .as_bytes(),
+    )?;
+    Ok(())
 }
 
 /// Loop 3 with the settings' grids: sets `state.alpha` and `state.beta` to the best grid

@@ -26,6 +26,7 @@ use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use coil_mesher::{AnalysisKind, WEIGHT_NODE};
 use coil_postproc::decrement::{self, DecrementOptions, Lowpass};
+use coil_postproc::signal::Signal;
 use coil_solver::analysis::{modal, System};
 use coil_solver::integrate::modal::{integrate_modal, ModalBasis, ModalState};
 use coil_solver::linalg::sym_upper_matvec;
@@ -69,13 +70,16 @@ impl std::fmt::Display for Method {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum VelocityField {
+    /// Initial velocity spread along the spring by the static shape.
     QuasiStatic,
+    /// Initial velocity on the weight alone.
     Nodal,
 }
 
 /// Settings of a decay run and of its decrement.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DecaySettings {
+    /// How decay transients run.
     pub method: Method,
     /// Time step (s); also the record's sampling step.
     pub dt_s: f64,
@@ -141,7 +145,9 @@ impl DecaySettings {
 /// The weight's axial acceleration over time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecayRecord {
+    /// Time, s.
     pub time_s: Vec<f64>,
+    /// Acceleration, m/s^2.
     pub accel_m_s2: Vec<f64>,
 }
 
@@ -154,17 +160,18 @@ pub struct DecayMeasure {
     pub zeta_fit: f64,
     /// Damped period from the crest times (s).
     pub period_s: f64,
+    /// Crests used.
     pub crests: usize,
 }
 
 /// The decrement of a record.
 pub fn measure(record: &DecayRecord, settings: &DecaySettings) -> Result<DecayMeasure> {
-    let r = decrement::analyze(&record.time_s, &record.accel_m_s2, &settings.options()).map_err(
-        |source| TuneError::Post {
+    let r = Signal::new(record.time_s.clone(), record.accel_m_s2.clone())
+        .and_then(|signal| decrement::analyze(&signal, &settings.options()))
+        .map_err(|source| TuneError::Post {
             context: "logarithmic decrement of the weight's acceleration".into(),
             source,
-        },
-    )?;
+        })?;
     Ok(DecayMeasure {
         zeta_mean: r.zeta_mean,
         zeta_fit: r.zeta_fit,
@@ -200,6 +207,7 @@ pub struct ModalDecay {
 /// The axial mode's figures behind the valley: `zeta = alpha d / (2 w) + beta w / 2`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AxialDamping {
+    /// Angular frequency of the axial mode, rad/s.
     pub omega_rad_s: f64,
     /// `d = phi^T M_wire phi` for the mass-normalised axial mode (-).
     pub wire_mass_share: f64,

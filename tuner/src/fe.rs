@@ -50,9 +50,13 @@ impl Default for FeSettings {
 /// The calibrated quantities with the geometry they belong to.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SpringState {
+    /// The spring geometry.
     pub spring: SpringGeometry,
+    /// Young's modulus E, MPa.
     pub youngs_modulus_mpa: f64,
+    /// Poisson's ratio (-).
     pub poisson_ratio: f64,
+    /// Wire density, kg/m^3.
     pub density_kg_m3: f64,
     /// The weight's mass (kg).
     pub mass_kg: f64,
@@ -131,7 +135,9 @@ impl SpringState {
 pub struct AxialMode {
     /// 1-based mode number (ascending frequency).
     pub mode: usize,
+    /// Its frequency, Hz.
     pub frequency_hz: f64,
+    /// Its period, s.
     pub period_s: f64,
     /// omega = 2 pi f (rad/s).
     pub omega_rad_s: f64,
@@ -142,7 +148,9 @@ pub struct AxialMode {
 /// What one static + modal run gives.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StaticModal {
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: f64,
+    /// The axial mode.
     pub axial: AxialMode,
 }
 

@@ -12,8 +12,11 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}:{line}:{column}: `{field}`: {problem}; expected {expected}", file.display())]
 pub struct FieldError {
+    /// The file.
     pub file: PathBuf,
+    /// Its line (1-based).
     pub line: usize,
+    /// Its column (1-based).
     pub column: usize,
     /// Dotted path from the document root, e.g. `spring.pitch_mm` or `variants[2].name`.
     pub field: String,
@@ -73,8 +76,11 @@ pub struct Object<'a> {
 /// A located scalar or sub-object handed out by [`Object`].
 #[derive(Debug, Clone)]
 pub struct Field<'a> {
+    /// The file.
     pub file: &'a Path,
+    /// The field's path in the JSON (e.g. `targets.stiffness_n_mm`).
     pub path: String,
+    /// The node.
     pub node: &'a Node,
 }
 

@@ -35,8 +35,11 @@ pub const MAX_POINTS: usize = 1_000_000;
 /// One axis of a grid.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
+    /// First value.
     pub start: f64,
+    /// Step between values.
     pub step: f64,
+    /// Number of values.
     pub count: usize,
 }
 
@@ -120,8 +123,11 @@ impl std::fmt::Display for Axis {
 /// A named alpha x beta grid.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GridSpec {
+    /// Its name.
     pub name: String,
+    /// Rayleigh alpha (mass-proportional), 1/s.
     pub alpha: Axis,
+    /// Rayleigh beta (stiffness-proportional), s.
     pub beta: Axis,
 }
 
@@ -176,9 +182,12 @@ pub struct GridPoint {
     pub i: usize,
     /// Index along beta.
     pub j: usize,
+    /// Rayleigh alpha (mass-proportional), 1/s.
     pub alpha: f64,
+    /// Rayleigh beta (stiffness-proportional), s.
     pub beta: f64,
     #[serde(skip_serializing_if = "Option::is_none", default)]
+    /// The decrement, if it succeeded.
     pub measure: Option<DecayMeasure>,
     /// Why the point has no measure.
     #[serde(skip_serializing_if = "Option::is_none", default)]
@@ -195,6 +204,7 @@ impl GridPoint {
 /// A finished grid.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridResult {
+    /// The grid.
     pub spec: GridSpec,
     /// Every point, sorted by (i, j).
     pub points: Vec<GridPoint>,

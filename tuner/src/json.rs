@@ -16,28 +16,41 @@ use std::fmt;
 /// A JSON value with the position of its first character.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Node {
+    /// The value.
     pub value: Value,
+    /// Its line (1-based).
     pub line: usize,
+    /// Its column (1-based).
     pub column: usize,
 }
 
 /// The JSON value kinds; object members keep their order and their key's position.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Value {
+    /// `null`.
     Null,
+    /// `true` or `false`.
     Bool(bool),
+    /// A number.
     Number(f64),
+    /// A string.
     String(String),
+    /// An array.
     Array(Vec<Node>),
+    /// An object, its keys in order.
     Object(Vec<Member>),
 }
 
 /// One `"key": value` member of an object.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Member {
+    /// The key.
     pub key: String,
+    /// Line of the key.
     pub key_line: usize,
+    /// Column of the key.
     pub key_column: usize,
+    /// The value.
     pub value: Node,
 }
 
@@ -58,8 +71,11 @@ impl Value {
 /// A syntax error at a position.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SyntaxError {
+    /// Its line (1-based).
     pub line: usize,
+    /// Its column (1-based).
     pub column: usize,
+    /// What is wrong and what was expected.
     pub message: String,
 }
 

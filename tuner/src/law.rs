@@ -203,10 +203,10 @@ impl RecordFit {
 /// Fits `exp(-s t) (c1 cos w_d t + c2 sin w_d t) + c3` to a record (module docs).
 /// Returns `(w, zeta, se_zeta, relative residual rms)`.
 pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
-    let t0 = signal.time_s.first().copied().unwrap_or(0.0);
-    let t: Vec<f64> = signal.time_s.iter().map(|x| x - t0).collect();
-    let y = &signal.values;
-    let bad = |what: String| TuneError::Invalid(format!("{}: {what}", signal.source.display()));
+    let t0 = signal.time_s().first().copied().unwrap_or(0.0);
+    let t: Vec<f64> = signal.time_s().iter().map(|x| x - t0).collect();
+    let y = signal.values();
+    let bad = |what: String| TuneError::Invalid(format!("{}: {what}", signal.source().display()));
     if t.len() < 20 {
         return Err(bad(format!(
             "{} samples; expected a decay record of at least 20",
@@ -230,15 +230,13 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
         .rposition(|v| (v - mean).abs() > 10.0 * noise)
         .map_or(y.len(), |i| i + 1)
         .max(256.min(y.len()));
-    let spectrum = amplitude_spectrum(
-        &signal.time_s[..strong],
-        &y[..strong],
-        &SpectrumOptions::default(),
-    )
-    .map_err(|source| TuneError::Post {
-        context: format!("spectrum of {}", signal.source.display()),
-        source,
-    })?;
+    let spectrum = signal
+        .slice(0..strong)
+        .and_then(|strong| amplitude_spectrum(&strong, &SpectrumOptions::default()))
+        .map_err(|source| TuneError::Post {
+            context: format!("spectrum of {}", signal.source().display()),
+            source,
+        })?;
     let peak = spectrum
         .dominant_peak()
         .ok_or_else(|| bad("no spectral peak; expected a free decay".into()))?;
@@ -247,7 +245,7 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
         let m = s.iter().sum::<f64>() / s.len() as f64;
         (s.iter().map(|x| (x - m).powi(2)).sum::<f64>() / s.len() as f64).sqrt()
     };
-    let dt = signal.step_s.max(f64::MIN_POSITIVE);
+    let dt = signal.step_s().max(f64::MIN_POSITIVE);
     let window =
         ((2.0 * std::f64::consts::TAU / (w0 * dt)).round() as usize).clamp(8, (y.len() / 4).max(8));
     let mut windows: Vec<(f64, f64)> = Vec::new();

@@ -4,6 +4,8 @@
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
 
+#![warn(missing_docs)]
+
 pub mod case;
 pub mod error;
 pub mod fe;
@@ -17,8 +19,12 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
+// The diagnose engine and the damping laws are being reworked for issue 14 by its owner;
+// their public items are documented there.
+#[allow(missing_docs)]
 pub mod diagnose;
 pub mod grid;
+#[allow(missing_docs)]
 pub mod law;
 pub mod paper;
 pub mod plots;

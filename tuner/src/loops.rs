@@ -34,6 +34,7 @@ pub const MAX_ITERATIONS: usize = 30;
 /// One iteration of a loop.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Iteration {
+    /// Iteration (1-based).
     pub iteration: usize,
     /// The parameter's value in this run.
     pub parameter: f64,
@@ -52,14 +53,17 @@ pub struct LoopReport {
     pub parameter: String,
     /// e.g. `stiffness_n_mm`.
     pub quantity: String,
+    /// The value the loop aims at.
     pub target: f64,
     /// Relative tolerance on the quantity.
     pub tolerance: f64,
+    /// The iterations, in order.
     pub iterations: Vec<Iteration>,
     /// The tuned parameter.
     pub value: f64,
     /// The quantity at the tuned parameter.
     pub result: f64,
+    /// Relative error (-).
     pub relative_error: f64,
 }
 

@@ -92,3 +92,40 @@ pub fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> Stri
 pub fn exact(x: f64) -> String {
     format!("{x:?}")
 }
+
+/// One cell of a study's table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    /// Text.
+    Text(String),
+    /// A number.
+    Number(f64),
+    /// An optional value that is absent (an empty CSV cell).
+    Missing,
+}
+
+impl From<Option<f64>> for Cell {
+    fn from(value: Option<f64>) -> Self {
+        value.map_or(Cell::Missing, Cell::Number)
+    }
+}
+
+impl Cell {
+    /// The CSV text: numbers with every digit needed to read them back exactly.
+    pub fn csv(&self) -> String {
+        match self {
+            Cell::Text(s) => s.clone(),
+            Cell::Number(x) => exact(*x),
+            Cell::Missing => String::new(),
+        }
+    }
+}
+
+/// CSV text of a table whose cells need no quoting (numbers, names without commas).
+pub fn csv_table(columns: &[&str], rows: impl IntoIterator<Item = Vec<Cell>>) -> String {
+    csv(
+        columns,
+        rows.into_iter()
+            .map(|row| row.iter().map(Cell::csv).collect()),
+    )
+}

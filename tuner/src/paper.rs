@@ -17,7 +17,7 @@
 //!   as 1/n^2; E at infinitely many elements is Richardson's `E_96 + (E_96 - E_48) / 3`,
 //!   and the observed order from 24/48/96 is reported to check the assumption.
 
-use crate::calibrate::{calibrate, CalibrateSettings, Calibration, Targets};
+use crate::calibrate::{calibrate, CalibrateSettings, Targets};
 use crate::case::{read_case, read_variants, MeasuredCase, VariantsFile};
 use crate::damping::{direct_decay, RunControl, Simulator};
 use crate::decay::{DecayRecord, DecaySettings, Method};
@@ -25,8 +25,10 @@ use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use crate::loops::tune_youngs_modulus;
 use crate::output::OutDir;
-use crate::sweep::{sweep, Sweep, VariantResult};
-use serde::Serialize;
+pub use crate::report::{
+    FamilyMember, MeshRow, MeshStudy, PaperReport, Table3, Table3Errors, Table3Paper, Timings,
+};
+use crate::sweep::{sweep, Sweep};
 use std::path::{Path, PathBuf};
 
 /// Elements per coil of the mesh study.
@@ -35,114 +37,69 @@ pub const MESH_STUDY: [u32; 5] = [8, 16, 24, 48, 96];
 /// Inputs of the paper command.
 #[derive(Debug, Clone)]
 pub struct PaperOptions {
+    /// The measured case (a folder with case.json, or the file).
     pub case: PathBuf,
+    /// The variants file (the paper's Table 4).
     pub variants: PathBuf,
+    /// The settings.
     pub settings: CalibrateSettings,
+    /// Run control.
     pub control: RunControl,
 }
 
-/// Table 3 as `report.json` gives it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Table3 {
-    pub youngs_modulus_mpa: f64,
-    pub stiffness_n_mm: f64,
-    pub damping_ratio: f64,
-    pub period_s: f64,
-    pub alpha: f64,
-    pub beta: f64,
-    pub mass_kg: f64,
-}
-
-/// One discretisation of the mesh study.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct MeshRow {
-    pub elements_per_coil: u32,
-    /// K at the paper's E (190708 MPa).
-    pub stiffness_at_paper_e_n_mm: f64,
-    /// E tuned to the target K.
-    pub tuned_youngs_modulus_mpa: f64,
-    pub iterations: usize,
-}
-
-/// The mesh bias in E.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MeshStudy {
-    pub paper_youngs_modulus_mpa: f64,
-    pub rows: Vec<MeshRow>,
-    /// Elements per coil at which the tuned E equals the paper's (interpolated in 1/n^2).
-    pub elements_per_coil_matching_paper: Option<f64>,
-    /// Richardson extrapolation of the tuned E to an exact helix.
-    pub converged_youngs_modulus_mpa: f64,
-    /// log2((E_24 - E_48) / (E_48 - E_96)): 2 for the assumed 1/n^2 convergence.
-    pub observed_order: f64,
-}
-
-/// zeta of every variant at one member of the (alpha, beta) family.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FamilyMember {
-    pub label: String,
-    pub alpha: f64,
-    pub beta: f64,
-    /// zeta of the paper's case at this point.
-    pub base_damping_ratio: f64,
-    /// (name, zeta, relative error against the paper).
-    pub variants: Vec<(String, f64, Option<f64>)>,
-}
-
-/// Timings (s).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Timings {
-    pub calibration_s: f64,
-    pub grid_s: f64,
-    pub sweep_s: f64,
-    pub mesh_study_s: f64,
-    pub total_s: f64,
-}
-
-/// `report.json`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PaperReport {
-    pub case: String,
-    /// The case's tested springs (the paper's Table 1), whose means are the targets.
-    pub table1: Vec<crate::case::TestedSpring>,
-    pub method: Method,
-    pub table3: Table3,
-    pub table3_paper: Table3Paper,
-    pub table3_relative_error: Table3Errors,
-    /// Table 4: each variant with the paper's values and the relative errors.
-    pub table4: Vec<VariantResult>,
-    /// Variant predictions along the valley (why a variant's zeta can miss).
-    pub family: Vec<FamilyMember>,
-    /// Each variant's zeta under every damping law calibrated to the same decay.
-    pub damping_band: crate::law::Band,
-    pub mesh_study: MeshStudy,
-    pub calibration: Calibration,
-    pub timings: Timings,
-}
-
 /// The paper's Table 3 (and Table 2) values, as the case gives them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Table3Paper {
-    pub youngs_modulus_mpa: Option<f64>,
-    /// The experiment's K (Table 3, "Experiment").
-    pub stiffness_n_mm: f64,
-    pub damping_ratio: f64,
-    pub period_s: f64,
-    pub alpha: Option<f64>,
-    pub beta: Option<f64>,
-    /// The paper's FE model figures.
-    pub fe_stiffness_n_mm: Option<f64>,
-    pub fe_damping_ratio: Option<f64>,
-    pub stiffness_iterations: Option<f64>,
-    pub mass_iterations: Option<f64>,
+fn table3_paper(case: &MeasuredCase, targets: &Targets) -> Table3Paper {
+    let paper = case.paper.clone().unwrap_or_default();
+    Table3Paper {
+        youngs_modulus_mpa: paper.youngs_modulus_mpa,
+        stiffness_n_mm: targets.stiffness_n_mm,
+        damping_ratio: targets.damping_ratio,
+        period_s: targets.period_s,
+        alpha: paper.rayleigh_alpha,
+        beta: paper.rayleigh_beta,
+        fe_stiffness_n_mm: paper.stiffness_n_mm,
+        fe_damping_ratio: paper.damping_ratio,
+        stiffness_iterations: paper.stiffness_iterations,
+        mass_iterations: paper.mass_iterations,
+    }
 }
 
-/// coil against the experiment's targets.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Table3Errors {
-    pub stiffness: f64,
-    pub damping_ratio: f64,
-    pub period: f64,
+/// Fig. 10's analogue: the reference decay (measured, or the paper's model) beside the
+/// validated model's.
+fn fig10(
+    state: &SpringState,
+    settings: &CalibrateSettings,
+    (reference_label, reference): (&str, &DecayRecord),
+    validated_record: &DecayRecord,
+    period_s: f64,
+    out: &OutDir,
+) -> Result<()> {
+    let decay = &settings.damping.decay;
+    let model_label = format!(
+        "coil: alpha = {}, beta = {} ({})",
+        state.alpha,
+        state.beta,
+        if decay.method == Method::Direct || settings.damping.check_direct {
+            "direct integration"
+        } else {
+            "modal superposition"
+        }
+    );
+    crate::plots::decay_figure(
+        &crate::plots::DecayTrace {
+            label: reference_label,
+            time_s: &reference.time_s,
+            accel_m_s2: &reference.accel_m_s2,
+        },
+        &crate::plots::DecayTrace {
+            label: &model_label,
+            time_s: &validated_record.time_s,
+            accel_m_s2: &validated_record.accel_m_s2,
+        },
+        period_s,
+        &out.staged("fig10_decay.png")?,
+    )?;
+    Ok(())
 }
 
 /// Loop 1 at each discretisation of [`MESH_STUDY`].
@@ -217,13 +174,9 @@ fn reference_decay(
     model: &DecayRecord,
 ) -> Result<(String, DecayRecord)> {
     if let Some(signal) = case.decay_records()?.into_iter().next() {
-        return Ok((
-            format!("measured: {}", signal.source.display()),
-            DecayRecord {
-                time_s: signal.time_s,
-                accel_m_s2: signal.values,
-            },
-        ));
+        let label = format!("measured: {}", signal.source().display());
+        let (time_s, accel_m_s2) = signal.into_parts();
+        return Ok((label, DecayRecord { time_s, accel_m_s2 }));
     }
     let zeta = targets.damping_ratio;
     let omega_d = std::f64::consts::TAU / targets.period_s;
@@ -350,32 +303,15 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         decay.initial_velocity_m_s,
         &validated_record,
     )?;
-    let model_label = format!(
-        "coil: alpha = {}, beta = {} ({})",
-        state.alpha,
-        state.beta,
-        if decay.method == Method::Direct || settings.damping.check_direct {
-            "direct integration"
-        } else {
-            "modal superposition"
-        }
-    );
-    crate::plots::decay_figure(
-        &crate::plots::DecayTrace {
-            label: &reference_label,
-            time_s: &reference.time_s,
-            accel_m_s2: &reference.accel_m_s2,
-        },
-        &crate::plots::DecayTrace {
-            label: &model_label,
-            time_s: &validated_record.time_s,
-            accel_m_s2: &validated_record.accel_m_s2,
-        },
+    fig10(
+        &state,
+        settings,
+        (&reference_label, &reference),
+        &validated_record,
         targets.period_s,
-        &out.staged("fig10_decay.png")?,
+        out,
     )?;
 
-    let paper = case.paper.clone().unwrap_or_default();
     let table3 = Table3 {
         youngs_modulus_mpa: state.youngs_modulus_mpa,
         stiffness_n_mm: calibration.stiffness.result,
@@ -385,18 +321,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         beta: state.beta,
         mass_kg: state.mass_kg,
     };
-    let table3_paper = Table3Paper {
-        youngs_modulus_mpa: paper.youngs_modulus_mpa,
-        stiffness_n_mm: targets.stiffness_n_mm,
-        damping_ratio: targets.damping_ratio,
-        period_s: targets.period_s,
-        alpha: paper.rayleigh_alpha,
-        beta: paper.rayleigh_beta,
-        fe_stiffness_n_mm: paper.stiffness_n_mm,
-        fe_damping_ratio: paper.damping_ratio,
-        stiffness_iterations: paper.stiffness_iterations,
-        mass_iterations: paper.mass_iterations,
-    };
+    let table3_paper = table3_paper(&case, &targets);
     let rel = |a: f64, b: f64| (a - b) / b;
     let report = PaperReport {
         case: case.name.clone(),

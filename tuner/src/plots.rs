@@ -19,6 +19,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
+/// The axes of the tuner's figures (names 18 pt, ticks 16 pt).
+const TUNER_AXES: plot::AxisText = plot::AxisText {
+    names: 18,
+    ticks: 16,
+};
+
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
 const GREEN: RGBColor = RGBColor(44, 160, 44);
@@ -145,16 +151,16 @@ fn iteration_chart<'a, DB: DrawingBackend>(
         .y_label_area_size(100)
         .build_cartesian_2d(0.5..n + 0.5, lo..hi)
         .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("iteration")
-        .y_desc(y_desc)
-        .x_label_formatter(&whole)
-        .y_label_formatter(&short)
-        .axis_desc_style((FONT, 18))
-        .label_style((FONT, 16))
-        .draw()
-        .map_err(e)?;
+    plot::axes(
+        &mut chart.configure_mesh(),
+        "iteration",
+        &y_desc,
+        TUNER_AXES,
+    )
+    .x_label_formatter(&whole)
+    .y_label_formatter(&short)
+    .draw()
+    .map_err(e)?;
     Ok(chart)
 }
 
@@ -261,16 +267,16 @@ impl Figure for LoopsFigure<'_> {
                 .y_label_area_size(90)
                 .build_cartesian_2d(0.5..n + 0.5, (bottom..top).log_scale())
                 .map_err(e)?;
-            third
-                .configure_mesh()
-                .x_desc("iteration")
-                .y_desc("|relative error| [-]")
-                .x_label_formatter(&whole)
-                .y_label_formatter(&|y| format!("{y:.0e}"))
-                .axis_desc_style((FONT, 18))
-                .label_style((FONT, 16))
-                .draw()
-                .map_err(e)?;
+            plot::axes(
+                &mut third.configure_mesh(),
+                "iteration",
+                "|relative error| [-]",
+                TUNER_AXES,
+            )
+            .x_label_formatter(&whole)
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()
+            .map_err(e)?;
             third
                 .draw_series(LineSeries::new(
                     [(0.5, report.tolerance), (n + 0.5, report.tolerance)],
@@ -300,8 +306,11 @@ impl Figure for LoopsFigure<'_> {
 /// One decay record to compare (acceleration of the weight, m/s^2).
 #[derive(Debug, Clone, Copy)]
 pub struct DecayTrace<'a> {
+    /// Label in legends and messages.
     pub label: &'a str,
+    /// Time, s.
     pub time_s: &'a [f64],
+    /// Acceleration, m/s^2.
     pub accel_m_s2: &'a [f64],
 }
 
@@ -458,16 +467,16 @@ impl Figure for DecayFigure<'_> {
             .y_label_area_size(90)
             .build_cartesian_2d(t0..t1, y0..y1)
             .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("acceleration [m/s^2]")
-            .y_label_formatter(&short)
-            .axis_desc_style((FONT, 18))
-            .label_style((FONT, 16))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(e)?;
+        plot::axes(
+            &mut chart.configure_mesh(),
+            "time [s]",
+            "acceleration [m/s^2]",
+            TUNER_AXES,
+        )
+        .y_label_formatter(&short)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(e)?;
         let grey = RGBColor(90, 90, 90);
         let reference: Vec<(f64, f64)> = r
             .time_s
@@ -512,16 +521,16 @@ impl Figure for DecayFigure<'_> {
             .y_label_area_size(90)
             .build_cartesian_2d(t0..t1, -span..span)
             .map_err(e)?;
-        lower
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("residual [m/s^2]")
-            .y_label_formatter(&short)
-            .axis_desc_style((FONT, 18))
-            .label_style((FONT, 16))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(e)?;
+        plot::axes(
+            &mut lower.configure_mesh(),
+            "time [s]",
+            "residual [m/s^2]",
+            TUNER_AXES,
+        )
+        .y_label_formatter(&short)
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(e)?;
         lower
             .draw_series(LineSeries::new(
                 thin(self.residual.to_vec()),
@@ -575,6 +584,7 @@ pub fn loops_figure(loops: &[&LoopReport], path: &Path) -> Result<()> {
 /// What to mark on a heat map besides the cells.
 #[derive(Debug, Clone, Default)]
 pub struct HeatMapMarks {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// The paper's (alpha, beta), drawn when inside the grid.
     pub paper: Option<(f64, f64)>,
@@ -731,11 +741,13 @@ pub fn heat_map(grid: &GridResult, marks: &HeatMapMarks, path: &Path) -> Result<
 /// The valley to draw: the line, the measured points and the zeta shares.
 #[derive(Debug, Clone)]
 pub struct ValleyPlot<'a> {
+    /// The damping ratio aimed at (-).
     pub target_zeta: f64,
     /// (z0, a, b) of the fitted plane `zeta = z0 + a alpha + b beta`.
     pub plane: (f64, f64, f64),
     /// Measured valley points (alpha, beta, zeta).
     pub points: &'a [(f64, f64, f64)],
+    /// Largest alpha drawn, 1/s.
     pub alpha_max: f64,
 }
 

@@ -1,9 +1,155 @@
-//! `report.md` and the terminal tables of `coil-tune paper`: Tables 3 and 4 beside the
+//! The paper report: `report.json`'s types ([`PaperReport`]), and `report.md` and the
+//! terminal tables of `coil-tune paper`: Tables 3 and 4 beside the
 //! paper's values, the loops, the grids and the valley, the variant predictions along the
 //! valley, the mesh bias in E, the direct-integration checks and the timings.
 
-use crate::paper::PaperReport;
+use crate::calibrate::Calibration;
+use crate::decay::Method;
+use crate::sweep::VariantResult;
+use serde::Serialize;
 use std::fmt::Write as _;
+
+/// Table 3 as `report.json` gives it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3 {
+    /// Young's modulus E, MPa.
+    pub youngs_modulus_mpa: f64,
+    /// Axial stiffness K, N/mm.
+    pub stiffness_n_mm: f64,
+    /// Damping ratio zeta (-).
+    pub damping_ratio: f64,
+    /// Period of the axial mode, s.
+    pub period_s: f64,
+    /// Rayleigh alpha (mass-proportional), 1/s.
+    pub alpha: f64,
+    /// Rayleigh beta (stiffness-proportional), s.
+    pub beta: f64,
+    /// The weight's mass, kg.
+    pub mass_kg: f64,
+}
+
+/// One discretisation of the mesh study.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeshRow {
+    /// Beams per coil.
+    pub elements_per_coil: u32,
+    /// K at the paper's E (190708 MPa).
+    pub stiffness_at_paper_e_n_mm: f64,
+    /// E tuned to the target K.
+    pub tuned_youngs_modulus_mpa: f64,
+    /// Iterations of loop 1.
+    pub iterations: usize,
+}
+
+/// The mesh bias in E.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshStudy {
+    /// The paper's E, MPa.
+    pub paper_youngs_modulus_mpa: f64,
+    /// One row per discretisation.
+    pub rows: Vec<MeshRow>,
+    /// Elements per coil at which the tuned E equals the paper's (interpolated in 1/n^2).
+    pub elements_per_coil_matching_paper: Option<f64>,
+    /// Richardson extrapolation of the tuned E to an exact helix.
+    pub converged_youngs_modulus_mpa: f64,
+    /// log2((E_24 - E_48) / (E_48 - E_96)): 2 for the assumed 1/n^2 convergence.
+    pub observed_order: f64,
+}
+
+/// zeta of every variant at one member of the (alpha, beta) family.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FamilyMember {
+    /// Which (alpha, beta) point of the family.
+    pub label: String,
+    /// Rayleigh alpha (mass-proportional), 1/s.
+    pub alpha: f64,
+    /// Rayleigh beta (stiffness-proportional), s.
+    pub beta: f64,
+    /// zeta of the paper's case at this point.
+    pub base_damping_ratio: f64,
+    /// (name, zeta, relative error against the paper).
+    pub variants: Vec<(String, f64, Option<f64>)>,
+}
+
+/// Timings (s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Timings {
+    /// Calibration, s.
+    pub calibration_s: f64,
+    /// Loop 3 grids, s.
+    pub grid_s: f64,
+    /// Table 4 sweep, s.
+    pub sweep_s: f64,
+    /// Mesh study, s.
+    pub mesh_study_s: f64,
+    /// Everything, s.
+    pub total_s: f64,
+}
+
+/// `report.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PaperReport {
+    /// The case's name.
+    pub case: String,
+    /// The case's tested springs (the paper's Table 1), whose means are the targets.
+    pub table1: Vec<crate::case::TestedSpring>,
+    /// How decay transients run.
+    pub method: Method,
+    /// Table 3.
+    pub table3: Table3,
+    /// The paper's Table 3.
+    pub table3_paper: Table3Paper,
+    /// Table 3 against the targets.
+    pub table3_relative_error: Table3Errors,
+    /// Table 4: each variant with the paper's values and the relative errors.
+    pub table4: Vec<VariantResult>,
+    /// Variant predictions along the valley (why a variant's zeta can miss).
+    pub family: Vec<FamilyMember>,
+    /// Each variant's zeta under every damping law calibrated to the same decay.
+    pub damping_band: crate::law::Band,
+    /// The mesh bias in E.
+    pub mesh_study: MeshStudy,
+    /// The calibration.
+    pub calibration: Calibration,
+    /// Timings.
+    pub timings: Timings,
+}
+
+/// The paper's Table 3 (and Table 2) values, as the case gives them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3Paper {
+    /// The paper's E, MPa, if the case gives it.
+    pub youngs_modulus_mpa: Option<f64>,
+    /// The experiment's K (Table 3, "Experiment").
+    pub stiffness_n_mm: f64,
+    /// Damping ratio zeta (-).
+    pub damping_ratio: f64,
+    /// Period of the axial mode, s.
+    pub period_s: f64,
+    /// The paper's alpha, 1/s, if given.
+    pub alpha: Option<f64>,
+    /// The paper's beta, s, if given.
+    pub beta: Option<f64>,
+    /// The paper's FE model figures.
+    pub fe_stiffness_n_mm: Option<f64>,
+    /// The paper's FE zeta (-).
+    pub fe_damping_ratio: Option<f64>,
+    /// The paper's iterations of loop 1.
+    pub stiffness_iterations: Option<f64>,
+    /// The paper's iterations of loop 2.
+    pub mass_iterations: Option<f64>,
+}
+
+/// coil against the experiment's targets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Table3Errors {
+    /// K against the target (-).
+    pub stiffness: f64,
+    /// Damping ratio zeta (-).
+    pub damping_ratio: f64,
+    /// T against the target (-).
+    pub period: f64,
+}
 
 fn pct(x: f64) -> String {
     format!("{:+.4}%", 100.0 * x)
@@ -136,9 +282,17 @@ pub fn family(r: &PaperReport) -> String {
 
 /// The whole report.
 pub fn markdown(r: &PaperReport) -> String {
+    let mut s = String::new();
+    calibration_sections(&mut s, r);
+    grid_sections(&mut s, r);
+    prediction_sections(&mut s, r);
+    s
+}
+
+/// The header, Tables 1 and 3 and loops 1 and 2.
+fn calibration_sections(s: &mut String, r: &PaperReport) {
     let c = &r.calibration;
     let d = &c.damping;
-    let mut s = String::new();
     let _ = writeln!(s, "# coil-tune paper: {}\n", r.case);
     let _ = writeln!(
         s,
@@ -220,7 +374,11 @@ pub fn markdown(r: &PaperReport) -> String {
         c.state.mass_kg,
         c.nominal.mass_kg
     );
+}
 
+/// Loop 3: the grids, the chosen point, the paper's point and the valley past the grid.
+fn grid_sections(s: &mut String, r: &PaperReport) {
+    let d = &r.calibration.damping;
     let _ = writeln!(s, "## Loop 3: the grids (Figs. 8 and 9)\n");
     let _ = writeln!(s, "| grid | alpha | beta | runs | run now | from journal | failed | best (alpha, beta) | zeta | time (s) | heat map |");
     let _ = writeln!(s, "|---|---|---|---:|---:|---:|---:|---|---:|---:|---|");
@@ -317,7 +475,11 @@ pub fn markdown(r: &PaperReport) -> String {
             100.0 * d.chosen.beta_share
         );
     }
+}
 
+/// Table 4, why a variant can miss, the damping-law band, the mesh bias, the timings and
+/// the files.
+fn prediction_sections(s: &mut String, r: &PaperReport) {
     let _ = writeln!(
         s,
         "\n## Table 4: the variants with the validated material\n"
@@ -428,5 +590,4 @@ pub fn markdown(r: &PaperReport) -> String {
          `loop2_period.csv` + `loop2_period/*.dat`, `loop3_*.csv`, `loop3_*.journal.jsonl`, \
          `loop3_log.csv`, `loop3_valley.csv`, `loop3/*.dat` (the chosen point, the paper's point, the valley), `sweep.csv`."
     );
-    s
 }

@@ -30,66 +30,22 @@
 //! whose tasks are not exactly its shard's. The merged table is the single run's, byte for
 //! byte (numbers are written with all their digits and read back exactly).
 
-use crate::case::Variant;
-use crate::decay::DecaySettings;
 use crate::error::{Result, TuneError};
-use crate::fe::{FeSettings, SpringState};
-use crate::output::exact;
+pub use crate::output::{csv_table, Cell};
+pub use crate::sweep::VariantSweep;
 use crate::tolerance::ToleranceStudy;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// One cell of a study's table.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Cell {
-    Text(String),
-    Number(f64),
-    /// An optional value that is absent (an empty CSV cell).
-    Missing,
-}
-
-impl From<Option<f64>> for Cell {
-    fn from(value: Option<f64>) -> Self {
-        value.map_or(Cell::Missing, Cell::Number)
-    }
-}
-
-impl Cell {
-    /// The CSV text: numbers with every digit needed to read them back exactly.
-    pub fn csv(&self) -> String {
-        match self {
-            Cell::Text(s) => s.clone(),
-            Cell::Number(x) => exact(*x),
-            Cell::Missing => String::new(),
-        }
-    }
-}
-
-/// CSV text of a table whose cells need no quoting (numbers, names without commas).
-pub fn csv_table(columns: &[&str], rows: impl IntoIterator<Item = Vec<Cell>>) -> String {
-    crate::output::csv(
-        columns,
-        rows.into_iter()
-            .map(|row| row.iter().map(Cell::csv).collect()),
-    )
-}
-
-/// Table 4's sweep as tasks: variant `k` with the validated material.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct VariantSweep {
-    pub material: SpringState,
-    pub variants: Vec<Variant>,
-    pub fe: FeSettings,
-    pub decay: DecaySettings,
-}
-
 /// A list of independent tasks with its table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "study", rename_all = "lowercase")]
 pub enum Study {
+    /// Table 4's sweep.
     Sweep(VariantSweep),
+    /// A tolerance study.
     Tolerance(ToleranceStudy),
 }
 
@@ -184,7 +140,9 @@ impl Study {
 /// Shard `index` of `count` (1-based), written `I/N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Shard {
+    /// This shard (1-based).
     pub index: usize,
+    /// Number of shards.
     pub count: usize,
 }
 
@@ -267,9 +225,13 @@ pub fn run_shard(study: &Study, shard: Shard, folder: &Path) -> Result<PathBuf> 
 /// One part file as read.
 #[derive(Debug, Clone)]
 pub struct Part {
+    /// The part file.
     pub path: PathBuf,
+    /// The shard.
     pub shard: Shard,
+    /// The study as JSON.
     pub study_json: String,
+    /// The study.
     pub study: Study,
     /// (task, the row's CSV cells without the task column).
     pub rows: Vec<(usize, Vec<String>)>,
@@ -414,8 +376,11 @@ pub fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
 /// The merged study: its table's columns and rows (CSV cells) in task order.
 #[derive(Debug, Clone)]
 pub struct Merged {
+    /// The study.
     pub study: Study,
+    /// The column names.
     pub columns: Vec<&'static str>,
+    /// The rows as CSV cells.
     pub rows: Vec<Vec<String>>,
 }
 

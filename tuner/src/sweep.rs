@@ -9,38 +9,64 @@ use crate::damping::Simulator;
 use crate::decay::{measure, DecaySettings};
 use crate::error::Result;
 use crate::fe::{self, FeSettings, SpringState};
-use crate::study::Cell;
+use crate::output::Cell;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+
+/// Table 4's sweep as tasks: variant `k` with the validated material.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VariantSweep {
+    /// The material and weight.
+    pub material: SpringState,
+    /// The variants.
+    pub variants: Vec<Variant>,
+    /// Mesh and solver settings.
+    pub fe: FeSettings,
+    /// Decay-transient settings.
+    pub decay: DecaySettings,
+}
 
 /// One variant's figures.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct VariantResult {
+    /// The variant's name.
     pub name: String,
+    /// Number of active coils n.
     pub active_coils: f64,
+    /// Mean coil diameter D, mm.
     pub mean_diameter_mm: f64,
+    /// Wire diameter d, mm.
     pub wire_diameter_mm: f64,
+    /// Pitch h, mm.
     pub pitch_mm: f64,
+    /// Axial stiffness K, N/mm.
     pub stiffness_n_mm: f64,
     /// The paper's estimator (span mean of the decrement).
     pub damping_ratio: f64,
+    /// zeta of the exponential fit (-).
     pub damping_ratio_fit: f64,
     /// Period of the decay (s).
     pub period_s: f64,
     /// The axial mode's circular frequency (rad/s).
     pub omega_rad_s: f64,
+    /// The paper's K, N/mm.
     pub paper_stiffness_n_mm: Option<f64>,
+    /// The paper's zeta (-).
     pub paper_damping_ratio: Option<f64>,
     /// (coil - paper) / paper.
     pub stiffness_relative_error: Option<f64>,
+    /// zeta against the paper (-).
     pub damping_relative_error: Option<f64>,
 }
 
 /// The sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Sweep {
+    /// The material and weight.
     pub material: SpringState,
+    /// The variants.
     pub variants: Vec<VariantResult>,
+    /// Wall time, s.
     pub elapsed_s: f64,
 }
 
@@ -175,7 +201,7 @@ impl VariantResult {
 impl Sweep {
     /// The table as CSV.
     pub fn csv(&self) -> String {
-        crate::study::csv_table(&COLUMNS, self.variants.iter().map(|v| v.cells()))
+        crate::output::csv_table(&COLUMNS, self.variants.iter().map(|v| v.cells()))
     }
 
     /// The table for a terminal, paper beside coil.

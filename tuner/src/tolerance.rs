@@ -31,7 +31,8 @@
 //! Units: mm, MPa, kg, N/mm, s, as the column names say.
 
 use crate::error::{Result, TuneError};
-use crate::study::{Cell, VariantSweep};
+use crate::output::Cell;
+use crate::sweep::VariantSweep;
 use coil_postproc::plot::{self, Draw, Figure, FONT};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -160,10 +161,15 @@ pub fn en15800_coil_diameter(grade: u8, d_mean: f64, d_wire: f64) -> Option<f64>
 /// The half-widths for one spring.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Bands {
+    /// Wire diameter d, mm.
     pub wire_diameter_mm: f64,
+    /// Mean coil diameter D, mm.
     pub mean_diameter_mm: f64,
+    /// Number of active coils n.
     pub active_coils: f64,
+    /// E sampled, relative to nominal (-).
     pub youngs_modulus_relative: f64,
+    /// Mass sampled, relative to nominal (-).
     pub mass_relative: f64,
 }
 
@@ -232,26 +238,40 @@ pub fn uniform(seed: u64, task: u64, draw: u64) -> f64 {
 pub struct ToleranceStudy {
     /// The validated material, the nominal springs and the run settings.
     pub sweep: VariantSweep,
+    /// The tolerances.
     pub tolerances: Tolerances,
     /// Drawn samples per spring (sample 0, the nominal spring, comes on top).
     pub samples: usize,
+    /// Seed of the random sampling.
     pub seed: u64,
 }
 
 /// One sampled spring's row.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ToleranceRow {
+    /// Task number.
     pub task: usize,
+    /// The spring's name.
     pub spring: String,
+    /// Sample number.
     pub sample: usize,
+    /// Number of active coils n.
     pub active_coils: f64,
+    /// Mean coil diameter D, mm.
     pub mean_diameter_mm: f64,
+    /// Wire diameter d, mm.
     pub wire_diameter_mm: f64,
+    /// Pitch h, mm.
     pub pitch_mm: f64,
+    /// Young's modulus E, MPa.
     pub youngs_modulus_mpa: f64,
+    /// The weight's mass, kg.
     pub mass_kg: f64,
+    /// K over the samples, N/mm.
     pub stiffness_n_mm: f64,
+    /// zeta over the samples (-).
     pub damping_ratio: f64,
+    /// Period of the axial mode, s.
     pub period_s: f64,
 }
 
@@ -355,10 +375,13 @@ impl ToleranceStudy {
 /// A distribution's summary.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Distribution {
+    /// Mean.
     pub mean: f64,
     /// Sample standard deviation (n - 1).
     pub std: f64,
+    /// Smallest.
     pub min: f64,
+    /// Largest.
     pub max: f64,
     /// `p1`, `p5`, ... (see [`PERCENTILES`]).
     pub percentiles: std::collections::BTreeMap<String, f64>,
@@ -377,6 +400,7 @@ pub fn percentile(sorted: &[f64], p: f64) -> f64 {
 }
 
 impl Distribution {
+    /// The mean, smallest and largest of `values`.
     pub fn of(values: &[f64]) -> Self {
         let mut sorted = values.to_vec();
         sorted.sort_by(f64::total_cmp);
@@ -403,22 +427,34 @@ impl Distribution {
 /// One spring's distributions.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SpringSummary {
+    /// The spring's name.
     pub spring: String,
+    /// The bands.
     pub bands: Bands,
+    /// K of the nominal spring, N/mm.
     pub nominal_stiffness_n_mm: f64,
+    /// zeta of the nominal spring (-).
     pub nominal_damping_ratio: f64,
+    /// Number of samples.
     pub samples: usize,
+    /// K over the samples, N/mm.
     pub stiffness_n_mm: Distribution,
+    /// zeta over the samples (-).
     pub damping_ratio: Distribution,
 }
 
 /// `tolerance_summary.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
+    /// Seed of the random sampling.
     pub seed: u64,
+    /// Number of samples.
     pub samples: usize,
+    /// The tolerances.
     pub tolerances: Tolerances,
+    /// How values are drawn.
     pub distribution: &'static str,
+    /// The springs.
     pub springs: Vec<SpringSummary>,
 }
 

@@ -2,21 +2,21 @@
 //! envelopes and plots. Parses arguments, calls `coil_postproc`, maps errors to exit codes
 //! (0 success, 1 an error in the data or options, 2 a usage error reported by clap).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use serde_json::{json, Value};
 
-use coil_postproc::decrement::{self, DecrementOptions, DecrementReport, Lowpass};
-use coil_postproc::envelope::{self, EnvelopeOptions, EnvelopeReport};
+use coil_postproc::decrement::{DecrementOptions, Lowpass};
+use coil_postproc::envelope::EnvelopeOptions;
 use coil_postproc::filter::DEFAULT_ORDER;
+use coil_postproc::offset::Detrend;
 use coil_postproc::peaks::{PeakFit, Polarity};
-use coil_postproc::signal::{self, Detrend, Signal};
-use coil_postproc::signature::{self, CycleOptions, Estimate};
-use coil_postproc::spectrum::{self, SpectralPeak, Spectrum, SpectrumOptions, Window};
-use coil_postproc::static_curve::{self, StaticFit};
-use coil_postproc::{output, plot, PostError, Result};
+use coil_postproc::report::{self, PlotKind, PlotOptions};
+use coil_postproc::signal::{self, Signal};
+use coil_postproc::signature::{self, CycleOptions};
+use coil_postproc::spectrum::{SpectrumOptions, Window};
+use coil_postproc::{PostError, Result};
 
 #[derive(Parser)]
 #[command(
@@ -234,6 +234,16 @@ enum Kind {
     Envelope,
 }
 
+impl From<Kind> for PlotKind {
+    fn from(value: Kind) -> Self {
+        match value {
+            Kind::Time => PlotKind::Time,
+            Kind::Spectrum => PlotKind::Spectrum,
+            Kind::Envelope => PlotKind::Envelope,
+        }
+    }
+}
+
 #[derive(Args)]
 struct PlotArgs {
     #[command(flatten)]
@@ -286,33 +296,16 @@ fn main() -> ExitCode {
     }
 }
 
-fn read(file: &Path, column: Option<&str>) -> Result<Signal> {
-    signal::read_signal_or_only(file, column)
+fn read(input: &Input) -> Result<Signal> {
+    signal::read_signal_or_only(&input.file, input.column.as_deref())
 }
 
-fn label(signal: &Signal) -> String {
-    let name = signal.source.file_name().map_or_else(
-        || signal.source.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    format!("{name}: {}", signal.column)
-}
-
-/// Prints or writes the JSON, or prints `table`.
-fn emit(report: &Report, value: &Value, table: impl FnOnce() -> String) -> Result<()> {
-    let json = serde_json::to_string_pretty(value)
-        .map_err(|e| PostError::InvalidOption(format!("cannot serialise the report: {e}")))?;
-    if let Some(path) = &report.out {
-        output::write_atomic(path, format!("{json}\n").as_bytes())?;
+/// Writes the JSON where `--out` says and prints what is to be printed.
+fn emit(args: &Report, report: Result<report::Report>) -> Result<()> {
+    match report?.emit(args.json, args.out.as_deref())? {
+        Some(text) => print_stdout(&text),
+        None => Ok(()),
     }
-    let text = if report.json {
-        format!("{json}\n")
-    } else if report.out.is_none() {
-        table()
-    } else {
-        return Ok(());
-    };
-    print_stdout(&text)
 }
 
 /// Writes to standard output; a reader that stopped early (`| head`) is not an error.
@@ -331,40 +324,8 @@ fn print_stdout(text: &str) -> Result<()> {
     }
 }
 
-fn header(signal: &Signal) -> Value {
-    json!({
-        "file": signal.source.display().to_string(),
-        "column": signal.column,
-        "samples": signal.values.len(),
-        "step_s": signal.step_s,
-    })
-}
-
-fn merge(mut base: Value, extra: Value) -> Value {
-    if let (Some(base), Value::Object(extra)) = (base.as_object_mut(), extra) {
-        base.extend(extra);
-    }
-    base
-}
-
-/// A report piece as JSON; a non-finite number in it (which JSON would print as null and
-/// a table as `inf`) is an error: the input is out of the analysis' range.
-fn to_value<T: serde::Serialize + std::fmt::Debug>(value: &T) -> Result<Value> {
-    if coil_io::non_finite_token(&format!("{value:?}")).is_some() {
-        return Err(PostError::NonFiniteResult {
-            what: std::any::type_name::<T>()
-                .rsplit("::")
-                .next()
-                .unwrap_or("result")
-                .to_string(),
-        });
-    }
-    serde_json::to_value(value)
-        .map_err(|e| PostError::InvalidOption(format!("cannot serialise the report: {e}")))
-}
-
 fn run_decrement(args: &DecrementArgs) -> Result<()> {
-    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let signal = read(&args.input)?;
     let options = DecrementOptions {
         every: args.every,
         polarity: Polarity::Crests,
@@ -375,99 +336,14 @@ fn run_decrement(args: &DecrementArgs) -> Result<()> {
             order: args.lowpass_order,
         }),
     };
-    let analyze = |polarity| {
-        let options = DecrementOptions {
-            polarity,
-            ..options
-        };
-        decrement::analyze(&signal.time_s, &signal.values, &options)
-            .map_err(|error| signal.locate(error))
-    };
-    let crests = analyze(Polarity::Crests)?;
-    let troughs = if args.troughs {
-        Some(analyze(Polarity::Troughs)?)
-    } else {
-        None
-    };
-    let mut value = merge(header(&signal), to_value(&crests)?);
-    if let (Some(object), Some(troughs)) = (value.as_object_mut(), &troughs) {
-        object.insert("troughs".to_string(), to_value(troughs)?);
-    }
-    emit(&args.report, &value, || {
-        let mut text = decrement_table(&signal, &crests);
-        if let Some(troughs) = &troughs {
-            text.push_str("\ntroughs:\n");
-            text.push_str(&decrement_table(&signal, troughs));
-        }
-        text
-    })
-}
-
-fn decrement_table(signal: &Signal, report: &DecrementReport) -> String {
-    let mut text = format!(
-        "{} ({} samples, step {:.6e} s)\n",
-        label(signal),
-        signal.values.len(),
-        report.step_s
-    );
-    let lowpass = report.lowpass.map_or("none".to_string(), |l| {
-        format!("{} Hz, order {} (zero phase)", l.cutoff_hz, l.order)
-    });
-    text.push_str(&format!(
-        "{}: {} used, {} rejected; fit {:?} (+-{} samples); detrend {:?} (offset {:.6e}); low-pass {}\n\n",
-        report.polarity.noun(),
-        report.peak_count,
-        report.peaks_rejected,
-        report.peak_fit,
-        report.fit_half_width,
-        report.detrend,
-        report.offset_removed,
-        lowpass
-    ));
-    text.push_str("span   crests      t_first [s]   delta         zeta\n");
-    for (j, span) in report.spans.iter().enumerate() {
-        text.push_str(&format!(
-            "{:>4}   {:>4}-{:<4}   {:>11.5}   {:<12.6e}  {:.6e}\n",
-            j + 1,
-            span.first + 1,
-            span.last + 1,
-            report.peaks[span.first].time_s,
-            span.delta,
-            span.zeta
-        ));
-    }
-    text.push_str(&format!(
-        "\nzeta_mean  {:.6e}   paper's Eqs. 2-3 over every {}th crest, mean of {} spans (std {:.2e})\n",
-        report.zeta_mean,
-        report.every,
-        report.spans.len(),
-        report.zeta_span_std
-    ));
-    text.push_str(&format!(
-        "zeta_fit   {:.6e}   exponential fit of {} crest amplitudes (standard error {:.2e})\n",
-        report.zeta_fit, report.peak_count, report.zeta_fit_std_error
-    ));
-    text.push_str(&format!(
-        "period_s   {:.8}     damped frequency {:.6} Hz, natural {:.6} Hz, decay rate {:.6e} 1/s\n",
-        report.period_s, report.frequency_hz, report.natural_frequency_hz, report.decay_rate_per_s
-    ));
-    text
-}
-
-fn spectrum_of(
-    signal: &Signal,
-    options: &SpectrumOptions,
-    count: usize,
-    threshold: f64,
-) -> Result<(Spectrum, Vec<SpectralPeak>)> {
-    let spectrum = spectrum::amplitude_spectrum(&signal.time_s, &signal.values, options)
-        .map_err(|error| signal.locate(error))?;
-    let peaks = spectrum.peaks(count, threshold);
-    Ok((spectrum, peaks))
+    emit(
+        &args.report,
+        report::decrement(&signal, &options, args.troughs),
+    )
 }
 
 fn run_spectrum(args: &SpectrumArgs) -> Result<()> {
-    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let signal = read(&args.input)?;
     let options = SpectrumOptions {
         window: match args.window {
             WindowArg::Hann => Window::Hann,
@@ -476,344 +352,49 @@ fn run_spectrum(args: &SpectrumArgs) -> Result<()> {
         zero_pad: args.zero_pad,
         detrend: args.detrend.into(),
     };
-    let (spectrum, peaks) = spectrum_of(&signal, &options, args.peaks, args.threshold)?;
-    let value = merge(
-        header(&signal),
-        merge(to_value(&spectrum)?, json!({ "peaks": to_value(&peaks)? })),
-    );
-    emit(&args.report, &value, || {
-        let mut text = format!(
-            "{}: {:?} window, {} samples padded to {}, native bin {:.5} Hz, grid {:.5} Hz\n\n",
-            label(&signal),
-            spectrum.window,
-            spectrum.samples,
-            spectrum.fft_length,
-            spectrum.native_bin_hz,
-            spectrum.grid_bin_hz
-        );
-        text.push_str("peak   frequency [Hz]   amplitude\n");
-        for (j, peak) in peaks.iter().enumerate() {
-            text.push_str(&format!(
-                "{:>4}   {:>14.6}   {:.6e}\n",
-                j + 1,
-                peak.frequency_hz,
-                peak.amplitude
-            ));
-        }
-        text
-    })
+    let report = report::spectrum(&signal, &options, args.peaks, args.threshold);
+    emit(&args.report, report)
 }
 
 fn run_envelope(args: &EnvelopeArgs) -> Result<()> {
-    let signal = read(&args.input.file, args.input.column.as_deref())?;
-    let report = envelope::analyze(&signal.time_s, &signal.values, &args.envelope.options())
-        .map_err(|error| signal.locate(error))?;
-    let value = merge(header(&signal), to_value(&report)?);
-    emit(&args.report, &value, || envelope_table(&signal, &report))
-}
-
-fn envelope_table(signal: &Signal, report: &EnvelopeReport) -> String {
-    let band = report.band_hz.map_or("none".to_string(), |(low, high)| {
-        format!("{low:.4} to {high:.4} Hz")
-    });
-    let mut text = format!(
-        "{}: dominant {:.6} Hz, band-pass {}, {} samples trimmed at each end, windows of {} samples\n\n",
-        label(signal),
-        report.dominant_frequency_hz,
-        band,
-        report.trim_samples,
-        report.window_samples
-    );
-    text.push_str("  time [s]    amplitude      frequency [Hz]   zeta\n");
-    for p in &report.points {
-        text.push_str(&format!(
-            "{:>10.4}    {:<12.6e}   {:>12.6}     {:.6e}\n",
-            p.time_s, p.amplitude, p.frequency_hz, p.zeta
-        ));
-    }
-    text.push_str(&format!(
-        "\nzeta_fit {:.6e}, decay rate {:.6e} 1/s, mean frequency {:.6} Hz\n",
-        report.zeta_fit, report.decay_rate_per_s, report.frequency_hz
-    ));
-    text
+    let signal = read(&args.input)?;
+    emit(
+        &args.report,
+        report::envelope(&signal, &args.envelope.options()),
+    )
 }
 
 fn run_plot(args: &PlotArgs) -> Result<()> {
-    let mut signals = vec![read(&args.input.file, args.input.column.as_deref())?];
+    let mut signals = vec![read(&args.input)?];
     if let Some(other) = &args.compare {
-        signals.push(read(other, args.compare_column.as_deref())?);
+        signals.push(signal::read_signal_or_only(
+            other,
+            args.compare_column.as_deref(),
+        )?);
     } else if args.compare_column.is_some() {
         return Err(PostError::InvalidOption(
             "--compare-column needs --compare FILE".to_string(),
         ));
     }
-    let labels: Vec<String> = signals.iter().map(label).collect();
-    match args.kind {
-        Kind::Time => {
-            let detrended = signals
-                .iter()
-                .map(|s| {
-                    signal::remove_offset(&s.time_s, &s.values, args.detrend.into())
-                        .map(|(values, _)| values)
-                        .map_err(|error| s.locate(error))
-                })
-                .collect::<Result<Vec<_>>>()?;
-            let traces: Vec<plot::Trace<'_>> = signals
-                .iter()
-                .zip(&detrended)
-                .zip(&labels)
-                .map(|((s, values), label)| plot::Trace {
-                    label,
-                    unit: plot::unit_of(&s.column),
-                    time_s: &s.time_s,
-                    values,
-                })
-                .collect();
-            let scale = if args.physical {
-                plot::Scale::Physical
-            } else {
-                plot::Scale::Normalised
-            };
-            plot::time_histories_scaled(&traces, args.overlay, scale, &args.out)
-        }
-        Kind::Spectrum => {
-            let computed = signals
-                .iter()
-                .map(|s| spectrum_of(s, &SpectrumOptions::default(), 5, 0.05))
-                .collect::<Result<Vec<_>>>()?;
-            let nyquist = 0.5 / signals[0].step_s;
-            let fmax = args.fmax.unwrap_or_else(|| {
-                let highest = computed
-                    .iter()
-                    .flat_map(|(_, peaks)| peaks.iter().map(|p| p.frequency_hz))
-                    .fold(0.0, f64::max);
-                (2.0 * highest).clamp(f64::MIN_POSITIVE, nyquist)
-            });
-            if !(fmax > 0.0 && fmax.is_finite()) {
-                return Err(PostError::InvalidOption(format!(
-                    "--fmax {fmax}; expected a positive frequency"
-                )));
-            }
-            let traces: Vec<plot::SpectrumTrace<'_>> = computed
-                .iter()
-                .zip(&labels)
-                .map(|((spectrum, peaks), label)| plot::SpectrumTrace {
-                    label,
-                    spectrum,
-                    peaks,
-                })
-                .collect();
-            plot::spectra(&traces, fmax, &args.out)
-        }
-        Kind::Envelope => {
-            let options = args.envelope.options();
-            let reports = signals
-                .iter()
-                .map(|s| {
-                    envelope::analyze(&s.time_s, &s.values, &options)
-                        .map_err(|error| s.locate(error))
-                })
-                .collect::<Result<Vec<_>>>()?;
-            let traces: Vec<plot::EnvelopeTrace<'_>> = reports
-                .iter()
-                .zip(&labels)
-                .zip(&signals)
-                .map(|((report, label), s)| plot::EnvelopeTrace {
-                    label,
-                    unit: plot::unit_of(&s.column),
-                    report,
-                })
-                .collect();
-            plot::envelopes(&traces, &args.out)
-        }
-    }
-}
-
-/// A part of the signature, or the reason it could not be computed (the other parts still
-/// print).
-fn part<T: serde::Serialize + std::fmt::Debug>(result: &Result<T>) -> Result<Value> {
-    match result {
-        Ok(value) => to_value(value),
-        Err(error) => Ok(json!({ "error": error.to_string() })),
-    }
-}
-
-fn estimate(e: &Estimate) -> String {
-    format!("{:.6e} +- {:.2e}", e.value, e.std_error)
+    let options = PlotOptions {
+        overlay: args.overlay,
+        physical: args.physical,
+        detrend: args.detrend.into(),
+        fmax: args.fmax,
+        envelope: args.envelope.options(),
+    };
+    report::plot(&signals, args.kind.into(), &options, &args.out)
 }
 
 fn run_signature(args: &SignatureArgs) -> Result<()> {
-    let signal = read(&args.input.file, args.input.column.as_deref())?;
+    let signal = read(&args.input)?;
     let options = CycleOptions {
         band: (!args.no_band).then_some(args.band),
         ..CycleOptions::default()
     };
-    // Without cycles nothing else can be measured: that is the command's error.
-    let series = signature::cycles(&signal, &options)?;
-    let locate = |error| signal.locate(error);
-    let loss = signature::loss_per_cycle(&series.cycles).map_err(locate);
-    let backbone = signature::backbone(&series.cycles).map_err(locate);
-    let shape = signature::envelope_shape(&series.cycles).map_err(locate);
-    let spectral = signature::spectral_peaks(&signal);
-    let value = merge(
-        header(&signal),
-        json!({
-            "cycles": to_value(&series)?,
-            "loss": part(&loss)?,
-            "backbone": part(&backbone)?,
-            "envelope_shape": part(&shape)?,
-            "spectral_peaks": part(&spectral)?,
-        }),
-    );
-    emit(&args.report, &value, || {
-        let band = series.band_hz.map_or("none".to_string(), |(low, high)| {
-            format!("{low:.4} to {high:.4} Hz (order {})", series.filter_order)
-        });
-        let mut text = format!(
-            "{}: dominant {:.6} Hz, band-pass {band}, {} cycles ({} rejected, {:.3} s guarded at each end)\n",
-            label(&signal),
-            series.dominant_frequency_hz,
-            series.cycles.len(),
-            series.rejected,
-            series.edge_guard_s
-        );
-        if let (Some(first), Some(last)) = (series.cycles.first(), series.cycles.last()) {
-            text.push_str(&format!(
-                "first cycle t {:.3} s: A {:.4e} m, f {:.5} Hz; last cycle t {:.3} s: A {:.4e} m, f {:.5} Hz\n",
-                first.time_s, first.amplitude_m, first.frequency_hz,
-                last.time_s, last.amplitude_m, last.frequency_hz
-            ));
-        }
-        text.push_str("\nloss per cycle dA = a0 + a1 A + a2 A^2 (A in m):\n");
-        match &loss {
-            Ok(loss) => {
-                text.push_str(&format!(
-                    "  a0 {} m   a1 {}   a2 {} 1/m   (reduced chi2 {:.3}, {} windows of {} cycles, A {:.3e} to {:.3e} m)\n",
-                    estimate(&loss.a0_m), estimate(&loss.a1), estimate(&loss.a2_per_m),
-                    loss.reduced_chi2, loss.points.len(), loss.cycles_per_window,
-                    loss.amplitude_range_m.0, loss.amplitude_range_m.1
-                ));
-                let single = &loss.single;
-                text.push_str(&format!(
-                    "  alone: a0 {} (chi2 {:.3}), a1 {} (chi2 {:.3}), a2 {} (chi2 {:.3})\n",
-                    estimate(&single.coulomb_a0_m.coefficient),
-                    single.coulomb_a0_m.reduced_chi2,
-                    estimate(&single.viscous_a1.coefficient),
-                    single.viscous_a1.reduced_chi2,
-                    estimate(&single.quadratic_a2_per_m.coefficient),
-                    single.quadratic_a2_per_m.reduced_chi2
-                ));
-            }
-            Err(error) => text.push_str(&format!("  not available: {error}\n")),
-        }
-        text.push_str("\nbackbone f^2 = f0^2 (1 + b A^2):\n");
-        match &backbone {
-            Ok(b) => text.push_str(&format!(
-                "  f0 {} Hz   b {} 1/m^2   (b A_max^2 = {:.3e}, residual {:.3e} Hz)\n",
-                estimate(&b.f0_hz),
-                estimate(&b.b_per_m2),
-                b.shift_at_largest,
-                b.residual_rms_hz
-            )),
-            Err(error) => text.push_str(&format!("  not available: {error}\n")),
-        }
-        text.push_str("\nenvelope shape:\n");
-        match &shape {
-            Ok(s) => {
-                text.push_str(&format!(
-                    "  {:?}: R^2 exponential {:.6}, linear {:.6}, beating {}\n",
-                    s.kind,
-                    s.r2_exponential,
-                    s.r2_linear,
-                    s.r2_beating.map_or("-".to_string(), |r| format!("{r:.6}"))
-                ));
-                if let (Some(period), Some(ratio), Some(depth)) = (
-                    s.beat_candidate_period_s,
-                    s.beat_variance_ratio,
-                    s.modulation_depth,
-                ) {
-                    text.push_str(&format!(
-                        "  beat candidate {period:.4} s: residual ratio {ratio:.3}, depth {depth:.3}\n"
-                    ));
-                }
-            }
-            Err(error) => text.push_str(&format!("  not available: {error}\n")),
-        }
-        text.push_str("\nspectral peaks:\n");
-        match &spectral {
-            Ok(p) => {
-                text.push_str(&format!(
-                    "  axial {:.6} Hz, amplitude {:.4e} (bin {:.5} Hz)\n",
-                    p.axial.frequency_hz, p.axial.amplitude, p.native_bin_hz
-                ));
-                match &p.side {
-                    Some(side) => text.push_str(&format!(
-                        "  side  {:.6} Hz, relative amplitude {:.4}, beat period {:.4} s\n",
-                        side.frequency_hz, side.relative_amplitude, side.beat_period_s
-                    )),
-                    None => text.push_str("  no side peak within 0.7-1.3 f above 2%\n"),
-                }
-            }
-            Err(error) => text.push_str(&format!("  not available: {error}\n")),
-        }
-        text
-    })
+    emit(&args.report, report::signature(&signal, &options))
 }
 
 fn run_static(args: &StaticArgs) -> Result<()> {
-    let (displacement, force) = static_curve::read_static_csv(&args.file)?;
-    let fit = static_curve::analyze_static(&displacement, &force).map_err(|error| {
-        PostError::Analysis {
-            path: args.file.clone(),
-            column: "displacement_mm, force_n".to_string(),
-            error: Box::new(error),
-        }
-    })?;
-    let value = merge(
-        json!({ "file": args.file.display().to_string() }),
-        to_value(&fit)?,
-    );
-    emit(&args.report, &value, || static_table(&args.file, &fit))
-}
-
-fn static_table(file: &Path, fit: &StaticFit) -> String {
-    let friction = |f: &Option<Estimate>| {
-        f.as_ref()
-            .map_or("- (no unloading branch)".to_string(), estimate)
-    };
-    let mut text = format!(
-        "{}: {} points, {} loading, {} unloading, {} excluded\n\n",
-        file.display(),
-        fit.points,
-        fit.loading_points,
-        fit.unloading_points,
-        fit.excluded_points
-    );
-    text.push_str(&format!(
-        "F = k x + k3 x^3 + s Ff:  k {} N/mm   k3 {} N/mm^3 ({} N/m^3)   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
-        estimate(&fit.stiffness_n_mm),
-        estimate(&fit.cubic_n_mm3),
-        estimate(&fit.cubic_n_m3),
-        friction(&fit.friction_n),
-        fit.cubic.residual_rms_n,
-        fit.cubic.r2
-    ));
-    text.push_str(&format!(
-        "F = k x + s Ff:           k {} N/mm   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
-        estimate(&fit.linear.stiffness_n_mm),
-        friction(&fit.linear.friction_n),
-        fit.linear.quality.residual_rms_n,
-        fit.linear.quality.r2
-    ));
-    let o = &fit.with_offset;
-    text.push_str(&format!(
-        "with offset F0:           F0 {} N   k {} N/mm   k3 {} N/mm^3   Ff {} N\n  residual {:.4e} N, R^2 {:.8}\n",
-        estimate(&o.offset_n),
-        estimate(&o.stiffness_n_mm),
-        estimate(&o.cubic_n_mm3),
-        friction(&o.friction_n),
-        o.quality.residual_rms_n,
-        o.quality.r2
-    ));
-    text
+    emit(&args.report, report::static_fit(&args.file))
 }

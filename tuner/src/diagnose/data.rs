@@ -130,24 +130,32 @@ pub struct DecayData {
     pub warnings: Vec<String>,
 }
 
+/// A record that failed a check of the post-processor's signal.
+fn post(source: coil_postproc::PostError) -> TuneError {
+    TuneError::Post {
+        context: "the decay record".to_string(),
+        source,
+    }
+}
+
 fn bad(signal: &Signal, problem: String, expected: &str) -> TuneError {
     TuneError::Invalid(format!(
         "{} (column `{}`): {problem}; expected {expected}",
-        signal.source.display(),
-        signal.column
+        signal.source().display(),
+        signal.column()
     ))
 }
 
 /// Checks an acceleration record already on a uniform grid (module docs, steps 3-7).
 pub fn check_decay(signal: Signal) -> Result<DecayData> {
-    let n = signal.values.len();
+    let n = signal.values().len();
     condition(
         MeasuredDecay {
-            file: signal.source.clone(),
+            file: signal.source().to_path_buf(),
             quantity: Quantity::Acceleration,
             lines: (2..n as u64 + 2).collect(),
-            time_s: signal.time_s.clone(),
-            values: signal.values.clone(),
+            time_s: signal.time_s().to_vec(),
+            values: signal.values().to_vec(),
             time_resolution_s: 0.0,
         },
         Some(signal),
@@ -162,9 +170,13 @@ pub fn condition_decay(record: MeasuredDecay) -> Result<DecayData> {
 fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData> {
     let mut warnings = Vec::new();
     let column = record.quantity.column();
-    let (time_s, step_s, values, resampled) = match uniform {
-        Some(s) => (s.time_s, s.step_s, s.values, None),
-        None => uniform_grid(&record)?,
+    let (signal, resampled) = match uniform {
+        Some(s) => (s, None),
+        None => {
+            let (time_s, step_s, values, resampled) = uniform_grid(&record)?;
+            let grid = Signal::uniform(time_s[0], step_s, values).map_err(post)?;
+            (grid, resampled)
+        }
     };
     if let Some(r) = &resampled {
         warnings.push(format!(
@@ -175,23 +187,17 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
             r.step_s
         ));
     }
-    let signal = Signal {
-        source: record.file.clone(),
-        column: column.to_string(),
-        time_s,
-        step_s,
-        values,
-    };
+    let signal = signal.named(record.file.clone(), column);
     let signal = if record.quantity == Quantity::Acceleration {
         signal
     } else {
-        let mut values = signal.values;
+        let mut values = signal.values().to_vec();
         let glitches = despike(&mut values);
         if !glitches.is_empty() {
             let at: Vec<String> = glitches
                 .iter()
                 .take(5)
-                .map(|&i| format!("{:.3}", signal.time_s[i]))
+                .map(|&i| format!("{:.3}", signal.time_s()[i]))
                 .collect();
             warnings.push(format!(
                 "{}: {} isolated outliers (sensor glitches) replaced by the cubic through \
@@ -202,13 +208,13 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
                 if glitches.len() > 5 { ", ..." } else { "" }
             ));
         }
-        Signal { values, ..signal }
+        signal.with_values(values).map_err(post)?
     };
     let resolution = check_levels(&signal, record.quantity)?;
 
     // The impulse, then the length.
-    let detrended = detrend(&signal.values);
-    let (start, cut) = find_free_decay(&detrended, &signal.time_s);
+    let detrended = detrend(signal.values());
+    let (start, cut) = find_free_decay(&detrended, signal.time_s());
     let signal = match &cut {
         Some(c) => {
             warnings.push(format!(
@@ -219,18 +225,14 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
                 c.samples,
                 c.time_s
             ));
-            Signal {
-                time_s: signal.time_s[start..].to_vec(),
-                values: signal.values[start..].to_vec(),
-                ..signal
-            }
+            signal.slice(start..signal.len()).map_err(post)?
         }
         None => signal,
     };
-    let detrended = detrend(&signal.values);
-    let (crossings, span_s) = crossings(&detrended, &signal.time_s);
+    let detrended = detrend(signal.values());
+    let (crossings, span_s) = crossings(&detrended, signal.time_s());
     let cycles = crossings / 2;
-    let n = signal.values.len();
+    let n = signal.values().len();
     if cycles < MIN_CYCLES {
         let blow = cut
             .as_ref()
@@ -239,7 +241,7 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
                 blow_in(&detrended).map(|i| {
                     (
                         "a blow with nothing comparable after it".to_string(),
-                        signal.time_s[i],
+                        signal.time_s()[i],
                     )
                 })
             });
@@ -247,11 +249,11 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
             Some((reason, at)) => format!(
                 "the record is all impulse: after the impulse ({reason}, at t = {at:.4} s) \
                  {cycles} oscillation cycles remain in {:.3} s",
-                signal.time_s[n - 1] - signal.time_s[0]
+                signal.time_s()[n - 1] - signal.time_s()[0]
             ),
             None => format!(
                 "{cycles} oscillation cycles in {:.3} s",
-                signal.time_s[n - 1] - signal.time_s[0]
+                signal.time_s()[n - 1] - signal.time_s()[0]
             ),
         };
         return Err(bad(
@@ -270,10 +272,10 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
     let derivatives = record.quantity.derivatives_to_acceleration();
     let measured_noise = noise_floor(&detrended);
     let (signal, measured, cutoff) = if derivatives == 0 {
-        let measured = signal.values.clone();
+        let measured = signal.values().to_vec();
         (signal, measured, None)
     } else {
-        let d = Differentiator::for_dominant(frequency_hz, signal.step_s).map_err(|e| {
+        let d = Differentiator::for_dominant(frequency_hz, signal.step_s()).map_err(|e| {
             bad(
                 &signal,
                 e.to_string(),
@@ -281,9 +283,9 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
             )
         })?;
         let accel = if derivatives == 1 {
-            d.first_derivative(&signal.values)
+            d.first_derivative(signal.values())
         } else {
-            d.second_derivative(&signal.values)
+            d.second_derivative(signal.values())
         };
         let h = coil_postproc::differentiate::HALF_WIDTH;
         let keep = h..n - h;
@@ -291,23 +293,22 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
             "{}: the acceleration is derived from `{column}` (zero-phase low-pass at \
              {:.3} Hz, gain {:.5} at the dominant {:.3} Hz; sixth-order central \
              differences)",
-            signal.source.display(),
+            signal.source().display(),
             d.cutoff_hz,
             d.gain(derivatives, frequency_hz),
             frequency_hz
         ));
-        let measured = signal.values[keep.clone()].to_vec();
+        let measured = signal.values()[keep.clone()].to_vec();
         (
-            Signal {
-                time_s: signal.time_s[keep].to_vec(),
-                values: accel,
-                ..signal
-            },
+            signal
+                .slice(keep)
+                .and_then(|s| s.with_values(accel))
+                .map_err(post)?,
             measured,
             Some(d.cutoff_hz),
         )
     };
-    let noise = noise_floor(&signal.values);
+    let noise = noise_floor(signal.values());
     Ok(DecayData {
         signal,
         quantity: record.quantity,
@@ -483,11 +484,11 @@ fn despike(x: &mut [f64]) -> Vec<usize> {
 
 /// Flat and clipped checks (module docs); returns the resolution.
 fn check_levels(signal: &Signal, quantity: Quantity) -> Result<f64> {
-    let x = &signal.values;
+    let x = signal.values();
     let n = x.len();
     let mean = x.iter().sum::<f64>() / n.max(1) as f64;
     let spread = (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n.max(1) as f64).sqrt();
-    let mut sorted = x.clone();
+    let mut sorted = x.to_vec();
     sorted.sort_by(f64::total_cmp);
     sorted.dedup();
     if spread == 0.0 || sorted.len() < MIN_LEVELS {
@@ -679,7 +680,7 @@ pub fn find_free_decay(y: &[f64], time_s: &[f64]) -> (usize, Option<Cut>) {
 /// the coils' free travel `n (h - d)` (beyond it the coils touch; a record that claims
 /// more is in the wrong unit, e.g. mm/s^2 for m/s^2).
 pub fn check_amplitude(decay: &DecayData, case: &crate::case::MeasuredCase) -> Result<()> {
-    let x = &decay.signal.values;
+    let x = decay.signal.values();
     let mean = x.iter().sum::<f64>() / x.len().max(1) as f64;
     let peak = x.iter().fold(0.0_f64, |m, v| m.max((v - mean).abs()));
     let w = std::f64::consts::TAU * decay.frequency_hz;
@@ -733,13 +734,9 @@ mod tests {
     use std::path::PathBuf;
 
     fn signal(values: Vec<f64>, dt: f64) -> Signal {
-        Signal {
-            source: PathBuf::from("decay.csv"),
-            column: "accel_m_s2".into(),
-            time_s: (0..values.len()).map(|i| i as f64 * dt).collect(),
-            step_s: dt,
-            values,
-        }
+        Signal::uniform(0.0, dt, values)
+            .unwrap()
+            .named(PathBuf::from("decay.csv"), "accel_m_s2")
     }
 
     fn decay(cycles: f64, clip: f64) -> Vec<f64> {
@@ -838,15 +835,15 @@ mod tests {
         assert!(r.max_step_deviation_s > 1e-3 && r.max_step_deviation_s <= 2e-3);
         assert!(d.warnings.iter().any(|w| w.contains("resampled")));
         assert!(d.cut.is_none(), "{:?}", d.cut);
-        assert_eq!(d.signal.values.len(), n - 6);
+        assert_eq!(d.signal.values().len(), n - 6);
         assert_eq!(d.measured.len(), n - 6);
         let w = std::f64::consts::TAU * 4.35;
         let peak = 4e-3 * w * w;
         let errors: Vec<f64> = d
             .signal
-            .time_s
+            .time_s()
             .iter()
-            .zip(&d.signal.values)
+            .zip(d.signal.values())
             .skip(100)
             .take(n - 206)
             .map(|(&t, &a)| {
@@ -1064,7 +1061,7 @@ mod tests {
                  cut-off {:?} Hz, position noise {:.3e} m (fourth differences {:.3e}), \
                  acceleration noise {:.3e} m/s^2 of rms {:.3e}",
                 file.display(),
-                d.signal.values.len(),
+                d.signal.values().len(),
                 d.cycles,
                 d.frequency_hz,
                 d.cut,
@@ -1073,7 +1070,8 @@ mod tests {
                 d.measured_noise.rms,
                 d.measured_noise.white_rms,
                 d.noise.rms,
-                (d.signal.values.iter().map(|a| a * a).sum::<f64>() / d.signal.values.len() as f64)
+                (d.signal.values().iter().map(|a| a * a).sum::<f64>()
+                    / d.signal.values().len() as f64)
                     .sqrt()
             );
             for w in &d.warnings {

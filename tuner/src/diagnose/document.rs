@@ -35,10 +35,10 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
     m.push_str(&format!(
         "Case file `{}`; decay record `{}` ({} samples at {:.1} Hz, {:.2} s, {} cycles).\n\n",
         o.case.file.display(),
-        o.decay.signal.source.display(),
-        o.decay.signal.values.len(),
-        1.0 / o.decay.signal.step_s,
-        o.decay.signal.time_s.last().unwrap_or(&0.0) - o.decay.signal.time_s[0],
+        o.decay.signal.source().display(),
+        o.decay.signal.values().len(),
+        1.0 / o.decay.signal.step_s(),
+        o.decay.signal.time_s().last().unwrap_or(&0.0) - o.decay.signal.time_s()[0],
         o.decay.cycles
     ));
     if !o.joint_records.is_empty() {
@@ -282,7 +282,7 @@ fn sampled(time: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 }
 
 fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>> {
-    let t = &o.decay.signal.time_s;
+    let t = &o.decay.signal.time_s();
     let meas = &o.decay.measured;
     let unit = o.diagnosis.quantity.si_unit();
     let mut list = Vec::new();
@@ -329,9 +329,9 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
     }
     // The last four cycles, where a wrong frequency or damping shows as a phase or an
     // amplitude error the full view hides.
-    let tail_start = t
-        .len()
-        .saturating_sub(((4.0 / o.signatures.axial_hz.max(1e-9)) / o.decay.signal.step_s) as usize);
+    let tail_start = t.len().saturating_sub(
+        ((4.0 / o.signatures.axial_hz.max(1e-9)) / o.decay.signal.step_s()) as usize,
+    );
     let zoom: Vec<Series> = fit_series
         .iter()
         .map(|s| Series {
@@ -570,7 +570,7 @@ pub fn write(o: &Outcome, dir: &OutDir, plots_too: bool) -> Result<()> {
     } else {
         Vec::new()
     };
-    let t = &o.decay.signal.time_s;
+    let t = &o.decay.signal.time_s();
     let chosen = o
         .diagnosis
         .extended

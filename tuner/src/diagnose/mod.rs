@@ -179,10 +179,10 @@ fn compute(
     settings: &DiagnoseSettings,
     clock: Instant,
 ) -> Result<Outcome> {
-    let n = decay.signal.values.len();
+    let n = decay.signal.values().len();
     let half = n / 2;
-    let measured = decay.signal.values.clone();
-    let step = decay.signal.step_s;
+    let measured = decay.signal.values().to_vec();
+    let step = decay.signal.step_s();
 
     progress(settings, &clock, "baseline (the paper's loops)");
     let static_fit = statics
@@ -415,10 +415,10 @@ fn paper_calibration(
     case: &MeasuredCase,
     settings: &DiagnoseSettings,
 ) -> Result<(Physical, f64, f64)> {
-    let measured = &decay.signal.values;
+    let measured = &decay.signal.values();
     let span = range.clone();
     let record = DecayRecord {
-        time_s: decay.signal.time_s[range.clone()].to_vec(),
+        time_s: decay.signal.time_s()[range.clone()].to_vec(),
         accel_m_s2: measured[range].to_vec(),
     };
     let f_guess = decay.frequency_hz;
@@ -446,14 +446,14 @@ fn paper_calibration(
     let m = attempt.map_err(|e| {
         TuneError::Invalid(format!(
             "{}: the paper's logarithmic decrement fails on samples {}..{}: {e}",
-            decay.signal.source.display(),
+            decay.signal.source().display(),
             span.start,
             span.end
         ))
     })?;
     let zeta = m.zeta_mean;
     let period_n = m.period_s * (1.0 - zeta * zeta).max(0.0).sqrt();
-    let mut s = state.clone();
+    let mut s = *state;
     loops::tune_mass(&mut s, &settings.fe, period_n, 1e-6, None)?;
     let w = std::f64::consts::TAU / period_n;
     Ok((

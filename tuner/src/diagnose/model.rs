@@ -177,7 +177,7 @@ impl ReducedSpring {
         let omega = (self.stiffness_n_m(p) / p.mass_kg).sqrt();
         // A trial beyond the record's Nyquist frequency cannot be what the record shows,
         // and would cost unbounded substeps (a fit stepping its mass towards zero).
-        if !(omega * step_s <= std::f64::consts::PI) {
+        if omega.is_nan() || omega * step_s > std::f64::consts::PI {
             return Err(format!(
                 "the trial's axial frequency {:.4e} Hz is beyond the record's Nyquist \
                  frequency {:.4e} Hz",

@@ -91,18 +91,21 @@ impl Figure for Panels {
                 .y_label_area_size(90)
                 .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(e)?;
-            chart
-                .configure_mesh()
-                .x_desc(panel.x.as_str())
-                .y_desc(panel.y.as_str())
-                .x_label_formatter(&short)
-                .y_label_formatter(&short)
-                .x_labels(8)
-                .y_labels(6)
-                .axis_desc_style((FONT, 17))
-                .label_style((FONT, 15))
-                .draw()
-                .map_err(e)?;
+            plot::axes(
+                &mut chart.configure_mesh(),
+                panel.x.as_str(),
+                panel.y.as_str(),
+                plot::AxisText {
+                    names: 17,
+                    ticks: 15,
+                },
+            )
+            .x_label_formatter(&short)
+            .y_label_formatter(&short)
+            .x_labels(8)
+            .y_labels(6)
+            .draw()
+            .map_err(e)?;
             for (k, s) in panel.series.iter().enumerate() {
                 let colour = COLOURS[k % COLOURS.len()];
                 let legend = move |(x, y): (i32, i32)| {

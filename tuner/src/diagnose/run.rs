@@ -98,13 +98,13 @@ impl Joint {
             measured.extend(d.measured.iter().map(|x| weight * x));
             segments.push(fit::Segment {
                 span: start..measured.len(),
-                step_s: d.signal.step_s,
+                step_s: d.signal.step_s(),
                 quantity: d.quantity,
                 mass_delta_kg: delta,
                 weight,
             });
             if k > 0 {
-                files.push(d.signal.source.clone());
+                files.push(d.signal.source().to_path_buf());
             }
         }
         Joint {
@@ -125,7 +125,7 @@ pub fn model_run(full: Fitted, half: Fitted, joint: &Joint, rolling: &[Fitted]) 
             .segments
             .iter()
             .map(|s| {
-                let r = fit::relative_rms(&full.simulated, measured, &[s.span.clone()]);
+                let r = fit::relative_rms(&full.simulated, measured, std::slice::from_ref(&s.span));
                 format!("{r:.4}")
             })
             .collect();
@@ -135,7 +135,11 @@ pub fn model_run(full: Fitted, half: Fitted, joint: &Joint, rolling: &[Fitted]) 
         joint.segments.iter().map(f).collect()
     };
     ModelRun {
-        residual_rms: fit::relative_rms(&full.simulated, measured, &[0..measured.len()]),
+        residual_rms: fit::relative_rms(
+            &full.simulated,
+            measured,
+            std::slice::from_ref(&(0..measured.len())),
+        ),
         forecast_rms: fit::relative_rms(&half.simulated, measured, &over(&|s| s.between(0.5, 1.0))),
         rolling: rolling
             .iter()

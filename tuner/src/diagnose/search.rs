@@ -277,7 +277,7 @@ pub fn candidates(
     let mut candidates: Vec<CandidateRun> = (0..effects::COUNT)
         .into_par_iter()
         .map(|i| {
-            let proposal = CATALOGUE[i].propose(&sigs, &figures);
+            let proposal = CATALOGUE[i].propose(sigs, figures);
             let seeds: Vec<Physical> = proposal
                 .starts
                 .iter()
@@ -299,7 +299,7 @@ pub fn candidates(
     let mut gaining: Vec<(usize, f64)> = candidates
         .iter()
         .filter_map(|c| {
-            select::score(&ctx, c)
+            select::score(ctx, c)
                 .filter(|s| s.delta_bic > select::DELTA_BIC || s.tests.signature.passed)
                 .map(|s| (c.effects[0], s.delta_bic))
         })

@@ -60,7 +60,7 @@ pub fn compute(
     figures: &BaselineFigures,
 ) -> Result<(Signatures, Option<(Vec<f64>, Vec<f64>)>)> {
     let s = &decay.signal;
-    let spectrum = amplitude_spectrum(&s.time_s, &s.values, &SpectrumOptions::default())
+    let spectrum = amplitude_spectrum(s, &SpectrumOptions::default())
         .map_err(post("spectrum of the decay record"))?;
     let peaks = signature::spectral_peaks(s).map_err(post("spectral peaks of the decay record"))?;
     let axial_hz = peaks.axial.frequency_hz;
@@ -69,7 +69,7 @@ pub fn compute(
         relative_amplitude: p.relative_amplitude,
         z_score: p.relative_amplitude / signature::SIDE_THRESHOLD,
     });
-    let series = signature::cycles(s, &CycleOptions::default()).ok();
+    let series = signature::cycles_in(s, &spectrum, &CycleOptions::default()).ok();
     let cycles = series.as_ref().map_or(&[][..], |c| c.cycles.as_slice());
     let loss = signature::loss_per_cycle(cycles).ok().map(|l| LossSummary {
         a0_m: l.a0_m.value,
@@ -115,7 +115,7 @@ pub fn compute(
             beat_period_s: None,
         },
     };
-    let duration = s.time_s[s.time_s.len() - 1] - s.time_s[0];
+    let duration = s.time_s()[s.time_s().len() - 1] - s.time_s()[0];
     Ok((
         Signatures {
             axial_hz,

@@ -25,12 +25,21 @@ fn opt(x: Option<f64>) -> String {
     x.map_or("-".into(), f)
 }
 
-/// report.md's text.
+/// report.md's text: the headline, then the four sections.
 fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
+    let mut m = String::new();
+    headline(o, &mut m);
+    baseline_section(o, &mut m);
+    misses_section(o, figures, &mut m);
+    candidates_section(o, &mut m);
+    honesty_section(o, &mut m);
+    m
+}
+
+/// The title, the records, the cause with its numbers, unexplained and warnings.
+fn headline(o: &Outcome, m: &mut String) {
     let d = &o.diagnosis;
     let b = &d.baseline;
-    let s = &d.signatures;
-    let mut m = String::new();
     m.push_str(&format!("# Diagnosis of `{}`\n\n", o.case.name));
     m.push_str(&format!(
         "Case file `{}`; decay record `{}` ({} samples at {:.1} Hz, {:.2} s, {} cycles).\n\n",
@@ -107,6 +116,12 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         }
         m.push('\n');
     }
+}
+
+/// Section 1: the paper's model as calibrated.
+fn baseline_section(o: &Outcome, m: &mut String) {
+    let d = &o.diagnosis;
+    let b = &d.baseline;
     m.push_str("## 1. Baseline: the paper's model\n\n");
     m.push_str(match o.stiffness_source {
         StiffnessSource::StaticRecord => {
@@ -150,6 +165,12 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         f(d.reference.residual_rms),
         f(d.reference.forecast_rms)
     ));
+}
+
+/// Section 2: what the linear model misses, with the figures.
+fn misses_section(o: &Outcome, figures: &[(&str, &str)], m: &mut String) {
+    let d = &o.diagnosis;
+    let s = &d.signatures;
     m.push_str("## 2. What the linear model misses\n\n");
     if let Some(l) = &s.loss {
         m.push_str(&format!(
@@ -196,6 +217,11 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
     for (file, caption) in figures {
         m.push_str(&format!("![{caption}]({file})\n\n"));
     }
+}
+
+/// Section 3: every candidate's fit and tests.
+fn candidates_section(o: &Outcome, m: &mut String) {
+    let d = &o.diagnosis;
     m.push_str("## 3. Candidates\n\n");
     m.push_str(&format!(
         "Each effect starts from its signature and is fitted by output error (Levenberg-Marquardt) \
@@ -264,6 +290,11 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         }
     }
     m.push('\n');
+}
+
+/// Section 4: what the integrator, the mesh and the estimators do to the numbers.
+fn honesty_section(o: &Outcome, m: &mut String) {
+    let d = &o.diagnosis;
     m.push_str(&format!(
         "## 4. Numerical honesty\n\nThe reduced model keeps the weight's DOFs and {} fixed-interface \
          modes; it is integrated by average acceleration at a step of at most {:.2e} of the axial \
@@ -274,7 +305,6 @@ fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
         (std::f64::consts::TAU * o.step_fraction).powi(2) / 12.0,
         d.runtime_s
     ));
-    m
 }
 
 fn sampled(time: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
@@ -282,10 +312,19 @@ fn sampled(time: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 }
 
 fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>> {
+    let mut list = Vec::new();
+    fit_figure(o, dir, &mut list)?;
+    cycles_figure(o, dir, &mut list)?;
+    static_figure(o, dir, &mut list)?;
+    spectrum_figure(o, dir, &mut list)?;
+    Ok(list)
+}
+
+/// The record against the baseline and the chosen model, their residuals and the last cycles.
+fn fit_figure(o: &Outcome, dir: &Path, list: &mut Vec<(&'static str, &'static str)>) -> Result<()> {
     let t = &o.decay.signal.time_s();
     let meas = &o.decay.measured;
     let unit = o.diagnosis.quantity.si_unit();
-    let mut list = Vec::new();
     let chosen = o
         .diagnosis
         .extended
@@ -368,6 +407,15 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
         "measured against simulated, and the residual",
     ));
 
+    Ok(())
+}
+
+/// Per cycle: amplitude, frequency and loss against amplitude (the signatures).
+fn cycles_figure(
+    o: &Outcome,
+    dir: &Path,
+    list: &mut Vec<(&'static str, &'static str)>,
+) -> Result<()> {
     let cyc = &o.signatures.per_cycle;
     if cyc.len() > 2 {
         let amp: Vec<(f64, f64)> = cyc
@@ -449,6 +497,15 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
             "per-cycle amplitude, backbone, damping curve and decrement against amplitude",
         ));
     }
+    Ok(())
+}
+
+/// The static record: force against compression and the residual of the line.
+fn static_figure(
+    o: &Outcome,
+    dir: &Path,
+    list: &mut Vec<(&'static str, &'static str)>,
+) -> Result<()> {
     if let Some((record, _)) = &o.statics {
         if let Some(st) = &o.signatures.statics {
             let k = st.linear_k_n_mm;
@@ -497,6 +554,15 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
             list.push(("static.png", "static residual: curvature and hysteresis"));
         }
     }
+    Ok(())
+}
+
+/// The measured spectrum with its lines labelled.
+fn spectrum_figure(
+    o: &Outcome,
+    dir: &Path,
+    list: &mut Vec<(&'static str, &'static str)>,
+) -> Result<()> {
     if let Some(spec) = &o.spectrum {
         let peak = spec.1.iter().cloned().fold(0.0, f64::max).max(1e-300);
         let points: Vec<(f64, f64)> = spec
@@ -559,7 +625,7 @@ fn figures(o: &Outcome, dir: &Path) -> Result<Vec<(&'static str, &'static str)>>
             "spectral peaks: a second line beside the axial one",
         ));
     }
-    Ok(list)
+    Ok(())
 }
 
 /// Writes the outcome into `out` (created): figures and tables first, report.md, then

@@ -281,11 +281,8 @@ fn compute(
     for w in &warnings {
         progress(settings, &clock, &format!("warning: {w}"));
     }
-    let k_source = match (&static_fit, case.targets.stiffness_n_mm) {
-        (Some(_), _) => report::StiffnessSource::StaticRecord,
-        (None, Some(_)) => report::StiffnessSource::Target,
-        (None, None) => report::StiffnessSource::Nominal,
-    };
+    let k_source =
+        report::StiffnessSource::of(static_fit.is_some(), case.targets.stiffness_n_mm.is_some());
     let diagnosis = report::assemble(
         &report::BaselineInputs {
             state: &state,

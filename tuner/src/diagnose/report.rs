@@ -156,6 +156,18 @@ pub enum StiffnessSource {
     Nominal,
 }
 
+impl StiffnessSource {
+    /// Where K comes from: the static record when there is one, else the case's target,
+    /// else the nominal FE model.
+    pub fn of(static_record: bool, target: bool) -> Self {
+        match (static_record, target) {
+            (true, _) => StiffnessSource::StaticRecord,
+            (false, true) => StiffnessSource::Target,
+            (false, false) => StiffnessSource::Nominal,
+        }
+    }
+}
+
 /// Parameters and standard errors of the effects in `set` of a fitted run.
 fn with_errors(
     set: &[usize],

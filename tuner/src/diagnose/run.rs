@@ -6,9 +6,12 @@ use super::data::DecayData;
 use super::effects::{self, CATALOGUE};
 use super::fit::{self, Fitted, Knob};
 use super::model::Physical;
-use super::select;
 use std::collections::BTreeMap;
 use std::ops::Range;
+
+/// Rolling origins as fractions of the record; each forecasts the next quarter
+/// (`select`'s forecast test).
+pub const ORIGINS: [f64; 3] = [0.25, 0.5, 0.75];
 
 /// One fitted model's figures on the full record and on the forecasts.
 #[derive(Debug, Clone)]
@@ -18,7 +21,7 @@ pub struct ModelRun {
     pub residual_rms: f64,
     pub forecast_rms: f64,
     /// Forecast RMS (relative) of the quarter after each rolling origin
-    /// (`select::ORIGINS`), fitted up to the origin; empty for the baseline.
+    /// (`ORIGINS`), fitted up to the origin; empty for the baseline.
     pub rolling: Vec<f64>,
 }
 
@@ -146,7 +149,7 @@ pub fn model_run(full: Fitted, half: Fitted, joint: &Joint, rolling: &[Fitted]) 
             .enumerate()
             .map(|(i, f)| {
                 let ranges = over(&|s| {
-                    let o = s.window(select::ORIGINS[i]).end;
+                    let o = s.window(ORIGINS[i]).end;
                     o..(o + s.span.len() / 4).min(s.span.end)
                 });
                 fit::relative_rms(&f.simulated, measured, &ranges)

@@ -56,8 +56,7 @@ pub const RESIDUAL_RATIO: f64 = 0.9;
 pub const FORECAST_RATIO: f64 = 0.9;
 /// ... from this many of the rolling origins.
 pub const FORECASTS_NEEDED: usize = 2;
-/// Rolling origins as fractions of the record; each forecasts the next quarter.
-pub const ORIGINS: [f64; 3] = [0.25, 0.5, 0.75];
+pub use super::run::ORIGINS;
 /// Largest relative standard error of an identified parameter.
 pub const REL_SE_LIMIT: f64 = 1.0 / 3.0;
 /// Axial periods spanned by the autocorrelation sum of `N_eff` ...

@@ -14,7 +14,7 @@
 //!    of `2 h`, which interpolation would fill with an invented sample; the limit sits
 //!    halfway between the worst jitter accepted (each stamp within +-h/4) and a lost
 //!    sample.
-//! 3. **Glitches** (position and velocity only, [`despike`]): isolated samples far off
+//! 3. **Glitches** (position and velocity only, `despike`): isolated samples far off
 //!    the cubic through their neighbours (an ultrasonic sensor's echoes) are replaced,
 //!    with a warning. **Flat and clipped** (below): on the measured column.
 //! 4. **Impulse left at the start** ([`find_free_decay`]): the record's half-cycles

@@ -58,7 +58,9 @@ impl Knob {
 /// force `k x + k3 x^3` against the measured loading points.
 #[derive(Debug, Clone)]
 pub struct StaticBlock {
+    /// Measured compressions from the free length (m).
     pub displacement_m: Vec<f64>,
+    /// Measured axial forces (N).
     pub force_n: Vec<f64>,
     /// The measured force's noise level (N).
     pub sigma_n: f64,
@@ -121,8 +123,11 @@ impl Segment {
 
 /// What to fit and on which samples.
 pub struct Problem<'a> {
+    /// The reduced spring simulated.
     pub model: &'a ReducedSpring,
+    /// Starting parameters; those no knob moves stay as they are.
     pub start: Physical,
+    /// The parameters the fit moves.
     pub knobs: Vec<Knob>,
     /// The records laid end to end, each scaled by its segment's weight.
     pub measured: &'a [f64],
@@ -132,6 +137,7 @@ pub struct Problem<'a> {
     pub fraction: f64,
     /// Noise level of the decay samples (the records' unit, SI), dividing their residuals.
     pub sigma: f64,
+    /// A static block fitted beside the decay, for effects that show in the static record.
     pub statics: Option<&'a StaticBlock>,
     /// Initial state to start a nonlinear fit from (model units), every record's in turn.
     pub initial_state: Option<Vec<f64>>,
@@ -140,6 +146,7 @@ pub struct Problem<'a> {
 /// A finished fit.
 #[derive(Debug, Clone)]
 pub struct Fitted {
+    /// The fitted parameters (SI).
     pub physical: Physical,
     /// Every record's fitted initial state, in turn.
     pub initial_state: Vec<f64>,
@@ -153,7 +160,9 @@ pub struct Fitted {
     pub knob_rel_errors: Vec<f64>,
     /// The knobs fitted.
     pub knobs: Vec<Knob>,
+    /// Levenberg-Marquardt iterations spent.
     pub iterations: usize,
+    /// Model runs spent.
     pub evaluations: usize,
 }
 

@@ -5,7 +5,7 @@
 //! # Steps
 //! 1. **Records** are read and checked ([`data`]) before anything is computed; nothing
 //!    is written unless the whole diagnosis succeeds, and then every file goes through
-//!    a temporary name ([`write`]).
+//!    a temporary name ([`write()`]).
 //! 2. **Baseline, the paper's model**: K from the static record (the least-squares line
 //!    `F = k x + s F_f` through both branches, `s = +-1`), E by the paper's loop 1 on the FE model; T and zeta
 //!    by the paper's decrement (every 10th crest, Eqs. 2-3) on the decay record; the
@@ -62,6 +62,7 @@ use std::time::Instant;
 /// Settings of a diagnosis.
 #[derive(Debug, Clone)]
 pub struct DiagnoseSettings {
+    /// FE settings of the spring's model for the paper's loops and the reduction.
     pub fe: FeSettings,
     /// Fixed-interface modes kept beside the weight's DOFs.
     pub modes: usize,

@@ -56,6 +56,7 @@ fn quantity_of(quantity: Quantity, s: &Sample) -> f64 {
 /// The fitted physical parameters (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Physical {
+    /// The weight's mass (kg).
     pub mass_kg: f64,
     /// Rayleigh beta on the spring (s).
     pub beta_s: f64,
@@ -64,6 +65,7 @@ pub struct Physical {
     /// Each catalogue effect's magnitude in its SI unit (0: absent), indexed as
     /// `effects::CATALOGUE`.
     pub effects: [f64; COUNT],
+    /// Gravity along the spring axis (m/s^2); it preloads a model with a cubic spring.
     pub gravity_m_s2: f64,
 }
 

@@ -10,13 +10,21 @@ use std::ops::Range;
 
 /// Everything a diagnosis computed (the report and the figures draw on it).
 pub struct Outcome {
+    /// The measured case as read.
     pub case: MeasuredCase,
+    /// The diagnosed decay record (the first axial one), conditioned.
     pub decay: DecayData,
+    /// The static record used and its loading branch (sample range), if the case has one.
     pub statics: Option<(crate::case::StaticRecord, Range<usize>)>,
+    /// The records' signatures.
     pub signatures: Signatures,
+    /// The baseline's figures: the paper's calibration, only the initial states fitted.
     pub baseline: ModelRun,
+    /// The reference's figures: the linear model refined by output error.
     pub reference: ModelRun,
+    /// Every candidate and its fit, in search order.
     pub candidates: Vec<CandidateRun>,
+    /// The report's data (`diagnosis.json`).
     pub diagnosis: Diagnosis,
     /// Measured amplitude spectrum (frequencies Hz, amplitudes m/s^2) for the figure.
     pub spectrum: Option<(Vec<f64>, Vec<f64>)>,

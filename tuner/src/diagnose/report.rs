@@ -15,23 +15,36 @@ use std::collections::BTreeMap;
 /// The paper's model calibrated to the records.
 #[derive(Debug, Clone, Serialize)]
 pub struct Baseline {
+    /// Young's modulus calibrated to the measured stiffness by the paper's loop 1 (MPa).
     pub youngs_modulus_mpa: f64,
+    /// The weight's mass tuned to the measured period by the paper's loop 2 (kg).
     pub mass_kg: f64,
+    /// Rayleigh alpha (1/s); always 0: the baseline's damping is stiffness-proportional.
     pub rayleigh_alpha: f64,
+    /// Rayleigh beta `2 zeta / w` from the paper's decrement (s).
     pub rayleigh_beta: f64,
+    /// Axial stiffness K of the calibrated model (N/mm).
     pub stiffness_n_mm: f64,
+    /// Damped period T by the paper's logarithmic decrement (s).
     pub period_s: f64,
+    /// Damping ratio zeta by the paper's logarithmic decrement (-).
     pub damping_ratio: f64,
+    /// RMS of simulated minus measured over the records, over the measured RMS (-).
     pub residual_rms: f64,
+    /// The same figure on the second halves, calibrated on the first halves only (-).
     pub forecast_rms: f64,
 }
 
 /// The linear model refined by output error (coil's addition).
 #[derive(Debug, Clone, Serialize)]
 pub struct Reference {
+    /// The weight's mass refined by output error (kg).
     pub mass_kg: f64,
+    /// Rayleigh beta refined by output error (s).
     pub rayleigh_beta: f64,
+    /// Its residual RMS over the records, relative as in [`Baseline::residual_rms`] (-).
     pub residual_rms: f64,
+    /// Its relative RMS on the second halves, fitted on the first halves only (-).
     pub forecast_rms: f64,
 }
 
@@ -40,13 +53,19 @@ pub struct Reference {
 pub struct Extended {
     /// The candidate's name: its effects joined by `+` (one effect: its name).
     pub effect: String,
+    /// The names of its effects, in catalogue order.
     pub effects: Vec<String>,
     /// Every kept effect's parameters (SI, the spec's names) and standard errors.
     pub parameters: BTreeMap<String, f64>,
+    /// Each parameter's standard error, inflated for the residuals' correlation (same units).
     pub parameters_se: BTreeMap<String, f64>,
+    /// Its residual RMS over the records, relative as in [`Baseline::residual_rms`] (-).
     pub residual_rms: f64,
+    /// Its relative RMS on the second halves, fitted on the first halves only (-).
     pub forecast_rms: f64,
+    /// The weight's mass fitted with the effects (kg).
     pub mass_kg: f64,
+    /// Rayleigh beta fitted with the effects (s).
     pub rayleigh_beta: f64,
     /// The largest relative standard error of its parameters: the fit's, inflated by
     /// `sqrt(N / N_eff)` for the residuals' correlation (indicative; the mesh and the
@@ -57,8 +76,11 @@ pub struct Extended {
 /// One effect the extended model keeps (spec: "Several effects at once").
 #[derive(Debug, Clone, Serialize)]
 pub struct Cause {
+    /// The effect's name in the spec's catalogue.
     pub effect: String,
+    /// Its parameters by the spec's names (SI, the unit in the name).
     pub parameters: BTreeMap<String, f64>,
+    /// Their standard errors, inflated for the residuals' correlation (same units).
     pub parameters_se: BTreeMap<String, f64>,
     /// Its part of the explained misfit (drop-one increase of the residual sum of
     /// squares, normalised over the kept effects).
@@ -70,15 +92,23 @@ pub struct Cause {
 pub struct Candidate {
     /// Its effects joined by `+`.
     pub effect: String,
+    /// The names of its effects, in catalogue order.
     pub effects: Vec<String>,
+    /// Its relative residual RMS over the records (-); `None` when its fit failed.
     pub residual_rms: Option<f64>,
+    /// What the records' signatures say about its effects, for a person.
     pub evidence: String,
+    /// Its relative RMS on the second halves, fitted on the first halves (-); `None` if failed.
     pub forecast_rms: Option<f64>,
     /// Forecast RMS of the quarter after each rolling origin (`select::ORIGINS`).
     pub rolling_forecast_rms: Vec<f64>,
+    /// Its effects' fitted parameters by the spec's names (SI, the unit in the name).
     pub parameters: BTreeMap<String, f64>,
+    /// Their standard errors, inflated for the residuals' correlation; empty if the fit failed.
     pub parameters_se: BTreeMap<String, f64>,
+    /// Its BIC gain over the reference on `N_eff` residuals (`select`); `None` if the fit failed.
     pub delta_bic: Option<f64>,
+    /// The effective number of independent residuals `N_eff`; `None` if the fit failed.
     pub effective_samples: Option<f64>,
     /// True when every test held (`tests`).
     pub significant: bool,
@@ -86,17 +116,21 @@ pub struct Candidate {
     pub tests: Option<Tests>,
     /// The fitted weight's mass (kg) and Rayleigh beta (s).
     pub mass_kg: Option<f64>,
+    /// The fitted Rayleigh beta (s).
     pub rayleigh_beta: Option<f64>,
     /// The fitted state at the record's first sample about the static equilibrium:
     /// per boundary DOF, displacement (mm or rad) then velocity (mm/s or rad/s).
     pub initial_state: Vec<f64>,
+    /// Why its fit failed, when it did.
     pub fit_error: Option<String>,
 }
 
 /// Extended over baseline figures.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Gain {
+    /// Extended over baseline `residual_rms` (-; smaller is better).
     pub residual_rms_ratio: f64,
+    /// Extended over baseline `forecast_rms` (-; smaller is better).
     pub forecast_rms_ratio: f64,
     /// The same ratio with the record's noise removed from both figures,
     /// `sqrt((e^2 - n^2) / (b^2 - n^2))`, `n` = `noise_floor_rms`: the share of the
@@ -117,12 +151,17 @@ pub struct Diagnosis {
     pub unexplained: Option<String>,
     /// The quantity the decay record measures; the fit and `residual_rms` compare it.
     pub quantity: Quantity,
+    /// The paper's model calibrated to the records.
     pub baseline: Baseline,
+    /// The chosen extension; `None` when the cause is `none`.
     pub extended: Option<Extended>,
+    /// Every candidate tried, with its figures and tests.
     pub candidates: Vec<Candidate>,
     /// Extended over baseline figures; all 1 when the cause is `none`.
     pub gain: Gain,
+    /// The linear model refined by output error (coil's addition).
     pub reference: Reference,
+    /// The records' signatures the candidates were proposed and checked with.
     pub signatures: Signatures,
     /// The record's noise as a `residual_rms`: noise RMS over the record's RMS. No
     /// model's residual can go below it.
@@ -130,17 +169,25 @@ pub struct Diagnosis {
     /// What a person should check: records ignored, calibrated values far from the
     /// nominal ones, a misfit no effect explains.
     pub warnings: Vec<String>,
+    /// Wall-clock time of the diagnosis (s).
     pub runtime_s: f64,
 }
 
 /// What [`assemble`] reads about the baseline.
 pub struct BaselineInputs<'a> {
+    /// The spring, its Young's modulus calibrated to the measured stiffness.
     pub state: &'a SpringState,
+    /// The paper's linear model (mass, beta) calibrated to the decay.
     pub physical: &'a Physical,
+    /// Damped period by the paper's logarithmic decrement (s).
     pub period_s: f64,
+    /// Damping ratio by the paper's logarithmic decrement (-).
     pub damping_ratio: f64,
+    /// Axial stiffness of the calibrated model (N/mm).
     pub stiffness_n_mm: f64,
+    /// The baseline's figures over the records.
     pub run: &'a ModelRun,
+    /// Where the stiffness the modulus was tuned to came from.
     pub stiffness_source: StiffnessSource,
 }
 

@@ -16,9 +16,13 @@ pub const ORIGINS: [f64; 3] = [0.25, 0.5, 0.75];
 /// One fitted model's figures on the full record and on the forecasts.
 #[derive(Debug, Clone)]
 pub struct ModelRun {
+    /// The fit on every record's whole length.
     pub full: Fitted,
+    /// The fit on every record's first half (the forecast's).
     pub half: Fitted,
+    /// Relative residual RMS of `full` over all the records (-).
     pub residual_rms: f64,
+    /// Relative RMS of `half` on every record's second half (-).
     pub forecast_rms: f64,
     /// Forecast RMS (relative) of the quarter after each rolling origin
     /// (`ORIGINS`), fitted up to the origin; empty for the baseline.
@@ -30,9 +34,11 @@ pub struct ModelRun {
 pub struct CandidateRun {
     /// Catalogue indices, ascending.
     pub effects: Vec<usize>,
+    /// What the records' signatures say about its effects, for a person.
     pub evidence: String,
     /// Each effect's signature check at the fitted values (empty if the fit failed).
     pub signatures: Vec<effects::SignatureCheck>,
+    /// Its figures over the records, or why its fit failed.
     pub run: std::result::Result<ModelRun, String>,
 }
 
@@ -51,7 +57,7 @@ impl CandidateRun {
 pub struct Joint {
     /// The records, each scaled by its segment's weight.
     pub measured: Vec<f64>,
-    /// Their layout; the first is the diagnosed record ([`Outcome::decay`]).
+    /// Their layout; the first is the diagnosed record ([`super::Outcome::decay`]).
     pub segments: Vec<fit::Segment>,
     /// The other records' files, in the segments' order after the first.
     pub files: Vec<std::path::PathBuf>,

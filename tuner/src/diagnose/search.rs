@@ -21,15 +21,25 @@ const SEED_ITERATIONS: usize = 10;
 /// turn for the coupling), the reference fit, the records and their noise, the static
 /// block, the signatures.
 pub struct Job<'a> {
+    /// The reduced model with the weight guided along the axis.
     pub guided: &'a ReducedSpring,
+    /// The reduced model with the weight also free to turn about the axis (coupling).
     pub free: &'a ReducedSpring,
+    /// The reference fit every candidate starts from.
     pub reference: &'a ModelRun,
+    /// The records laid end to end.
     pub joint: &'a Joint,
+    /// RMS of the reference's residual (the records' unit, SI): divides the decay residuals.
     pub noise: f64,
+    /// The static block, fitted with the effects that show in the static record.
     pub statics: Option<&'a StaticBlock>,
+    /// The static record's fits (the cubic fit's stiffness starts a static effect's fit).
     pub static_fit: Option<&'a evidence::StaticSummary>,
+    /// Levenberg-Marquardt iterations per fit.
     pub max_iterations: usize,
+    /// The records' signatures, for the effects' starts and checks.
     pub signatures: &'a Signatures,
+    /// The baseline's figures, for the effects' starts and checks.
     pub figures: &'a BaselineFigures,
 }
 

@@ -69,19 +69,28 @@ pub const MAX_LAGS: usize = 1500;
 /// One test's outcome, with its number and its limit.
 #[derive(Debug, Clone, Serialize)]
 pub struct Test {
+    /// True when the test held.
     pub passed: bool,
+    /// The test's number.
     pub value: f64,
+    /// The limit the number is held against.
     pub limit: f64,
+    /// The test in words with its numbers, for the report.
     pub text: String,
 }
 
 /// The four tests (and, for a combination, the need for every part).
 #[derive(Debug, Clone, Serialize)]
 pub struct Tests {
+    /// Test 1: dBIC and the residual RMS against the reference.
     pub significance: Test,
+    /// Test 2: forecasts from the rolling origins against the reference's.
     pub forecasts: Test,
+    /// Test 3: every effect parameter's inflated relative standard error.
     pub identified: Test,
+    /// Test 4: each effect's own signature in the records.
     pub signature: Test,
+    /// For a combination: removing any one of its effects costs more than [`DELTA_BIC`].
     pub every_part_needed: Option<Test>,
 }
 
@@ -122,13 +131,17 @@ impl Tests {
 /// A candidate's standing.
 #[derive(Debug, Clone)]
 pub struct Score {
+    /// BIC gain over the reference on `n_eff` residuals (module docs).
     pub delta_bic: f64,
+    /// Effective number of independent residuals `N_eff` (module docs).
     pub n_eff: f64,
     /// Residual and forecast RMS over the reference's.
     pub residual_ratio: f64,
+    /// Its forecast RMS of the second halves over the reference's (-).
     pub forecast_ratio: f64,
     /// Each effect parameter's relative standard error, inflated for correlation.
     pub rel_se: Vec<f64>,
+    /// The four tests (the parts test is added by [`choose`]).
     pub tests: Tests,
 }
 
@@ -137,6 +150,7 @@ pub struct Score {
 pub struct Choice {
     /// Index of the chosen candidate.
     pub cause: Option<usize>,
+    /// Each candidate's score; `None` where its fit failed.
     pub scores: Vec<Option<Score>>,
     /// The chosen candidate's effects (catalogue indices) with their shares, largest
     /// first.
@@ -179,7 +193,9 @@ fn residual(run: &ModelRun, measured: &[f64]) -> Vec<f64> {
 
 /// What the scoring reads beyond the candidates.
 pub struct Context<'a> {
+    /// The reference the candidates are scored against.
     pub reference: &'a ModelRun,
+    /// The records laid end to end, as fitted.
     pub measured: &'a [f64],
     /// Samples per axial period.
     pub samples_per_period: f64,

@@ -319,7 +319,14 @@ impl Effect for CubicStiffness {
                 if statics.is_finite() {
                     format!(", static curvature of its sign at {statics:.1}")
                 } else {
-                    ", no static record".to_string()
+                    // About a preload x_s the backbone is quadratic in k3: its two roots
+                    // sum to k_t / (10 x_s^2), so the backbone alone also admits the
+                    // other one (a hanging rig without a static record).
+                    let other = b.stiffness_n_m / (10.0 * b.preload_m * b.preload_m) - value;
+                    format!(
+                        ", no static record (the backbone alone also admits k3 = {other:.3e} \
+                         N/m^3 at this preload; a static record decides)"
+                    )
                 }
             ),
         )

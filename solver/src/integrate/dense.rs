@@ -610,13 +610,24 @@ impl DenseStepper {
                 kt[(law.dof, law.dof)] += law.law.tangent_stiffness(u[law.dof]);
             }
             let inv = spd_inverse("K + tangent of the cubic laws", &kt)?;
+            // A softening law loses stability beyond the compression where its tangent
+            // cancels K: the iterates stay where K + tangent is positive definite (the
+            // region holding the unloaded state and the stable equilibrium), so a full
+            // Newton step that jumps past the limit is shortened, not fatal.
+            let stable = |u: &[f64]| -> bool {
+                let mut kt = k.clone();
+                for law in &self.laws {
+                    kt[(law.dof, law.dof)] += law.law.tangent_stiffness(u[law.dof]);
+                }
+                kt.cholesky().is_some()
+            };
             let du = inv * nalgebra::DVector::from_column_slice(&res);
             let e0 = energy(&u);
             let mut t = 1.0;
             let mut trial: Vec<f64>;
             loop {
                 trial = (0..r).map(|i| u[i] - t * du[i]).collect();
-                if energy(&trial) <= e0 || t < 1e-10 {
+                if (energy(&trial) <= e0 && stable(&trial)) || t < 1e-10 {
                     break;
                 }
                 t *= 0.5;

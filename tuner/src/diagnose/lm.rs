@@ -169,7 +169,9 @@ fn finish(
     })
 }
 
-/// Forward-difference Jacobian, one column per parameter, in parallel.
+/// Forward-difference Jacobian, one column per parameter, in parallel; a column whose
+/// forward point the model cannot evaluate (a parameter at the edge of its valid
+/// range, e.g. a softening spring at its stability limit) is taken backwards.
 fn jacobian(
     model: &dyn Residuals,
     p: &[f64],
@@ -179,10 +181,17 @@ fn jacobian(
     (0..p.len())
         .into_par_iter()
         .map(|j| {
-            let h = 1e-6 * scale(j, p);
+            let mut h = 1e-6 * scale(j, p);
             let mut q = p.to_vec();
             q[j] += h;
-            let rq = model.residuals(&q)?;
+            let rq = match model.residuals(&q) {
+                Ok(rq) => rq,
+                Err(_) => {
+                    h = -h;
+                    q[j] = p[j] + h;
+                    model.residuals(&q)?
+                }
+            };
             if rq.len() != r.len() {
                 return Err("the model changed its number of residuals".into());
             }

@@ -60,6 +60,64 @@ impl Job<'_> {
         base
     }
 
+    /// A seed whose effects change the spring's static force (a cubic spring) gets the
+    /// weight's mass that keeps the reference's axial frequency about the preload it
+    /// then hangs at: with `F(x) = k x + F_e(x)` the preload `x0` solves
+    /// `w^2 F(x0) / g = F'(x0)` (the tangent over the mass that `F(x0) = m g` carries),
+    /// found by bisection below the first `x` where `F'` vanishes. Without it a strong
+    /// softening spring would start with the linear calibration's mass, which it may
+    /// not be able to hold at all (no static equilibrium). Unchanged when there is no
+    /// such force, no gravity, or no root.
+    pub fn with_consistent_mass(&self, mut seed: Physical) -> Physical {
+        let g = seed.gravity_m_s2;
+        let model = self.guided;
+        let extra = |x: f64, p: &Physical| -> Option<f64> {
+            CATALOGUE
+                .iter()
+                .zip(&p.effects)
+                .filter(|(_, v)| **v != 0.0)
+                .filter_map(|(e, &v)| e.static_force(v, x))
+                .reduce(|a, b| a + b)
+        };
+        if g <= 0.0 || extra(1e-3, &seed).is_none() {
+            return seed;
+        }
+        let reference = self.reference.full.physical;
+        let w2 = model.stiffness_n_m(&reference) / reference.mass_kg;
+        let k = model.stiffness_n_m(&seed);
+        let force = |x: f64| k * x + extra(x, &seed).unwrap_or(0.0);
+        let tangent = |x: f64| {
+            let h = 1e-7 * x.abs().max(1e-6);
+            (force(x + h) - force(x - h)) / (2.0 * h)
+        };
+        // Bracket: from the linear preload outwards while the tangent stays positive.
+        let x_lin = reference.mass_kg * g / k;
+        let gap = |x: f64| w2 * force(x) / g - tangent(x);
+        let (mut lo, mut hi) = (0.0_f64, x_lin.max(1e-9));
+        while gap(hi) < 0.0 && tangent(hi) > 0.0 && hi < 1e3 * x_lin.max(1e-9) {
+            lo = hi;
+            hi *= 1.5;
+        }
+        if !(gap(hi) >= 0.0 && tangent(hi) > 0.0) {
+            // The frequency is reached only beyond the stable range, or never: bisect
+            // the tangent's zero instead and stay just inside it.
+            return seed;
+        }
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let mass = force(hi) / g;
+        if mass.is_finite() && mass > 0.0 {
+            seed.mass_kg = mass;
+        }
+        seed
+    }
+
     fn model(&self, set: &[usize]) -> &ReducedSpring {
         if set
             .iter()
@@ -197,7 +255,12 @@ impl Job<'_> {
             match seed {
                 Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
                 Ok(_) => {}
-                Err(e) => last_error = e,
+                Err(e) => {
+                    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+                        eprintln!("  {set:?}: start {start:?} failed: {e}");
+                    }
+                    last_error = e
+                }
             }
         }
         let seed = best.ok_or(last_error)?;
@@ -294,7 +357,7 @@ pub fn candidates(
                 .map(|&v| {
                     let mut p = job.base(&[i]);
                     p.effects[i] = v;
-                    p
+                    job.with_consistent_mass(p)
                 })
                 .collect();
             let init = reference.full.initial_state.clone();

@@ -121,7 +121,7 @@ pub enum IntegrateError {
     InvalidMode {
         /// The mode's index (0-based).
         mode: usize,
-        /// The quantity's name (`omega`, `zeta`).
+        /// The quantity's name (e.g. `omega`, `zeta`).
         name: &'static str,
         /// The rejected value.
         value: f64,

@@ -1,8 +1,8 @@
-//! Writes the truth model's standard measured cases (coil_tests::truth), one folder each:
+//! Writes the truth model's standard and extended measured cases (coil_tests::truth), one folder each:
 //! `cargo run -p coil-tests --example make_measured_cases -- OUT_DIR [--only NAME]...`
 //! (`--shipped` writes only the cases kept under cases/measured/).
 
-use coil_tests::truth::{standard_cases, write_case, SHIPPED};
+use coil_tests::truth::{extended_cases, standard_cases, write_case, SHIPPED};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -25,7 +25,10 @@ fn main() -> ExitCode {
     let Some(out) = out else {
         return usage("missing OUT_DIR");
     };
-    let cases = standard_cases();
+    let cases: Vec<_> = standard_cases()
+        .into_iter()
+        .chain(extended_cases())
+        .collect();
     for name in &only {
         if !cases.iter().any(|c| &c.name == name) {
             let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();

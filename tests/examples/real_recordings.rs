@@ -11,6 +11,10 @@
 //! temporary folder that is removed on exit). When the folder is absent the example
 //! says so and exits 0.
 //!
+//! The cases of one rig (the same spring, mass and material in case.json; run2 and run3
+//! of the shared rig) are also diagnosed as one case holding all their decay records:
+//! the joint fit of one mass and one spring (copied into the temporary folder).
+//!
 //! Printed per case: the terminal summary, every candidate's tests (held / failed with
 //! their numbers), `unexplained` when no cause is named, the half-length verdict and
 //! the wall time of each diagnosis (library call, release build).
@@ -45,6 +49,66 @@ fn first_half(case: &Path, dir: &Path) -> Result<PathBuf, String> {
     Ok(dir.to_path_buf())
 }
 
+/// Cases of one rig (the same `spring` and `mass_kg` in case.json) written as one case
+/// whose decay records are all of theirs, for the joint fit (issue 14, section 3): one
+/// folder per rig with two or more cases, under `dir`.
+fn joint_cases(cases: &[PathBuf], dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut rigs: Vec<(serde_json::Value, Vec<(PathBuf, serde_json::Value)>)> = Vec::new();
+    for case in cases {
+        let text = std::fs::read_to_string(case.join("case.json")).map_err(|e| e.to_string())?;
+        let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+        let key = serde_json::json!([json["spring"], json["mass_kg"], json["material"]]);
+        match rigs.iter_mut().find(|r| r.0 == key) {
+            Some(r) => r.1.push((case.clone(), json)),
+            None => rigs.push((key, vec![(case.clone(), json)])),
+        }
+    }
+    let mut out = Vec::new();
+    for (_, members) in rigs.into_iter().filter(|r| r.1.len() > 1) {
+        let names: Vec<String> = members
+            .iter()
+            .map(|(p, _)| {
+                p.file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect();
+        let folder = dir.join(format!("joint-{}", names.join("+")));
+        std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
+        let mut json = members[0].1.clone();
+        let mut decay = Vec::new();
+        for ((path, case), name) in members.iter().zip(&names) {
+            for record in case["records"]["decay"].as_array().into_iter().flatten() {
+                let Some(file) = record.as_str().or(record["file"].as_str()) else {
+                    continue;
+                };
+                let renamed = format!("{name}-{file}");
+                std::fs::copy(path.join(file), folder.join(&renamed)).map_err(|e| e.to_string())?;
+                let mut entry = record.clone();
+                match entry.as_object_mut() {
+                    Some(o) => {
+                        o.insert("file".into(), renamed.into());
+                    }
+                    None => entry = renamed.into(),
+                }
+                decay.push(entry);
+            }
+        }
+        json["name"] = format!("joint {}", names.join(" + ")).into();
+        json["records"]["decay"] = decay.into();
+        if let Some(statics) = json["records"]["static"].as_array().cloned() {
+            for s in statics.iter().filter_map(|s| s.as_str()) {
+                std::fs::copy(members[0].0.join(s), folder.join(s)).map_err(|e| e.to_string())?;
+            }
+        }
+        let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+        std::fs::write(folder.join("case.json"), text).map_err(|e| e.to_string())?;
+        out.push(folder);
+    }
+    Ok(out)
+}
+
 fn main() {
     let root = std::env::args_os()
         .nth(1)
@@ -61,6 +125,12 @@ fn main() {
         .collect();
     cases.sort();
     let tmp = tempfile::tempdir().expect("a temporary folder");
+    // The recordings of one rig, diagnosed together as well (written to the temporary
+    // folder, never into the repository).
+    match joint_cases(&cases, tmp.path()) {
+        Ok(joint) => cases.extend(joint),
+        Err(e) => println!("joint cases not written: {e}"),
+    }
     let mut times = Vec::new();
     let mut verdicts = Vec::new();
     for case in &cases {
@@ -107,7 +177,7 @@ fn main() {
         if let Some(u) = &d.unexplained {
             println!("unexplained: {u}");
         }
-        let cut = match first_half(case, &tmp.path().join(name.as_ref())) {
+        let cut = match first_half(case, &tmp.path().join("half").join(name.as_ref())) {
             Ok(p) => p,
             Err(e) => {
                 println!("first half not written: {e}");

@@ -73,12 +73,16 @@ pub const LAWS: [Law; 3] = [Law::Rayleigh, Law::Hysteretic, Law::ExternalViscous
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Law {
+    /// `rayleigh`: element Rayleigh damping of the spring's material (alpha 1/s, beta s).
     Rayleigh,
+    /// `hysteretic`: a constant loss factor of the spring's material (-).
     Hysteretic,
+    /// `external_viscous`: a linear dashpot between the weight and ground (N s/m).
     ExternalViscous,
 }
 
 impl Law {
+    /// The spec's name of the law.
     pub fn name(self) -> &'static str {
         match self {
             Law::Rayleigh => "rayleigh",
@@ -182,11 +186,17 @@ pub fn mode_coefficients(
 /// A record reduced to its mode's frequency and damping ratio.
 #[derive(Debug, Clone, Serialize)]
 pub struct RecordFit {
+    /// The record's file.
     pub file: PathBuf,
+    /// The mode it records: the weight's axial mode or the coil's surge mode.
     pub mode: DecayMode,
+    /// The attached mass it was taken with (kg).
     pub mass_kg: f64,
+    /// The fitted undamped frequency `w / (2 pi)` (Hz).
     pub frequency_hz: f64,
+    /// The fitted damping ratio zeta (-).
     pub damping_ratio: f64,
+    /// Standard error of zeta from the fit alone (-).
     pub damping_ratio_se: f64,
     /// RMS of the fit's residual over the RMS of the record.
     pub residual_rms: f64,
@@ -309,15 +319,20 @@ pub fn fit_decay(signal: &Signal) -> Result<(f64, f64, f64, f64)> {
 /// One law fitted to every record.
 #[derive(Debug, Clone, Serialize)]
 pub struct Candidate {
+    /// The law fitted.
     pub law: Law,
+    /// Fitted parameters by the spec's names (units in the module docs).
     pub parameters: BTreeMap<String, f64>,
+    /// Their standard errors, scaled by `sqrt(chi2 / (n - k))` when that exceeds 1.
     pub parameters_se: BTreeMap<String, f64>,
     /// Per parameter: relative standard error at most [`IDENTIFIED_SE`] (then 5 % is
     /// two standard errors).
     pub parameters_identified: BTreeMap<String, bool>,
     /// RMS of (predicted - measured zeta) / measured zeta over the records.
     pub residual_rms: f64,
+    /// Weighted chi-square of the predicted against the measured zetas (-).
     pub chi2: f64,
+    /// Bayesian information criterion `chi2 + k ln n` (-).
     pub bic: f64,
     /// Mean squared normalised held-out error, or `None` when the other records cannot
     /// determine the law.
@@ -326,6 +341,7 @@ pub struct Candidate {
     pub consistent: bool,
     /// Predicted zeta per record.
     pub predicted: Vec<f64>,
+    /// Covariance of the parameters, scaled as `parameters_se` (not serialised).
     #[serde(skip)]
     pub covariance: Vec<Vec<f64>>,
 }
@@ -572,14 +588,17 @@ pub fn choose(candidates: &[Candidate], n_records: usize) -> (Option<Law>, Strin
 /// A variant's zeta predicted by a law.
 #[derive(Debug, Clone, Serialize)]
 pub struct VariantPrediction {
+    /// The variant's name.
     pub name: String,
     /// zeta of the variant's weight mode under each candidate law (its own fit).
     pub by_law: BTreeMap<String, f64>,
     /// The chosen law's zeta and its standard error (when a law is chosen).
     pub damping_ratio: Option<f64>,
+    /// Standard error of the chosen law's zeta (-).
     pub damping_ratio_se: Option<f64>,
     /// `(max - min) / min` over the laws, in percent.
     pub spread_percent: f64,
+    /// The paper's printed zeta of the variant, when given (-).
     pub paper_damping_ratio: Option<f64>,
 }
 
@@ -593,22 +612,34 @@ pub struct DecidingTest {
     pub second_mass: Vec<(f64, f64, usize)>,
     /// Surge-mode zeta (weight held) each calibrated law predicts.
     pub surge_zeta: BTreeMap<String, f64>,
+    /// The surge mode's frequency on the calibrated spring with the weight held (Hz).
     pub surge_frequency_hz: f64,
+    /// The proposal in words with its numbers.
     pub text: String,
 }
 
 /// Everything `coil-tune damping` found.
 #[derive(Debug, Clone, Serialize)]
 pub struct DampingReport {
+    /// The case's name.
     pub case: String,
+    /// The chosen law; `None` when the records cannot decide.
     pub law: Option<Law>,
+    /// The chosen law's parameters by the spec's names (empty when none is chosen).
     pub parameters: BTreeMap<String, f64>,
+    /// Their standard errors (empty when no law is chosen).
     pub parameters_se: BTreeMap<String, f64>,
+    /// True when a law was chosen.
     pub identifiable: bool,
+    /// Why the law was chosen, or why none could be.
     pub reason: String,
+    /// Every decay record reduced to its frequency and damping ratio.
     pub records: Vec<RecordFit>,
+    /// Every law fitted to all the records.
     pub candidates: Vec<Candidate>,
+    /// The Table 4 variants' zeta under each law (empty without a variants file).
     pub table4: Vec<VariantPrediction>,
+    /// The measurement that would decide, when no law is chosen.
     pub deciding_test: Option<DecidingTest>,
     /// When not identifiable: the band of section 2 for the case's spring (each law
     /// calibrated to the first weight-mode record; the variants when given, and the
@@ -619,6 +650,7 @@ pub struct DampingReport {
 /// Settings of the damping command.
 #[derive(Debug, Clone)]
 pub struct DampingSettings {
+    /// FE settings of the spring's modal runs.
     pub fe: FeSettings,
     /// Table 4 variants (None: none predicted).
     pub variants: Option<PathBuf>,
@@ -1013,11 +1045,13 @@ pub const BAND_LAWS: [&str; 4] = [
 /// One spring's zeta under every law of the band.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BandRow {
+    /// The variant's name.
     pub name: String,
     /// zeta per law, in [`BAND_LAWS`] order.
     pub zeta: Vec<f64>,
     /// `(max - min) / min` (%).
     pub spread_percent: f64,
+    /// The paper's printed zeta of the variant, when given (-).
     pub paper_damping_ratio: Option<f64>,
     /// Each law's zeta relative to the paper's printed value (%).
     pub against_paper_percent: Vec<f64>,
@@ -1026,13 +1060,17 @@ pub struct BandRow {
 /// The band: Table 4's variants and the case's surge mode under each calibrated law.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Band {
+    /// The measured zeta every law is calibrated to (-).
     pub calibrated_zeta: f64,
+    /// The laws' names, [`BAND_LAWS`].
     pub laws: Vec<String>,
     /// The calibrated parameters: beta (s), alpha (1/s), loss factor, dashpot (N s/m).
     pub parameters: Vec<f64>,
+    /// Each variant's row.
     pub variants: Vec<BandRow>,
     /// The case's spring with the weight held: its surge mode's frequency and zeta.
     pub surge_frequency_hz: f64,
+    /// The surge mode's zeta per law, in [`BAND_LAWS`] order (-).
     pub surge_zeta: Vec<f64>,
     /// The measured repeat scatter a spread is compared with (relative).
     pub scatter: f64,

@@ -19,12 +19,8 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
-// The diagnose engine and the damping laws are being reworked for issue 14 by its owner;
-// their public items are documented there.
-#[allow(missing_docs)]
 pub mod diagnose;
 pub mod grid;
-#[allow(missing_docs)]
 pub mod law;
 pub mod paper;
 pub mod plots;

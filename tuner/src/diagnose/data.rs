@@ -14,7 +14,7 @@
 //!    of `2 h`, which interpolation would fill with an invented sample; the limit sits
 //!    halfway between the worst jitter accepted (each stamp within +-h/4) and a lost
 //!    sample.
-//! 3. **Glitches** (position and velocity only, [`despike`]): isolated samples far off
+//! 3. **Glitches** (position and velocity only, `despike`): isolated samples far off
 //!    the cubic through their neighbours (an ultrasonic sensor's echoes) are replaced,
 //!    with a warning. **Flat and clipped** (below): on the measured column.
 //! 4. **Impulse left at the start** ([`find_free_decay`]): the record's half-cycles
@@ -167,6 +167,33 @@ pub fn condition_decay(record: MeasuredDecay) -> Result<DecayData> {
     condition(record, None)
 }
 
+/// A position or velocity record with its isolated sensor glitches replaced
+/// ([`despike`]), and a warning naming how many and where.
+fn without_glitches(
+    signal: Signal,
+    record: &MeasuredDecay,
+    warnings: &mut Vec<String>,
+) -> Result<Signal> {
+    let mut values = signal.values().to_vec();
+    let glitches = despike(&mut values);
+    if !glitches.is_empty() {
+        let at: Vec<String> = glitches
+            .iter()
+            .take(5)
+            .map(|&i| format!("{:.3}", signal.time_s()[i]))
+            .collect();
+        warnings.push(format!(
+            "{}: {} isolated outliers (sensor glitches) replaced by the cubic through \
+             their neighbours, at t = {} s{}",
+            record.file.display(),
+            glitches.len(),
+            at.join(", "),
+            if glitches.len() > 5 { ", ..." } else { "" }
+        ));
+    }
+    signal.with_values(values).map_err(post)
+}
+
 fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData> {
     let mut warnings = Vec::new();
     let column = record.quantity.column();
@@ -191,24 +218,7 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
     let signal = if record.quantity == Quantity::Acceleration {
         signal
     } else {
-        let mut values = signal.values().to_vec();
-        let glitches = despike(&mut values);
-        if !glitches.is_empty() {
-            let at: Vec<String> = glitches
-                .iter()
-                .take(5)
-                .map(|&i| format!("{:.3}", signal.time_s()[i]))
-                .collect();
-            warnings.push(format!(
-                "{}: {} isolated outliers (sensor glitches) replaced by the cubic through \
-                 their neighbours, at t = {} s{}",
-                record.file.display(),
-                glitches.len(),
-                at.join(", "),
-                if glitches.len() > 5 { ", ..." } else { "" }
-            ));
-        }
-        signal.with_values(values).map_err(post)?
+        without_glitches(signal, &record, &mut warnings)?
     };
     let resolution = check_levels(&signal, record.quantity)?;
 

@@ -38,18 +38,23 @@ pub enum Mount {
 /// DOF (solver units) and the weight's rotary inertia (kg m^2, a free rotation).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Extension {
+    /// The point law at the weight's axial DOF (solver units).
     pub law: PointLaw,
+    /// The weight's rotary inertia about the spring axis (kg m^2); 0 while the weight is guided.
     pub rotary_inertia_kg_m2: f64,
 }
 
 /// Whether a fitted value agrees with the effect's own signature in the records.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SignatureCheck {
+    /// True when `value` is finite and reaches `limit`.
     pub passed: bool,
     /// The signature's strength (standard errors; relative amplitude over its threshold
     /// for a spectral line) and the limit it must reach.
     pub value: f64,
+    /// The strength the signature must reach.
     pub limit: f64,
+    /// The check in words with its numbers, for the report.
     pub text: String,
 }
 
@@ -72,6 +77,7 @@ pub struct Proposal {
 pub struct BaselineFigures {
     /// Weight's mass (kg) and the axial stiffness (N/m) of the calibrated model.
     pub mass_kg: f64,
+    /// Axial stiffness of the calibrated model (N/m).
     pub stiffness_n_m: f64,
     /// Axial frequency (Hz).
     pub frequency_hz: f64,
@@ -82,7 +88,9 @@ pub struct BaselineFigures {
     /// Boundary stiffness of the free-rotation model: axial (N/m), coupling (N/rad),
     /// torsional (N m/rad).
     pub kz: f64,
+    /// Axial-torsional coupling of the free-rotation boundary stiffness (N/rad).
     pub c: f64,
+    /// Torsional stiffness of the free-rotation boundary (N m/rad).
     pub kt: f64,
 }
 
@@ -132,6 +140,7 @@ fn starts(value: f64, fallback: f64) -> Vec<f64> {
     }
 }
 
+/// `coulomb_friction`: a dry friction force of constant magnitude `friction_force_n` (N).
 pub struct CoulombFriction;
 impl Effect for CoulombFriction {
     fn name(&self) -> &'static str {
@@ -209,6 +218,7 @@ impl Effect for CoulombFriction {
     }
 }
 
+/// `quadratic_damping`: a drag `c2 v |v|` on the weight, `quadratic_damping_n_s2_m2` (N s^2/m^2).
 pub struct QuadraticDamping;
 impl Effect for QuadraticDamping {
     fn name(&self) -> &'static str {
@@ -260,6 +270,7 @@ impl Effect for QuadraticDamping {
     }
 }
 
+/// `cubic_stiffness`: the spring force `k x + k3 x^3`, `cubic_stiffness_n_m3` (N/m^3, either sign).
 pub struct CubicStiffness;
 impl Effect for CubicStiffness {
     fn name(&self) -> &'static str {
@@ -308,7 +319,14 @@ impl Effect for CubicStiffness {
                 if statics.is_finite() {
                     format!(", static curvature of its sign at {statics:.1}")
                 } else {
-                    ", no static record".to_string()
+                    // About a preload x_s the backbone is quadratic in k3: its two roots
+                    // sum to k_t / (10 x_s^2), so the backbone alone also admits the
+                    // other one (a hanging rig without a static record).
+                    let other = b.stiffness_n_m / (10.0 * b.preload_m * b.preload_m) - value;
+                    format!(
+                        ", no static record (the backbone alone also admits k3 = {other:.3e} \
+                         N/m^3 at this preload; a static record decides)"
+                    )
                 }
             ),
         )
@@ -364,6 +382,7 @@ impl Effect for CubicStiffness {
     }
 }
 
+/// `axial_torsional_coupling`: the weight turns, rotary inertia `rotary_inertia_kg_m2` (kg m^2).
 pub struct AxialTorsionalCoupling;
 impl Effect for AxialTorsionalCoupling {
     fn name(&self) -> &'static str {

@@ -6,20 +6,30 @@ use serde::Serialize;
 /// Per-cycle amplitude loss `dA = a0 + a1 A + a2 A^2` (A displacement amplitude, m).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct LossSummary {
+    /// Constant loss per cycle `a0` (m): dry friction.
     pub a0_m: f64,
+    /// Standard error of `a0` (m).
     pub a0_se: f64,
+    /// Loss proportional to the amplitude, `a1` (-): viscous damping.
     pub a1: f64,
+    /// Standard error of `a1` (-).
     pub a1_se: f64,
+    /// Loss growing as `A^2`, `a2` (1/m): quadratic drag.
     pub a2_per_m: f64,
+    /// Standard error of `a2` (1/m).
     pub a2_se: f64,
 }
 
 /// Backbone `f^2 = f0^2 (1 + b A^2)` and the cubic stiffness it implies.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct BackboneSummary {
+    /// Small-amplitude (damped) frequency `f0` (Hz).
     pub f0_hz: f64,
+    /// Backbone slope `b` (1/m^2).
     pub b_per_m2: f64,
+    /// Standard error of `b` (1/m^2).
     pub b_se: f64,
+    /// The cubic stiffness `b` implies about the gravity preload (N/m^3); NaN when none can.
     pub k3_n_m3: f64,
 }
 
@@ -28,14 +38,18 @@ pub struct BackboneSummary {
 pub struct EnvelopeSummary {
     /// `exponential`, `linear` or `beating`.
     pub kind: String,
+    /// `R^2` of the exponential envelope `ln A = c - sigma t` (-); NaN when no envelope was fitted.
     pub r2_exponential: f64,
+    /// `R^2` of the linear envelope `A = c - r t` (-); NaN when no envelope was fitted.
     pub r2_linear: f64,
+    /// The beat period when `kind` is `beating` (s).
     pub beat_period_s: Option<f64>,
 }
 
 /// A second spectral line beside the axial one.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct PeakSummary {
+    /// The line's frequency (Hz).
     pub frequency_hz: f64,
     /// Its amplitude over the axial line's.
     pub relative_amplitude: f64,
@@ -50,37 +64,53 @@ pub struct StaticSummary {
     pub linear_k_n_mm: f64,
     /// `F = k x + k3 x^3 + s Ff` (s = +1 loading, -1 unloading).
     pub k_n_mm: f64,
+    /// The cubic coefficient `k3` (N/m^3).
     pub k3_n_m3: f64,
+    /// Standard error of `k3` (N/m^3).
     pub k3_se: f64,
+    /// The hysteresis half-width `Ff`, a friction force (N); 0 when the fit has none.
     pub friction_n: f64,
+    /// Standard error of `Ff` (N); infinite when the fit has no hysteresis term.
     pub friction_se: f64,
     /// Residual RMS of the straight line and of the cubic fit with hysteresis (N).
     pub linear_rms_n: f64,
+    /// Residual RMS of the cubic fit with hysteresis (N).
     pub cubic_rms_n: f64,
 }
 
 /// One cycle of the band-passed axial mode.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct CycleSummary {
+    /// The cycle's centre time (s).
     pub time_s: f64,
+    /// Its displacement amplitude (m).
     pub amplitude_m: f64,
+    /// Its frequency, one over the time between its bounding upward zero crossings (Hz).
     pub frequency_hz: f64,
 }
 
 /// Everything the effects read.
 #[derive(Debug, Clone, Serialize)]
 pub struct Signatures {
+    /// Frequency of the axial spectral line (Hz).
     pub axial_hz: f64,
     /// Robust estimate of the record's white noise (m/s^2; from the median absolute
     /// fourth difference, `coil_postproc::signature::cycles`; NaN if no cycles were
     /// found).
     pub noise_rms_m_s2: f64,
+    /// Axial cycles the record spans: the axial frequency times the record's duration (-).
     pub cycles: f64,
+    /// The loss per cycle; `None` when it cannot be formed (too few cycles).
     pub loss: Option<LossSummary>,
+    /// The backbone; `None` when it cannot be identified.
     pub backbone: Option<BackboneSummary>,
+    /// The envelope's shape.
     pub envelope: EnvelopeSummary,
+    /// A second spectral line beside the axial one, when the spectrum shows one.
     pub second_peak: Option<PeakSummary>,
+    /// The static record's fits, when the case has a static record.
     pub statics: Option<StaticSummary>,
+    /// Every cycle of the band-passed axial mode (not serialised).
     #[serde(skip)]
     pub per_cycle: Vec<CycleSummary>,
 }

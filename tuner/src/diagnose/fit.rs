@@ -39,6 +39,10 @@ pub enum Knob {
     Mass,
     /// Rayleigh beta on the spring (s).
     Beta,
+    /// The spring's stiffness, as a factor on the calibrated one (`Physical::k_scale`):
+    /// fitted when records at two or more masses separate it from the mass (one
+    /// frequency fixes only their ratio).
+    Stiffness,
     /// A catalogue effect's magnitude in its SI unit (`Physical::effects[i]`).
     Effect(usize),
 }
@@ -54,48 +58,111 @@ impl Knob {
 /// force `k x + k3 x^3` against the measured loading points.
 #[derive(Debug, Clone)]
 pub struct StaticBlock {
+    /// Measured compressions from the free length (m).
     pub displacement_m: Vec<f64>,
+    /// Measured axial forces (N).
     pub force_n: Vec<f64>,
     /// The measured force's noise level (N).
     pub sigma_n: f64,
 }
 
+/// One decay record in the fit's layout: the records of a case are laid end to end in
+/// one vector, each with its own initial state and (for displacement and velocity) its
+/// own offset and drift, while the mass, the spring and the effects are shared (a joint
+/// fit: one mass, one spring).
+#[derive(Debug, Clone)]
+pub struct Segment {
+    /// This record's samples in the concatenated vector.
+    pub span: Range<usize>,
+    /// Its sampling step (s).
+    pub step_s: f64,
+    /// The quantity it records.
+    pub quantity: Quantity,
+    /// Its attached mass minus the case's `mass_kg` (kg): a record taken with another
+    /// weight on the same spring (the fitted mass absorbs what the weights share, the
+    /// spring's effective mass among it).
+    pub mass_delta_kg: f64,
+    /// The factor its samples (and its simulation) carry in the concatenated vector: the
+    /// first record's noise floor over this one's, so that records of different
+    /// quantities or sensors weigh by their information.
+    pub weight: f64,
+}
+
+impl Segment {
+    /// A single record of `n` samples.
+    pub fn single(n: usize, step_s: f64, quantity: Quantity) -> Self {
+        Segment {
+            span: 0..n,
+            step_s,
+            quantity,
+            mass_delta_kg: 0.0,
+            weight: 1.0,
+        }
+    }
+
+    /// A displacement or velocity record carries the sensor's offset and drift.
+    fn drift(&self) -> bool {
+        self.quantity != Quantity::Acceleration
+    }
+
+    /// The first `fraction` of this record (at least one sample).
+    pub fn window(&self, fraction: f64) -> Range<usize> {
+        let len = self.span.len();
+        let m = ((fraction * len as f64) as usize).clamp(1, len.max(1));
+        self.span.start..self.span.start + m
+    }
+
+    /// The samples of this record from `from` up to `to` (fractions of its length).
+    pub fn between(&self, from: f64, to: f64) -> Range<usize> {
+        let len = self.span.len() as f64;
+        let a = self.span.start + ((from * len) as usize).min(self.span.len());
+        let b = self.span.start + ((to * len) as usize).min(self.span.len());
+        a..b.max(a)
+    }
+}
+
 /// What to fit and on which samples.
 pub struct Problem<'a> {
+    /// The reduced spring simulated.
     pub model: &'a ReducedSpring,
+    /// Starting parameters; those no knob moves stay as they are.
     pub start: Physical,
+    /// The parameters the fit moves.
     pub knobs: Vec<Knob>,
+    /// The records laid end to end, each scaled by its segment's weight.
     pub measured: &'a [f64],
-    pub step_s: f64,
-    /// Samples whose residuals are fitted.
-    pub range: Range<usize>,
-    /// Noise level of the decay samples (m/s^2), dividing their residuals.
+    /// The records' layout in `measured`.
+    pub segments: &'a [Segment],
+    /// The fitted window: the first `fraction` of every record.
+    pub fraction: f64,
+    /// Noise level of the decay samples (the records' unit, SI), dividing their residuals.
     pub sigma: f64,
+    /// A static block fitted beside the decay, for effects that show in the static record.
     pub statics: Option<&'a StaticBlock>,
-    /// Initial state to start a nonlinear fit from (model units).
+    /// Initial state to start a nonlinear fit from (model units), every record's in turn.
     pub initial_state: Option<Vec<f64>>,
-    /// The record's quantity.
-    pub quantity: Quantity,
-    /// Fit an offset and a linear drift beside the model.
-    pub drift: bool,
 }
 
 /// A finished fit.
 #[derive(Debug, Clone)]
 pub struct Fitted {
+    /// The fitted parameters (SI).
     pub physical: Physical,
+    /// Every record's fitted initial state, in turn.
     pub initial_state: Vec<f64>,
-    /// The simulated record over all samples (m/s^2).
+    /// The simulated records over all their samples, laid out as the measured ones.
     pub simulated: Vec<f64>,
-    /// Sum of squared (unscaled) decay residuals over the fitted range.
+    /// Sum of squared (unscaled) decay residuals over the fitted windows.
     pub rss: f64,
-    /// Fitted parameters: knobs plus the initial state's components.
+    /// Fitted parameters: knobs, the initial states' components, offsets and drifts.
     pub n_params: usize,
     /// Relative standard errors of the knobs (indicative; see `lm`).
     pub knob_rel_errors: Vec<f64>,
     /// The knobs fitted.
     pub knobs: Vec<Knob>,
+    /// Levenberg-Marquardt iterations spent.
     pub iterations: usize,
+    /// Model runs spent.
     pub evaluations: usize,
 }
 
@@ -107,6 +174,7 @@ impl Problem<'_> {
             match k {
                 Knob::Mass => phys.mass_kg = x,
                 Knob::Beta => phys.beta_s = x,
+                Knob::Stiffness => phys.k_scale = x,
                 Knob::Effect(i) => phys.effects[*i] = x,
             }
         }
@@ -120,6 +188,7 @@ impl Problem<'_> {
                 let x = match k {
                     Knob::Mass => self.start.mass_kg,
                     Knob::Beta => self.start.beta_s,
+                    Knob::Stiffness => self.start.k_scale,
                     Knob::Effect(i) => self.start.effects[*i],
                 };
                 if k.signed() {
@@ -131,13 +200,13 @@ impl Problem<'_> {
             .collect()
     }
 
-    /// The offset and drift columns over the first `n` samples (none for an
-    /// acceleration record): 1 and the time over the record's length.
-    fn drift_columns(&self, n: usize) -> Vec<Vec<f64>> {
-        if !self.drift {
+    /// The offset and drift columns over the first `n` samples of `segment` (none for
+    /// an acceleration record): 1 and the time over the record's length.
+    fn drift_columns(segment: &Segment, n: usize) -> Vec<Vec<f64>> {
+        if !segment.drift() {
             return Vec::new();
         }
-        let len = self.measured.len().max(1) as f64;
+        let len = segment.span.len().max(1) as f64;
         vec![vec![1.0; n], (0..n).map(|i| i as f64 / len).collect()]
     }
 
@@ -145,56 +214,74 @@ impl Problem<'_> {
         !self.model.is_nonlinear(&self.start)
     }
 
-    /// The simulated record and the initial state for knob values `p` (and, for a
-    /// nonlinear model, the state's components after them).
-    /// The simulated record over its first `n` samples and the initial state.
-    fn simulate(&self, p: &[f64], n: usize) -> Result<(Vec<f64>, Vec<f64>), String> {
+    /// The fitted windows, one per record.
+    fn windows(&self) -> Vec<Range<usize>> {
+        self.segments
+            .iter()
+            .map(|s| s.window(self.fraction))
+            .collect()
+    }
+
+    /// The simulated records for knob values `p` (and, for a nonlinear model, every
+    /// record's initial state after them), each over its samples up to its window's end
+    /// (`whole`: over all its samples), and every record's initial state.
+    fn simulate(&self, p: &[f64], whole: bool) -> Result<(Vec<f64>, Vec<f64>), String> {
         let k = self.knobs.len();
         let phys = self.physical(&p[..k]);
-        let drift = self.drift_columns(n);
-        if self.linear() {
-            let mut basis = self.model.basis(&phys, self.step_s, n, self.quantity)?;
-            let states = basis.len();
-            basis.extend(drift);
-            let columns: Vec<Vec<f64>> = basis
-                .iter()
-                .map(|b| b[self.range.clone()].to_vec())
-                .collect();
-            let mut c = lm::linear_least_squares(&columns, &self.measured[self.range.clone()])
-                .ok_or("the initial state is not identifiable from the record")?;
-            let mut sim = vec![0.0; n];
-            for (b, ci) in basis.iter().zip(&c) {
-                for (s, x) in sim.iter_mut().zip(b) {
-                    *s += ci * x;
+        let mut sim = vec![0.0; self.measured.len()];
+        let mut states_out = Vec::new();
+        let per_record = p.len().saturating_sub(k) / self.segments.len().max(1);
+        for (r, seg) in self.segments.iter().enumerate() {
+            let window = seg.window(self.fraction);
+            let local = (window.start - seg.span.start)..(window.end - seg.span.start);
+            let n = if whole { seg.span.len() } else { local.end };
+            let mut phys_r = phys;
+            phys_r.mass_kg += seg.mass_delta_kg;
+            let measured = &self.measured[seg.span.clone()];
+            let out = &mut sim[seg.span.start..seg.span.start + n];
+            let drift = Self::drift_columns(seg, n);
+            if self.linear() {
+                let mut basis = self.model.basis(&phys_r, seg.step_s, n, seg.quantity)?;
+                let states = basis.len();
+                for b in &mut basis {
+                    b.iter_mut().for_each(|x| *x *= seg.weight);
                 }
-            }
-            c.truncate(states);
-            Ok((sim, c))
-        } else {
-            let state = p[k..].to_vec();
-            let mut sim = self
-                .model
-                .simulate(&phys, &state, self.step_s, n, self.quantity)?;
-            if !drift.is_empty() {
-                let columns: Vec<Vec<f64>> = drift
-                    .iter()
-                    .map(|b| b[self.range.clone()].to_vec())
-                    .collect();
-                let rest: Vec<f64> = self
-                    .range
-                    .clone()
-                    .map(|i| self.measured[i] - sim[i])
-                    .collect();
-                let c = lm::linear_least_squares(&columns, &rest)
-                    .ok_or("the offset and drift are not identifiable from the record")?;
-                for (b, ci) in drift.iter().zip(&c) {
-                    for (s, x) in sim.iter_mut().zip(b) {
+                basis.extend(drift);
+                let columns: Vec<Vec<f64>> =
+                    basis.iter().map(|b| b[local.clone()].to_vec()).collect();
+                let mut c = lm::linear_least_squares(&columns, &measured[local.clone()])
+                    .ok_or("the initial state is not identifiable from the record")?;
+                for (b, ci) in basis.iter().zip(&c) {
+                    for (s, x) in out.iter_mut().zip(b) {
                         *s += ci * x;
                     }
                 }
+                c.truncate(states);
+                states_out.extend(c);
+            } else {
+                let state = &p[k + r * per_record..k + (r + 1) * per_record];
+                let simulated = self
+                    .model
+                    .simulate(&phys_r, state, seg.step_s, n, seg.quantity)?;
+                for (s, x) in out.iter_mut().zip(simulated) {
+                    *s = seg.weight * x;
+                }
+                if !drift.is_empty() {
+                    let columns: Vec<Vec<f64>> =
+                        drift.iter().map(|b| b[local.clone()].to_vec()).collect();
+                    let rest: Vec<f64> = local.clone().map(|i| measured[i] - out[i]).collect();
+                    let c = lm::linear_least_squares(&columns, &rest)
+                        .ok_or("the offset and drift are not identifiable from the record")?;
+                    for (b, ci) in drift.iter().zip(&c) {
+                        for (s, x) in out.iter_mut().zip(b) {
+                            *s += ci * x;
+                        }
+                    }
+                }
+                states_out.extend_from_slice(state);
             }
-            Ok((sim, state))
         }
+        Ok((sim, states_out))
     }
 
     fn static_residuals(&self, p: &[f64], out: &mut Vec<f64>) {
@@ -215,11 +302,12 @@ impl Problem<'_> {
 
 impl Residuals for Problem<'_> {
     fn residuals(&self, p: &[f64]) -> Result<Vec<f64>, String> {
-        // Only the fitted window is simulated: a fit on the first quarter costs a quarter.
-        let (sim, _) = self.simulate(p, self.range.end)?;
+        // Only the fitted windows are simulated: a fit on the first quarter costs a quarter.
+        let (sim, _) = self.simulate(p, false)?;
         let mut r: Vec<f64> = self
-            .range
-            .clone()
+            .windows()
+            .into_iter()
+            .flatten()
             .map(|i| (sim[i] - self.measured[i]) / self.sigma)
             .collect();
         self.static_residuals(p, &mut r);
@@ -254,11 +342,12 @@ pub fn run(problem: &Problem<'_>, max_iterations: usize) -> Result<Fitted, Strin
             scale,
         },
     )?;
-    let (simulated, initial_state) = problem.simulate(&fit.params, problem.measured.len())?;
+    let (simulated, initial_state) = problem.simulate(&fit.params, true)?;
     let k = problem.knobs.len();
     let rss = problem
-        .range
-        .clone()
+        .windows()
+        .into_iter()
+        .flatten()
         .map(|i| (simulated[i] - problem.measured[i]).powi(2))
         .sum();
     // Relative errors: a logarithm's standard error is one already; a signed knob's
@@ -272,7 +361,13 @@ pub fn run(problem: &Problem<'_>, max_iterations: usize) -> Result<Fitted, Strin
         .collect();
     Ok(Fitted {
         physical: problem.physical(&fit.params[..k]),
-        n_params: k + initial_state.len() + problem.drift_columns(0).len(),
+        n_params: k
+            + initial_state.len()
+            + problem
+                .segments
+                .iter()
+                .map(|s| Problem::drift_columns(s, 0).len())
+                .sum::<usize>(),
         initial_state,
         simulated,
         rss,
@@ -283,11 +378,11 @@ pub fn run(problem: &Problem<'_>, max_iterations: usize) -> Result<Fitted, Strin
     })
 }
 
-/// RMS of `simulated - measured` over `range`, divided by the RMS of `measured` there
+/// RMS of `simulated - measured` over `ranges`, divided by the RMS of `measured` there
 /// (the spec's `residual_rms` / `forecast_rms`).
-pub fn relative_rms(simulated: &[f64], measured: &[f64], range: Range<usize>) -> f64 {
+pub fn relative_rms(simulated: &[f64], measured: &[f64], ranges: &[Range<usize>]) -> f64 {
     let (mut e, mut m) = (0.0, 0.0);
-    for i in range {
+    for i in ranges.iter().cloned().flatten() {
         e += (simulated[i] - measured[i]).powi(2);
         m += measured[i] * measured[i];
     }

@@ -26,6 +26,7 @@ use rayon::prelude::*;
 
 /// A model's residuals for a parameter vector, or a message when it cannot be run.
 pub trait Residuals: Sync {
+    /// The residuals at `p`, or why the model cannot be run there.
     fn residuals(&self, p: &[f64]) -> Result<Vec<f64>, String>;
 }
 
@@ -41,6 +42,7 @@ where
 /// Settings of a fit.
 #[derive(Debug, Clone)]
 pub struct LmOptions {
+    /// Most Levenberg-Marquardt iterations (Jacobian updates).
     pub max_iterations: usize,
     /// Typical magnitude of each parameter (sets the difference step near zero).
     pub scale: Vec<f64>,
@@ -49,6 +51,7 @@ pub struct LmOptions {
 /// A finished fit.
 #[derive(Debug, Clone)]
 pub struct LmFit {
+    /// The parameters at the optimum.
     pub params: Vec<f64>,
     /// Residuals at `params`.
     pub residuals: Vec<f64>,
@@ -56,6 +59,7 @@ pub struct LmFit {
     pub cost: f64,
     /// Standard errors of the parameters (NaN where `J^T J` is singular).
     pub std_errors: Vec<f64>,
+    /// Levenberg-Marquardt iterations done.
     pub iterations: usize,
     /// Model runs spent.
     pub evaluations: usize,

@@ -5,7 +5,7 @@
 //! # Steps
 //! 1. **Records** are read and checked ([`data`]) before anything is computed; nothing
 //!    is written unless the whole diagnosis succeeds, and then every file goes through
-//!    a temporary name ([`write`]).
+//!    a temporary name ([`write()`]).
 //! 2. **Baseline, the paper's model**: K from the static record (the least-squares line
 //!    `F = k x + s F_f` through both branches, `s = +-1`), E by the paper's loop 1 on the FE model; T and zeta
 //!    by the paper's decrement (every 10th crest, Eqs. 2-3) on the decay record; the
@@ -28,30 +28,33 @@
 //!    and the held-out forecast; `none` when no effect gains significantly.
 
 pub mod data;
+pub mod document;
 pub mod effects;
 pub mod evidence;
 pub mod fit;
 pub mod lm;
 pub mod model;
+pub mod outcome;
 pub mod plots;
 pub mod report;
+pub mod run;
+pub mod search;
 pub mod select;
 pub mod signatures;
 
-use crate::case::Quantity;
+pub use outcome::{summary, Outcome};
+pub use run::{parameters, CandidateRun, Joint, ModelRun};
+pub use search::MAX_COMBINED;
+
 use crate::case::{read_case, MeasuredCase};
 use crate::decay::{self, DecayRecord, DecaySettings};
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
 use crate::loops;
 use data::DecayData;
-use effects::{BaselineFigures, Mount, CATALOGUE};
-use evidence::Signatures;
-use fit::{Fitted, Knob, Problem, StaticBlock};
+use effects::{BaselineFigures, Mount};
+use fit::{Knob, Problem, StaticBlock};
 use model::{Physical, ReducedSpring};
-use rayon::prelude::*;
-use report::Diagnosis;
-use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
@@ -59,6 +62,7 @@ use std::time::Instant;
 /// Settings of a diagnosis.
 #[derive(Debug, Clone)]
 pub struct DiagnoseSettings {
+    /// FE settings of the spring's model for the paper's loops and the reduction.
     pub fe: FeSettings,
     /// Fixed-interface modes kept beside the weight's DOFs.
     pub modes: usize,
@@ -85,60 +89,6 @@ impl Default for DiagnoseSettings {
     }
 }
 
-/// One fitted model's figures on the full record and on the forecasts.
-#[derive(Debug, Clone)]
-pub struct ModelRun {
-    pub full: Fitted,
-    pub half: Fitted,
-    pub residual_rms: f64,
-    pub forecast_rms: f64,
-    /// Forecast RMS (relative) of the quarter after each rolling origin
-    /// (`select::ORIGINS`), fitted up to the origin; empty for the baseline.
-    pub rolling: Vec<f64>,
-}
-
-/// One candidate: a set of catalogue effects (one to three), its evidence and its fit.
-#[derive(Debug, Clone)]
-pub struct CandidateRun {
-    /// Catalogue indices, ascending.
-    pub effects: Vec<usize>,
-    pub evidence: String,
-    /// Each effect's signature check at the fitted values (empty if the fit failed).
-    pub signatures: Vec<effects::SignatureCheck>,
-    pub run: std::result::Result<ModelRun, String>,
-}
-
-impl CandidateRun {
-    /// The candidate's name: its effects joined by `+`.
-    pub fn label(&self) -> String {
-        self.effects
-            .iter()
-            .map(|&i| CATALOGUE[i].name())
-            .collect::<Vec<_>>()
-            .join("+")
-    }
-}
-
-/// Everything a diagnosis computed (the report and the figures draw on it).
-pub struct Outcome {
-    pub case: MeasuredCase,
-    pub decay: DecayData,
-    pub statics: Option<(crate::case::StaticRecord, Range<usize>)>,
-    pub signatures: Signatures,
-    pub baseline: ModelRun,
-    pub reference: ModelRun,
-    pub candidates: Vec<CandidateRun>,
-    pub diagnosis: Diagnosis,
-    /// Measured amplitude spectrum (frequencies Hz, amplitudes m/s^2) for the figure.
-    pub spectrum: Option<(Vec<f64>, Vec<f64>)>,
-    /// Fixed-interface modes kept.
-    pub modes: usize,
-    /// Largest step as a fraction of the axial period.
-    pub step_fraction: f64,
-    /// Where the baseline's K came from.
-    pub stiffness_source: report::StiffnessSource,
-}
-
 fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
     if settings.progress {
         eprintln!("diagnose [{:6.2} s]: {text}", clock.elapsed().as_secs_f64());
@@ -158,15 +108,43 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         )));
     }
     let mut warnings = Vec::new();
-    if decays.len() > 1 {
-        warnings.push(format!(
-            "{} decay records; only the first, {}, is diagnosed",
-            decays.len(),
-            decays[0].file.display()
-        ));
+    // Every axial record is conditioned and checked; a surge record (the coil's own
+    // mode) is not a decay of the weight on the spring and is left to `coil-tune damping`.
+    let mut conditioned = Vec::new();
+    for (k, record) in decays.drain(..).enumerate() {
+        let info = case.decay_info.get(k);
+        if info.is_some_and(|i| i.mode != crate::case::DecayMode::Axial) {
+            warnings.push(format!(
+                "{}: a surge-mode record is not a decay of the weight; diagnose leaves it to \
+                 `coil-tune damping`",
+                record.file.display()
+            ));
+            continue;
+        }
+        let data = data::condition_decay(record)?;
+        data::check_amplitude(&data, &case)?;
+        warnings.extend(data.warnings.iter().cloned());
+        let mass_delta_kg = info
+            .and_then(|i| i.mass_kg)
+            .map_or(0.0, |m| m - case.mass_kg);
+        conditioned.push((data, mass_delta_kg));
     }
-    let decay = data::condition_decay(decays.swap_remove(0))?;
-    warnings.extend(decay.warnings.iter().cloned());
+    if conditioned.is_empty() {
+        return Err(TuneError::Invalid(format!(
+            "{}: `records.decay` holds no axial decay record (surge records are for \
+             `coil-tune damping`); expected at least one",
+            case.file.display()
+        )));
+    }
+    let mut others = conditioned.split_off(1);
+    let (decay, first_delta) = conditioned.remove(0);
+    if first_delta != 0.0 {
+        // The first record's weight is the reference the others' differ from.
+        for o in &mut others {
+            o.1 -= first_delta;
+        }
+    }
+    let joint = Joint::lay_out(&decay, &others);
     let mut static_records = case.static_records()?;
     if static_records.len() > 1 {
         warnings.push(format!(
@@ -182,9 +160,8 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         }
         None => None,
     };
-    data::check_amplitude(&decay, &case)?;
     // Past the records' checks every failure is a model or fit failure: name the case.
-    compute(case, decay, statics, warnings, settings, clock).map_err(|e| match e {
+    compute(case, decay, joint, statics, warnings, settings, clock).map_err(|e| match e {
         TuneError::InCase { .. } => e,
         other => TuneError::InCase {
             case: path.to_path_buf(),
@@ -193,9 +170,11 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     })
 }
 
+#[allow(clippy::too_many_arguments)]
 fn compute(
     case: MeasuredCase,
     decay: DecayData,
+    joint: Joint,
     statics: Option<(crate::case::StaticRecord, Range<usize>)>,
     mut warnings: Vec<String>,
     settings: &DiagnoseSettings,
@@ -220,53 +199,7 @@ fn compute(
     loops::tune_youngs_modulus(&mut state, &settings.fe, k_measured, 1e-6, None)?;
     let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
 
-    let paper = |range: Range<usize>| -> Result<(Physical, f64, f64)> {
-        let span = range.clone();
-        let record = DecayRecord {
-            time_s: decay.signal.time_s()[range.clone()].to_vec(),
-            accel_m_s2: measured[range].to_vec(),
-        };
-        let f_guess = decay.frequency_hz;
-        // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
-        // a record whose crests carry jumps (dry friction reverses its force at every
-        // crest) needs a lower cut-off before its crests are regular.
-        // A short record (the forecast's first half of a 20-30 cycle decay) has too few
-        // crests for spans of 10; spans of 5, then 3, keep the estimator's form.
-        let mut attempt = Err(TuneError::Invalid("no decrement".into()));
-        'search: for every in [10, 5, 3] {
-            for factor in [5.0, 2.0, 1.4] {
-                attempt = decay::measure(
-                    &record,
-                    &DecaySettings {
-                        lowpass_hz: Some(factor * f_guess),
-                        every,
-                        ..DecaySettings::default()
-                    },
-                );
-                if attempt.is_ok() {
-                    break 'search;
-                }
-            }
-        }
-        let m = attempt.map_err(|e| {
-            TuneError::Invalid(format!(
-                "{}: the paper's logarithmic decrement fails on samples {}..{}: {e}",
-                decay.signal.source().display(),
-                span.start,
-                span.end
-            ))
-        })?;
-        let zeta = m.zeta_mean;
-        let period_n = m.period_s * (1.0 - zeta * zeta).max(0.0).sqrt();
-        let mut s = state;
-        loops::tune_mass(&mut s, &settings.fe, period_n, 1e-6, None)?;
-        let w = std::f64::consts::TAU / period_n;
-        Ok((
-            Physical::linear(s.mass_kg, 2.0 * zeta / w, case.gravity_m_s2),
-            m.period_s,
-            zeta,
-        ))
-    };
+    let paper = |range: Range<usize>| paper_calibration(&decay, range, &state, &case, settings);
     let (base_phys, period_s, zeta) = paper(0..n)?;
     // A short record's first half may be too short for the decrement's filter (a 25-cycle
     // video record at 30 Hz): the baseline's forecast then starts from the whole
@@ -281,52 +214,11 @@ fn compute(
             base_phys
         }
     };
-    let sigma = 1.0;
     let fit_target = &decay.measured;
     let quantity = decay.quantity;
-    // A displacement or velocity record carries the sensor's offset and drift.
-    let drift = quantity != Quantity::Acceleration;
-    let linear_problem = |start: Physical, range: Range<usize>, knobs: Vec<Knob>| Problem {
-        model: &guided,
-        start,
-        knobs,
-        measured: fit_target,
-        step_s: step,
-        range,
-        sigma,
-        statics: None,
-        initial_state: None,
-        quantity,
-        drift,
-    };
-    let run = |p: &Problem<'_>| {
-        fit::run(p, settings.max_iterations).map_err(|m| TuneError::Invalid(format!("fit: {m}")))
-    };
-    let baseline_full = run(&linear_problem(base_phys, 0..n, vec![]))?;
-    let baseline_half = run(&linear_problem(half_phys, 0..half, vec![]))?;
-    let baseline = model_run(baseline_full, baseline_half, fit_target, &[]);
-
     progress(settings, &clock, "reference (linear model by output error)");
-    // Continuation over growing windows (first quarter, first half, whole record): the
-    // residual of an oscillator is nonlinear in its frequency through the phase it
-    // accumulates, so a long window is fitted from a start that already holds the
-    // phase; the quarter, half and three-quarter fits give the rolling forecasts.
-    let knobs = vec![Knob::Mass, Knob::Beta];
-    let quarter = run(&linear_problem(base_phys, 0..origin(0, n), knobs.clone()))?;
-    let reference_half = run(&linear_problem(quarter.physical, 0..half, knobs.clone()))?;
-    let reference_full = run(&linear_problem(
-        reference_half.physical,
-        0..n,
-        knobs.clone(),
-    ))?;
-    let three = run(&linear_problem(
-        reference_full.physical,
-        0..origin(2, n),
-        knobs,
-    ))?;
-    let rolling = [quarter, reference_half.clone(), three];
-    let reference = model_run(reference_full, reference_half, fit_target, &rolling);
-    let noise = (reference.full.rss / n as f64).sqrt();
+    let (baseline, reference) = linear_fits(&guided, &joint, base_phys, half_phys, settings)?;
+    let noise = (reference.full.rss / joint.measured.len() as f64).sqrt();
 
     progress(settings, &clock, "signatures");
     let w_ref = std::f64::consts::TAU / period_s;
@@ -354,105 +246,31 @@ fn compute(
             force_n: r.force_n.clone(),
             sigma_n: s.cubic_rms_n.max(1e-12),
         });
-    let job = Job {
+    let job = search::Job {
         guided: &guided,
         free: &free,
         reference: &reference,
-        measured: fit_target,
-        step_s: step,
+        joint: &joint,
         noise,
         statics: statics_block.as_ref(),
         static_fit: static_fit.as_ref(),
-        quantity,
-        drift,
         max_iterations: settings.max_iterations,
         signatures: &sigs,
         figures: &figures,
     };
     let ctx = select::Context {
         reference: &reference,
-        measured: fit_target,
+        measured: &joint.measured,
         samples_per_period: 1.0 / (sigs.axial_hz.max(1e-9) * step),
     };
 
-    // Every effect alone, in parallel (each fit's Jacobian columns run in parallel too).
-    progress(settings, &clock, "candidates: each effect alone");
-    let mut candidates: Vec<CandidateRun> = (0..effects::COUNT)
-        .into_par_iter()
-        .map(|i| {
-            let proposal = CATALOGUE[i].propose(&sigs, &figures);
-            let seeds: Vec<Physical> = proposal
-                .starts
-                .iter()
-                .map(|&v| {
-                    let mut p = job.base(&[i]);
-                    p.effects[i] = v;
-                    p
-                })
-                .collect();
-            let init = reference.full.initial_state.clone();
-            job.candidate(vec![i], proposal.evidence, &seeds, init)
-        })
-        .collect();
-    // Combinations of the effects with evidence of their own, up to three: strong
-    // evidence alone (dBIC above the limit), or a signature that agrees (an effect
-    // masked alone by another one: friction or drag beside a softening drift, whose
-    // phase error swamps their gain when fitted alone). Each combination starts from
-    // its parts' fitted values.
-    let mut gaining: Vec<(usize, f64)> = candidates
-        .iter()
-        .filter_map(|c| {
-            select::score(&ctx, c)
-                .filter(|s| s.delta_bic > select::DELTA_BIC || s.tests.signature.passed)
-                .map(|s| (c.effects[0], s.delta_bic))
-        })
-        .collect();
-    gaining.sort_by(|a, b| b.1.total_cmp(&a.1));
-    gaining.truncate(MAX_COMBINED);
-    let gaining: Vec<usize> = gaining.into_iter().map(|g| g.0).collect();
-    let mut sets: Vec<Vec<usize>> = Vec::new();
-    for (a, &i) in gaining.iter().enumerate() {
-        for &j in &gaining[a + 1..] {
-            sets.push(sorted(vec![i, j]));
-        }
-    }
-    if !sets.is_empty() {
-        progress(settings, &clock, "candidates: pairs of effects");
-        let pairs: Vec<CandidateRun> = sets
-            .par_iter()
-            .map(|set| job.combined(set, &candidates))
-            .collect();
-        candidates.extend(pairs);
-    }
-    if gaining.len() >= 3 {
-        progress(settings, &clock, "candidates: three effects");
-        let triple = job.combined(&sorted(gaining.clone()), &candidates);
-        candidates.push(triple);
-    }
-
+    let candidates = search::candidates(&job, &ctx, &|text| progress(settings, &clock, text));
     let choice = select::choose(&ctx, &candidates);
     // The spectral noise floor of the recorded quantity (valid on band-limited
     // records, data.rs).
     let noise_abs = decay.measured_noise.rms;
     let noise_floor = noise_abs / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
-    // Plausibility: what the calibration had to do to the nominal values, and a misfit
-    // no catalogue effect explains.
-    for (what, value, nominal) in [
-        (
-            "Young's modulus",
-            state.youngs_modulus_mpa,
-            case.material.youngs_modulus_mpa,
-        ),
-        ("the weight's mass", base_phys.mass_kg, case.mass_kg),
-    ] {
-        let ratio = value / nominal;
-        if !(0.5..=2.0).contains(&ratio) {
-            warnings.push(format!(
-                "the calibrated {what} is {ratio:.3} times the nominal value in case.json; \
-                 check the records' units (mm and N for static.csv, s and m/s^2 for decay.csv)"
-            ));
-        }
-    }
+    plausibility(&state, &base_phys, &case, &mut warnings);
     let unexplained = (choice.cause.is_none()
         && !matches!(
             reference
@@ -464,11 +282,8 @@ fn compute(
     for w in &warnings {
         progress(settings, &clock, &format!("warning: {w}"));
     }
-    let k_source = match (&static_fit, case.targets.stiffness_n_mm) {
-        (Some(_), _) => report::StiffnessSource::StaticRecord,
-        (None, Some(_)) => report::StiffnessSource::Target,
-        (None, None) => report::StiffnessSource::Nominal,
-    };
+    let k_source =
+        report::StiffnessSource::of(static_fit.is_some(), case.targets.stiffness_n_mm.is_some());
     let diagnosis = report::assemble(
         &report::BaselineInputs {
             state: &state,
@@ -502,6 +317,7 @@ fn compute(
         modes: settings.modes,
         step_fraction: model::OMEGA_DT / std::f64::consts::TAU,
         stiffness_source: k_source,
+        joint_records: joint.others(),
     })
 }
 
@@ -509,234 +325,140 @@ fn compute(
 /// reported as unexplained: three times the noise floor.
 pub const UNEXPLAINED_NOISE: f64 = 3.0;
 
-/// Most effects in one combination.
-pub const MAX_COMBINED: usize = 3;
+/// The linear model on every record: the baseline (the paper's calibration on the whole
+/// record and on its first half, only the initial states fitted) and the reference (the
+/// same model with mass and beta, and the stiffness for records at several weights,
+/// fitted by output error).
+fn linear_fits(
+    guided: &ReducedSpring,
+    joint: &Joint,
+    base_phys: Physical,
+    half_phys: Physical,
+    settings: &DiagnoseSettings,
+) -> Result<(ModelRun, ModelRun)> {
+    let sigma = 1.0;
+    let linear_problem = |start: Physical, fraction: f64, knobs: Vec<Knob>| Problem {
+        model: guided,
+        start,
+        knobs,
+        measured: &joint.measured,
+        segments: &joint.segments,
+        fraction,
+        sigma,
+        statics: None,
+        initial_state: None,
+    };
+    let run = |p: &Problem<'_>| {
+        fit::run(p, settings.max_iterations).map_err(|m| TuneError::Invalid(format!("fit: {m}")))
+    };
+    let baseline_full = run(&linear_problem(base_phys, 1.0, vec![]))?;
+    let baseline_half = run(&linear_problem(half_phys, 0.5, vec![]))?;
+    let baseline = run::model_run(baseline_full, baseline_half, joint, &[]);
 
-fn sorted(mut v: Vec<usize>) -> Vec<usize> {
-    v.sort_unstable();
-    v
+    // Continuation over growing windows (first quarter, first half, whole record): the
+    // residual of an oscillator is nonlinear in its frequency through the phase it
+    // accumulates, so a long window is fitted from a start that already holds the
+    // phase; the quarter, half and three-quarter fits give the rolling forecasts.
+    let knobs = joint.knobs();
+    let quarter = run(&linear_problem(
+        base_phys,
+        select::ORIGINS[0],
+        knobs.clone(),
+    ))?;
+    let reference_half = run(&linear_problem(quarter.physical, 0.5, knobs.clone()))?;
+    let reference_full = run(&linear_problem(reference_half.physical, 1.0, knobs.clone()))?;
+    let three = run(&linear_problem(
+        reference_full.physical,
+        select::ORIGINS[2],
+        knobs,
+    ))?;
+    let rolling = [quarter, reference_half.clone(), three];
+    let reference = run::model_run(reference_full, reference_half, joint, &rolling);
+    Ok((baseline, reference))
 }
 
-/// The end of the fit window of rolling origin `i` (`select::ORIGINS`).
-fn origin(i: usize, n: usize) -> usize {
-    ((select::ORIGINS[i] * n as f64) as usize).clamp(1, n)
-}
-
-/// A model's figures: residual over the record, the forecast of the second half from
-/// the first, and the rolling forecasts of the quarter after each origin from the fits
-/// up to it (`rolling`, one per origin; none for the baseline).
-fn model_run(full: Fitted, half: Fitted, measured: &[f64], rolling: &[Fitted]) -> ModelRun {
-    let n = measured.len();
-    let quarter = n / 4;
-    ModelRun {
-        residual_rms: fit::relative_rms(&full.simulated, measured, 0..n),
-        forecast_rms: fit::relative_rms(&half.simulated, measured, n / 2..n),
-        rolling: rolling
-            .iter()
-            .enumerate()
-            .map(|(i, f)| {
-                let o = origin(i, n);
-                fit::relative_rms(&f.simulated, measured, o..(o + quarter).min(n))
-            })
-            .collect(),
-        full,
-        half,
-    }
-}
-
-/// Levenberg-Marquardt iterations of each start's first-quarter fit.
-const SEED_ITERATIONS: usize = 10;
-
-/// What every candidate's fit shares.
-struct Job<'a> {
-    guided: &'a ReducedSpring,
-    free: &'a ReducedSpring,
-    reference: &'a ModelRun,
-    measured: &'a [f64],
-    step_s: f64,
-    noise: f64,
-    statics: Option<&'a StaticBlock>,
-    static_fit: Option<&'a evidence::StaticSummary>,
-    quantity: Quantity,
-    drift: bool,
-    max_iterations: usize,
-    signatures: &'a Signatures,
-    figures: &'a BaselineFigures,
-}
-
-impl Job<'_> {
-    fn uses_static(set: &[usize]) -> bool {
-        set.iter()
-            .any(|&i| CATALOGUE[i].static_force(1.0, 1.0).is_some())
-    }
-
-    /// The reference's parameters, with the stiffness the set's static record gives.
-    fn base(&self, set: &[usize]) -> Physical {
-        let mut base = self.reference.full.physical;
-        if let (true, Some(s)) = (Self::uses_static(set), self.static_fit) {
-            // A cubic static fit's linear coefficient is the spring's stiffness at the
-            // free length; the straight line's slope (the baseline's) is a secant.
-            base.k_scale = s.k_n_mm / s.linear_k_n_mm;
-        }
-        base
-    }
-
-    fn model(&self, set: &[usize]) -> &ReducedSpring {
-        if set
-            .iter()
-            .any(|&i| CATALOGUE[i].mount() == Mount::FreeRotation)
-        {
-            self.free
-        } else {
-            self.guided
+/// Plausibility: what the calibration had to do to the nominal values (a factor beyond
+/// two is a unit slip more often than a material).
+fn plausibility(
+    state: &SpringState,
+    base_phys: &Physical,
+    case: &MeasuredCase,
+    warnings: &mut Vec<String>,
+) {
+    for (what, value, nominal) in [
+        (
+            "Young's modulus",
+            state.youngs_modulus_mpa,
+            case.material.youngs_modulus_mpa,
+        ),
+        ("the weight's mass", base_phys.mass_kg, case.mass_kg),
+    ] {
+        let ratio = value / nominal;
+        if !(0.5..=2.0).contains(&ratio) {
+            warnings.push(format!(
+                "the calibrated {what} is {ratio:.3} times the nominal value in case.json; \
+                 check the records' units (mm and N for static.csv, s and m/s^2 for decay.csv)"
+            ));
         }
     }
+}
 
-    /// Fits the set of effects from `seeds` (and a starting initial state for a
-    /// nonlinear model) and checks each effect's signature at the fitted values.
-    fn candidate(
-        &self,
-        set: Vec<usize>,
-        evidence: String,
-        seeds: &[Physical],
-        init: Vec<f64>,
-    ) -> CandidateRun {
-        let run = self.fit(&set, seeds, init);
-        let signatures = run.as_ref().map_or(Vec::new(), |r| {
-            set.iter()
-                .map(|&i| {
-                    CATALOGUE[i].signature(
-                        self.signatures,
-                        self.figures,
-                        r.full.physical.effects[i],
-                    )
-                })
-                .collect()
-        });
-        CandidateRun {
-            effects: set,
-            evidence,
-            signatures,
-            run,
-        }
-    }
-
-    /// A combination, started from its parts' fitted values (the best part's mass,
-    /// beta and initial state).
-    fn combined(&self, set: &[usize], singles: &[CandidateRun]) -> CandidateRun {
-        let mut seed = self.base(set);
-        let mut best: Option<&ModelRun> = None;
-        let mut evidence = Vec::new();
-        for &i in set {
-            let Some(single) = singles.iter().find(|c| c.effects == [i]) else {
-                continue;
-            };
-            evidence.push(format!("{}: {}", CATALOGUE[i].name(), single.evidence));
-            if let Ok(r) = &single.run {
-                seed.effects[i] = r.full.physical.effects[i];
-                if best.is_none_or(|b| r.full.rss < b.full.rss) {
-                    best = Some(r);
-                }
+/// The paper's calibration on `range` of the first record: T and zeta by the
+/// logarithmic decrement, the weight's mass by loop 2 on the FE model of `state`;
+/// returns the linear model (beta = 2 zeta / w), the damped period and zeta.
+fn paper_calibration(
+    decay: &DecayData,
+    range: Range<usize>,
+    state: &SpringState,
+    case: &MeasuredCase,
+    settings: &DiagnoseSettings,
+) -> Result<(Physical, f64, f64)> {
+    let measured = &decay.signal.values();
+    let span = range.clone();
+    let record = DecayRecord {
+        time_s: decay.signal.time_s()[range.clone()].to_vec(),
+        accel_m_s2: measured[range].to_vec(),
+    };
+    let f_guess = decay.frequency_hz;
+    // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
+    // a record whose crests carry jumps (dry friction reverses its force at every
+    // crest) needs a lower cut-off before its crests are regular.
+    // A short record (the forecast's first half of a 20-30 cycle decay) has too few
+    // crests for spans of 10; spans of 5, then 3, keep the estimator's form.
+    let mut attempt = Err(TuneError::Invalid("no decrement".into()));
+    'search: for every in [10, 5, 3] {
+        for factor in [5.0, 2.0, 1.4] {
+            attempt = decay::measure(
+                &record,
+                &DecaySettings {
+                    lowpass_hz: Some(factor * f_guess),
+                    every,
+                    ..DecaySettings::default()
+                },
+            );
+            if attempt.is_ok() {
+                break 'search;
             }
         }
-        let model = self.model(set);
-        let states = 2 * if model.mount() == Mount::FreeRotation {
-            2
-        } else {
-            1
-        };
-        // The initial state of a part fitted on the same mount (the coupling's carries
-        // the rotation), else the best part's padded with a rotation at rest.
-        let mut init = set
-            .iter()
-            .filter_map(|&i| singles.iter().find(|c| c.effects == [i]))
-            .filter_map(|c| c.run.as_ref().ok())
-            .map(|r| r.full.initial_state.clone())
-            .find(|s| s.len() == states)
-            .unwrap_or_else(|| {
-                best.map_or(self.reference.full.initial_state.clone(), |b| {
-                    b.full.initial_state.clone()
-                })
-            });
-        init.resize(states, 0.0);
-        if let Some(b) = best {
-            seed.mass_kg = b.full.physical.mass_kg;
-            seed.beta_s = b.full.physical.beta_s;
-        }
-        self.candidate(set.to_vec(), evidence.join("; "), &[seed], init)
     }
-
-    fn fit(
-        &self,
-        set: &[usize],
-        seeds: &[Physical],
-        init: Vec<f64>,
-    ) -> std::result::Result<ModelRun, String> {
-        let n = self.measured.len();
-        let half = n / 2;
-        let model = self.model(set);
-        let nonlinear = seeds.iter().any(|s| model.is_nonlinear(s));
-        let mut knobs: Vec<Knob> = set.iter().map(|&i| Knob::Effect(i)).collect();
-        knobs.extend([Knob::Mass, Knob::Beta]);
-        let statics = self.statics.filter(|_| Self::uses_static(set));
-        let problem = |start: Physical, range: Range<usize>, init: Option<Vec<f64>>| Problem {
-            model,
-            start,
-            knobs: knobs.clone(),
-            measured: self.measured,
-            step_s: self.step_s,
-            range,
-            sigma: self.noise.max(1e-300),
-            statics,
-            initial_state: init,
-            quantity: self.quantity,
-            drift: self.drift,
-        };
-        let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
-        let first = nonlinear.then_some(init);
-        // Each start is fitted on the first quarter for a few iterations (a seed only:
-        // they tell a good start from a bad one); the best is fitted to convergence
-        // there (the first rolling origin), then on the first half (the forecast's),
-        // the whole record, and the first three quarters (the last rolling origin).
-        let mut best: Option<Fitted> = None;
-        let mut last_error = String::from("no starting value");
-        for &start in seeds {
-            let seed = fit::run(
-                &problem(start, 0..origin(0, n), first.clone()),
-                self.max_iterations.min(SEED_ITERATIONS),
-            );
-            match seed {
-                Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
-                Ok(_) => {}
-                Err(e) => last_error = e,
-            }
-        }
-        let seed = best.ok_or(last_error)?;
-        let quarter = fit::run(
-            &problem(seed.physical, 0..origin(0, n), state(&seed)),
-            self.max_iterations,
-        )?;
-        let half_fit = fit::run(
-            &problem(quarter.physical, 0..half, state(&quarter)),
-            self.max_iterations,
-        )?;
-        let full = fit::run(
-            &problem(half_fit.physical, 0..n, state(&half_fit)),
-            self.max_iterations,
-        )?;
-        let three = fit::run(
-            &problem(full.physical, 0..origin(2, n), state(&full)),
-            self.max_iterations,
-        )?;
-        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-            eprintln!(
-                "  {:?}: full {} iterations {} runs, half {} iterations {} runs",
-                set, full.iterations, full.evaluations, half_fit.iterations, half_fit.evaluations
-            );
-        }
-        let rolling = [quarter, half_fit.clone(), three];
-        Ok(model_run(full, half_fit, self.measured, &rolling))
-    }
+    let m = attempt.map_err(|e| {
+        TuneError::Invalid(format!(
+            "{}: the paper's logarithmic decrement fails on samples {}..{}: {e}",
+            decay.signal.source().display(),
+            span.start,
+            span.end
+        ))
+    })?;
+    let zeta = m.zeta_mean;
+    let period_n = m.period_s * (1.0 - zeta * zeta).max(0.0).sqrt();
+    let mut s = *state;
+    loops::tune_mass(&mut s, &settings.fe, period_n, 1e-6, None)?;
+    let w = std::f64::consts::TAU / period_n;
+    Ok((
+        Physical::linear(s.mass_kg, 2.0 * zeta / w, case.gravity_m_s2),
+        m.period_s,
+        zeta,
+    ))
 }
 
 /// Writes the outcome into `out` (locked by the caller for the whole run): figures,
@@ -746,53 +468,5 @@ pub fn write(
     out: &crate::output::OutDir,
     settings: &DiagnoseSettings,
 ) -> Result<()> {
-    report::write(outcome, out, settings.plots)
-}
-
-/// Parameters in SI by the spec's names, of the effects in `set`.
-pub fn parameters(set: &[usize], phys: &Physical) -> BTreeMap<String, f64> {
-    set.iter()
-        .map(|&i| (CATALOGUE[i].parameter().to_string(), phys.effects[i]))
-        .collect()
-}
-
-/// A few lines for the terminal.
-pub fn summary(o: &Outcome) -> String {
-    let d = &o.diagnosis;
-    let mut s = format!(
-        "baseline: E = {:.1} MPa, mass = {:.5} kg, beta = {:.4e} s, K = {:.5} N/mm, T = {:.6} s, \
-         zeta = {:.6}, residual_rms = {:.4}, forecast_rms = {:.4}\n",
-        d.baseline.youngs_modulus_mpa,
-        d.baseline.mass_kg,
-        d.baseline.rayleigh_beta,
-        d.baseline.stiffness_n_mm,
-        d.baseline.period_s,
-        d.baseline.damping_ratio,
-        d.baseline.residual_rms,
-        d.baseline.forecast_rms
-    );
-    for c in &d.candidates {
-        let line = format!(
-            "  {:<26} residual_rms {:>8} forecast_rms {:>8} dBIC {:>10} {}",
-            c.effect,
-            c.residual_rms.map_or("-".into(), |x| format!("{x:.4}")),
-            c.forecast_rms.map_or("-".into(), |x| format!("{x:.4}")),
-            c.delta_bic.map_or("-".into(), |x| format!("{x:.1}")),
-            if c.significant { "significant" } else { "" }
-        );
-        s.push_str(line.trim_end());
-        s.push('\n');
-    }
-    s.push_str(&format!("cause: {}", d.cause));
-    if let (Some(e), g) = (&d.extended, &d.gain) {
-        for (k, v) in &e.parameters {
-            s.push_str(&format!(", {k} = {v:.6e}"));
-        }
-        s.push_str(&format!(
-            "; gain: residual_rms_ratio {:.4}, forecast_rms_ratio {:.4}",
-            g.residual_rms_ratio, g.forecast_rms_ratio
-        ));
-    }
-    s.push_str(&format!(" ({:.2} s)\n", d.runtime_s));
-    s
+    document::write(outcome, out, settings.plots)
 }

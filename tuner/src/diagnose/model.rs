@@ -56,6 +56,7 @@ fn quantity_of(quantity: Quantity, s: &Sample) -> f64 {
 /// The fitted physical parameters (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Physical {
+    /// The weight's mass (kg).
     pub mass_kg: f64,
     /// Rayleigh beta on the spring (s).
     pub beta_s: f64,
@@ -64,6 +65,7 @@ pub struct Physical {
     /// Each catalogue effect's magnitude in its SI unit (0: absent), indexed as
     /// `effects::CATALOGUE`.
     pub effects: [f64; COUNT],
+    /// Gravity along the spring axis (m/s^2); it preloads a model with a cubic spring.
     pub gravity_m_s2: f64,
 }
 
@@ -175,6 +177,16 @@ impl ReducedSpring {
             .operators(p.k_scale, &self.extra_mass(p, &e), 0.0, p.beta_s)
             .map_err(|e| e.to_string())?;
         let omega = (self.stiffness_n_m(p) / p.mass_kg).sqrt();
+        // A trial beyond the record's Nyquist frequency cannot be what the record shows,
+        // and would cost unbounded substeps (a fit stepping its mass towards zero).
+        if omega.is_nan() || omega * step_s > std::f64::consts::PI {
+            return Err(format!(
+                "the trial's axial frequency {:.4e} Hz is beyond the record's Nyquist \
+                 frequency {:.4e} Hz",
+                omega / std::f64::consts::TAU,
+                0.5 / step_s
+            ));
+        }
         let substeps = ((omega * step_s / OMEGA_DT).ceil() as usize).max(1);
         let dt = step_s / substeps as f64;
         let law = e.law;

@@ -19,7 +19,9 @@ const COLOURS: [RGBColor; 5] = [
 /// One series of a panel.
 #[derive(Debug, Clone)]
 pub struct Series {
+    /// Legend text.
     pub label: String,
+    /// The `(x, y)` points, in the panel's units.
     pub points: Vec<(f64, f64)>,
     /// Points (markers) instead of a line.
     pub markers: bool,
@@ -28,9 +30,13 @@ pub struct Series {
 /// One panel.
 #[derive(Debug, Clone)]
 pub struct Panel {
+    /// Caption above the panel.
     pub title: String,
+    /// The x axis label (with its unit).
     pub x: String,
+    /// The y axis label (with its unit).
     pub y: String,
+    /// The series drawn, in legend order.
     pub series: Vec<Series>,
 }
 

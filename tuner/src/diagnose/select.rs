@@ -45,7 +45,7 @@
 //! passes. Its effects' shares of the explained misfit are the drop-one increases of
 //! the residual sum of squares, normalised.
 
-use super::CandidateRun;
+use super::run::{CandidateRun, ModelRun};
 use serde::Serialize;
 
 /// Strong evidence on the BIC scale.
@@ -56,8 +56,7 @@ pub const RESIDUAL_RATIO: f64 = 0.9;
 pub const FORECAST_RATIO: f64 = 0.9;
 /// ... from this many of the rolling origins.
 pub const FORECASTS_NEEDED: usize = 2;
-/// Rolling origins as fractions of the record; each forecasts the next quarter.
-pub const ORIGINS: [f64; 3] = [0.25, 0.5, 0.75];
+pub use super::run::ORIGINS;
 /// Largest relative standard error of an identified parameter.
 pub const REL_SE_LIMIT: f64 = 1.0 / 3.0;
 /// Axial periods spanned by the autocorrelation sum of `N_eff` ...
@@ -70,19 +69,28 @@ pub const MAX_LAGS: usize = 1500;
 /// One test's outcome, with its number and its limit.
 #[derive(Debug, Clone, Serialize)]
 pub struct Test {
+    /// True when the test held.
     pub passed: bool,
+    /// The test's number.
     pub value: f64,
+    /// The limit the number is held against.
     pub limit: f64,
+    /// The test in words with its numbers, for the report.
     pub text: String,
 }
 
 /// The four tests (and, for a combination, the need for every part).
 #[derive(Debug, Clone, Serialize)]
 pub struct Tests {
+    /// Test 1: dBIC and the residual RMS against the reference.
     pub significance: Test,
+    /// Test 2: forecasts from the rolling origins against the reference's.
     pub forecasts: Test,
+    /// Test 3: every effect parameter's inflated relative standard error.
     pub identified: Test,
+    /// Test 4: each effect's own signature in the records.
     pub signature: Test,
+    /// For a combination: removing any one of its effects costs more than [`DELTA_BIC`].
     pub every_part_needed: Option<Test>,
 }
 
@@ -123,13 +131,17 @@ impl Tests {
 /// A candidate's standing.
 #[derive(Debug, Clone)]
 pub struct Score {
+    /// BIC gain over the reference on `n_eff` residuals (module docs).
     pub delta_bic: f64,
+    /// Effective number of independent residuals `N_eff` (module docs).
     pub n_eff: f64,
     /// Residual and forecast RMS over the reference's.
     pub residual_ratio: f64,
+    /// Its forecast RMS of the second halves over the reference's (-).
     pub forecast_ratio: f64,
     /// Each effect parameter's relative standard error, inflated for correlation.
     pub rel_se: Vec<f64>,
+    /// The four tests (the parts test is added by [`choose`]).
     pub tests: Tests,
 }
 
@@ -138,6 +150,7 @@ pub struct Score {
 pub struct Choice {
     /// Index of the chosen candidate.
     pub cause: Option<usize>,
+    /// Each candidate's score; `None` where its fit failed.
     pub scores: Vec<Option<Score>>,
     /// The chosen candidate's effects (catalogue indices) with their shares, largest
     /// first.
@@ -169,7 +182,7 @@ pub fn effective_samples(residual: &[f64], lag: usize) -> f64 {
     (n as f64 / (1.0 + 2.0 * sum.max(0.0))).max(2.0)
 }
 
-fn residual(run: &super::ModelRun, measured: &[f64]) -> Vec<f64> {
+fn residual(run: &ModelRun, measured: &[f64]) -> Vec<f64> {
     run.full
         .simulated
         .iter()
@@ -180,7 +193,9 @@ fn residual(run: &super::ModelRun, measured: &[f64]) -> Vec<f64> {
 
 /// What the scoring reads beyond the candidates.
 pub struct Context<'a> {
-    pub reference: &'a super::ModelRun,
+    /// The reference the candidates are scored against.
+    pub reference: &'a ModelRun,
+    /// The records laid end to end, as fitted.
     pub measured: &'a [f64],
     /// Samples per axial period.
     pub samples_per_period: f64,

@@ -70,10 +70,22 @@ pub enum ReduceError {
     NoBoundary,
     /// A boundary node that the model does not define.
     #[error("boundary DOF {index}: node {node} does not exist")]
-    UnknownNode { index: usize, node: NodeId },
+    UnknownNode {
+        /// The DOF's position in the boundary list (0-based).
+        index: usize,
+        /// The node's id.
+        node: NodeId,
+    },
     /// A boundary DOF number outside 1..=6.
     #[error("boundary DOF {index}: node {node} DOF {dof}; DOFs are numbered 1..=6")]
-    BadDof { index: usize, node: NodeId, dof: u8 },
+    BadDof {
+        /// The DOF's position in the boundary list (0-based).
+        index: usize,
+        /// The node's id.
+        node: NodeId,
+        /// The DOF number given.
+        dof: u8,
+    },
     /// A boundary DOF that is not a free unknown of the model.
     #[error(
         "boundary DOF {index}: node {node} {} is {reason}; a boundary DOF must be free \
@@ -81,31 +93,55 @@ pub enum ReduceError {
         dof_name(*dof)
     )]
     NotFree {
+        /// The DOF's position in the boundary list (0-based).
         index: usize,
+        /// The node's id.
         node: NodeId,
+        /// The DOF number (1..=6).
         dof: u8,
+        /// Why it is not free (fixed or tied).
         reason: &'static str,
     },
     /// The same boundary DOF twice.
     #[error("boundary DOF {index}: node {node} {} is listed twice", dof_name(*dof))]
-    Duplicate { index: usize, node: NodeId, dof: u8 },
+    Duplicate {
+        /// The DOF's position in the boundary list (0-based) of its second listing.
+        index: usize,
+        /// The node's id.
+        node: NodeId,
+        /// The DOF number (1..=6).
+        dof: u8,
+    },
     /// More fixed-interface modes than interior DOFs.
     #[error("{requested} fixed-interface modes asked for, but the interior has {available} DOFs")]
-    TooManyModes { requested: usize, available: usize },
+    TooManyModes {
+        /// Number of fixed-interface modes asked for.
+        requested: usize,
+        /// Number of interior DOFs.
+        available: usize,
+    },
     /// A vector of the wrong length.
     #[error("{what} has length {found}, expected {expected}")]
     Dimension {
+        /// Which vector.
         what: &'static str,
+        /// The length it must have.
         expected: usize,
+        /// The length it has.
         found: usize,
     },
     /// A parameter or a result that must be finite (and positive where said) is not.
     #[error("{what}")]
-    BadValue { what: String },
+    BadValue {
+        /// What is wrong.
+        what: String,
+    },
     /// A failure while assembling or solving the full or the held-boundary model.
     #[error("{context}: {source}")]
     Solve {
+        /// Which step failed.
         context: &'static str,
+        /// The solver's error.
         #[source]
         source: Box<SolveError>,
     },
@@ -141,8 +177,11 @@ pub struct Reduction {
 /// The dense operators `(M, C, K)` of a re-parameterised reduced model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReducedOperators {
+    /// Reduced mass matrix, in the reduced coordinates `[q_b, eta]`.
     pub m: DMatrix<f64>,
+    /// Reduced damping matrix, in the reduced coordinates `[q_b, eta]`.
     pub c: DMatrix<f64>,
+    /// Reduced stiffness matrix, in the reduced coordinates `[q_b, eta]`.
     pub k: DMatrix<f64>,
 }
 

@@ -64,7 +64,9 @@ use std::path::Path;
 /// The whole `results.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResultsFile {
+    /// The model's title.
     pub title: String,
+    /// One entry per load case, in deck order.
     pub load_cases: Vec<CaseEntry>,
 }
 
@@ -72,30 +74,45 @@ pub struct ResultsFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum CaseEntry {
+    /// A static load case.
     Static(StaticEntry),
+    /// A modal load case.
     Modal(ModalEntry),
+    /// A transient load case.
     Transient(TransientEntry),
 }
 
 /// Six displacements of a node (mm, rad).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NodeDisplacement {
+    /// The node's id.
     pub node: NodeId,
+    /// Displacement along global x (mm).
     pub ux_mm: f64,
+    /// Displacement along global y (mm).
     pub uy_mm: f64,
+    /// Displacement along global z (mm).
     pub uz_mm: f64,
+    /// Rotation about global x (rad).
     pub rx_rad: f64,
+    /// Rotation about global y (rad).
     pub ry_rad: f64,
+    /// Rotation about global z (rad).
     pub rz_rad: f64,
 }
 
 /// A loaded DOF: load (N or N mm), displacement (mm or rad), stiffness F/u.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LoadedDofEntry {
+    /// The node's id.
     pub node: NodeId,
+    /// The DOF's name (`ux`, `uy`, `uz`, `rx`, `ry` or `rz`).
     pub dof: String,
+    /// The applied load (N, or N mm on a rotation).
     pub load: f64,
+    /// The displacement there (mm, or rad on a rotation).
     pub displacement: f64,
+    /// `load / displacement` (in `stiffness_unit`); `null` when the displacement is exactly zero.
     pub stiffness: Option<f64>,
     /// Unit of `stiffness`: "N/mm" or "N mm/rad".
     pub stiffness_unit: String,
@@ -104,8 +121,11 @@ pub struct LoadedDofEntry {
 /// A reaction at a prescribed DOF.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReactionEntry {
+    /// The node's id.
     pub node: NodeId,
+    /// The DOF's name (`ux`, `uy`, `uz`, `rx`, `ry` or `rz`).
     pub dof: String,
+    /// The reaction force or moment (in `unit`).
     pub value: f64,
     /// "N" or "N mm".
     pub unit: String,
@@ -114,15 +134,21 @@ pub struct ReactionEntry {
 /// A static load case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StaticEntry {
+    /// The load case's title.
     pub name: String,
+    /// F/u at the reference node's loaded translational DOF (N/mm); `null` if none is identified.
     pub stiffness_n_mm: Option<f64>,
+    /// The six displacements of the reference node, when one is identified.
     pub reference_node: Option<NodeDisplacement>,
+    /// Every loaded DOF with its load, displacement and F/u.
     pub loaded_dofs: Vec<LoadedDofEntry>,
+    /// The reactions at the prescribed DOFs.
     pub reactions: Vec<ReactionEntry>,
     /// Largest displacement magnitude over the nodes (mm).
     pub max_displacement_mm: f64,
     /// Equilibrium check of the solve, `|T^T (K u - f)| / |T^T f|`.
     pub relative_residual: f64,
+    /// The displaced shape's `.vtu` file (`caseN_static.vtu`), in the results directory.
     pub shape_file: String,
     /// The largest wire stress and where it sits (solid circular wires only).
     #[serde(default)]
@@ -131,6 +157,7 @@ pub struct StaticEntry {
     /// the wire is one helix about global z (see [`crate::wire`]).
     #[serde(default)]
     pub spring: Option<SpringEntry>,
+    /// Things the user should know (e.g. the load passes the coil contact load).
     #[serde(default)]
     pub warnings: Vec<String>,
     /// Section forces and stresses of every beam element.
@@ -143,10 +170,15 @@ pub struct StaticEntry {
 pub struct WireStressEntry {
     /// Torsion plus direct shear, the largest along the wire.
     pub max_shear_stress_mpa: f64,
+    /// Torsional shear stress `16 T / (pi d^3)` there (MPa).
     pub torsion_stress_mpa: f64,
+    /// Direct (transverse) shear stress there (MPa).
     pub direct_shear_stress_mpa: f64,
+    /// Bending stress `32 M / (pi d^3)` there (MPa).
     pub bending_stress_mpa: f64,
+    /// Axial stress `N / A` there (MPa).
     pub axial_stress_mpa: f64,
+    /// The element's id.
     pub element: u32,
     /// Midpoint of that element (mm).
     pub at_mm: [f64; 3],
@@ -155,9 +187,13 @@ pub struct WireStressEntry {
 /// What a spring engineer reads off a static case (see [`crate::wire`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SpringEntry {
+    /// Number of coils of the modelled helix.
     pub coils: f64,
+    /// Mean coil diameter D (mm), fitted to the wire's nodes.
     pub mean_diameter_mm: f64,
+    /// Wire diameter d (mm).
     pub wire_diameter_mm: f64,
+    /// Axial rise per coil (mm).
     pub pitch_mm: f64,
     /// C = D / d.
     pub spring_index: f64,
@@ -167,9 +203,13 @@ pub struct SpringEntry {
     pub axial_force_n: f64,
     /// `8 F D / (pi d^3)`.
     pub nominal_stress_mpa: f64,
+    /// Wahl's factor `(4C - 1)/(4C - 4) + 0.615/C`.
     pub wahl_factor: f64,
+    /// `wahl_factor * nominal_stress_mpa` (MPa).
     pub wahl_stress_mpa: f64,
+    /// Bergsträsser's factor `(4C + 2)/(4C - 3)`.
     pub bergstraesser_factor: f64,
+    /// `bergstraesser_factor * nominal_stress_mpa` (MPa).
     pub bergstraesser_stress_mpa: f64,
     /// The axial force at which adjacent coils first touch (N); `null` when the load
     /// case opens the coils.
@@ -182,44 +222,65 @@ pub struct SpringEntry {
 /// local axes (see [`crate::wire`]), and its wire stresses (MPa).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SectionForceEntry {
+    /// The element's id.
     pub element: u32,
+    /// Axial force N at the two ends (N).
     pub axial_force_n: [f64; 2],
+    /// Shear force V_y along local y at the two ends (N).
     pub shear_force_y_n: [f64; 2],
+    /// Shear force V_z along local z at the two ends (N).
     pub shear_force_z_n: [f64; 2],
+    /// Torque T about the local x (wire) axis at the two ends (N mm).
     pub torque_n_mm: [f64; 2],
+    /// Bending moment M_y about local y at the two ends (N mm).
     pub moment_y_n_mm: [f64; 2],
+    /// Bending moment M_z about local z at the two ends (N mm).
     pub moment_z_n_mm: [f64; 2],
+    /// Torsional shear stress `16 T / (pi d^3)`, larger end (MPa); `null` unless a solid circle.
     pub torsion_stress_mpa: Option<f64>,
+    /// Direct (transverse) shear stress, larger end (MPa); `null` unless a solid circle.
     pub direct_shear_stress_mpa: Option<f64>,
+    /// Torsion plus direct shear stress, larger end (MPa); `null` unless a solid circle.
     pub shear_stress_mpa: Option<f64>,
+    /// Bending stress `32 M / (pi d^3)`, larger end (MPa); `null` unless a solid circle.
     pub bending_stress_mpa: Option<f64>,
 }
 
 /// One mode.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModeEntry {
+    /// The mode's number, 1-based by ascending frequency.
     pub mode: usize,
+    /// Natural frequency (Hz).
     pub frequency_hz: f64,
+    /// Natural period `1 / frequency_hz` (s).
     pub period_s: f64,
+    /// Circular natural frequency (rad/s).
     pub omega_rad_s: f64,
     /// Effective modal mass along global z, the spring axis (kg).
     pub axial_effective_mass_kg: f64,
+    /// Effective modal mass along global x (kg).
     pub effective_mass_x_kg: f64,
+    /// Effective modal mass along global y (kg).
     pub effective_mass_y_kg: f64,
+    /// Effective modal mass along global z (kg).
     pub effective_mass_z_kg: f64,
     /// `|K phi - omega^2 M phi| / |K phi|`.
     pub relative_residual: f64,
+    /// The mode shape's `.vtu` file (`caseN_modeK.vtu`), in the results directory.
     pub shape_file: String,
 }
 
 /// A modal load case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModalEntry {
+    /// The load case's title.
     pub name: String,
     /// Total translational mass of the model, supports included (kg).
     pub total_mass_kg: f64,
     /// `max |phi_i^T M phi_j - delta_ij|` of the mass-normalised modes.
     pub orthonormality_error: f64,
+    /// The modes found, by ascending frequency.
     pub modes: Vec<ModeEntry>,
     /// ParaView collection of the mode shapes, frequency (Hz) as the series value.
     #[serde(default)]
@@ -229,18 +290,22 @@ pub struct ModalEntry {
 /// One mode of a modal superposition.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModalTermEntry {
+    /// The mode's number, 1-based.
     pub mode: usize,
+    /// Natural frequency (Hz).
     pub frequency_hz: f64,
     /// `phi^T C phi / (2 w)`, the ratio the mode is integrated with.
     pub zeta: f64,
     /// The ratio with the full modal damping matrix of the retained modes.
     pub zeta_coupled: Option<f64>,
+    /// Effective modal mass along global z, the spring axis (kg).
     pub axial_effective_mass_kg: f64,
 }
 
 /// What a modal superposition kept and left out.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModalSummaryEntry {
+    /// The retained modes.
     pub modes: Vec<ModalTermEntry>,
     /// Largest `|c_ij| / sqrt(c_ii c_jj)` of `Phi^T C Phi`, `i != j`.
     pub max_damping_coupling: f64,
@@ -259,23 +324,35 @@ pub struct ModalSummaryEntry {
 /// A transient load case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TransientEntry {
+    /// The load case's title.
     pub name: String,
     /// `newmark`, `hht`, `galpha` or `modal`.
     pub method: String,
+    /// HHT's alpha (`hht` only).
     pub hht_alpha: Option<f64>,
+    /// Generalised-alpha's spectral radius at infinite frequency (`galpha` only).
     pub rho_inf: Option<f64>,
+    /// Number of retained modes (`modal` only).
     pub modes: Option<u32>,
+    /// The time step (s).
     pub dt_s: f64,
+    /// The end time, `steps * dt_s` (s).
     pub total_time_s: f64,
+    /// Number of time steps.
     pub steps: usize,
+    /// Steps between recorded history samples.
     pub output_every: usize,
+    /// The history CSV (`history.csv` or `caseN_history.csv`), in the results directory.
     pub history_file: String,
+    /// The history's column names after `time_s` (SI units in the names).
     pub columns: Vec<String>,
     /// The static load case the initial displacement comes from.
     pub initial_displacement_from: Option<String>,
     /// `rest`, `nodal`, `quasi-static` or `quasi-static + nodal`.
     pub initial_velocity_field: String,
+    /// What the modal superposition kept and left out (`modal` only).
     pub modal: Option<ModalSummaryEntry>,
+    /// Things the user should know (off-grid table breakpoints, a rounded end time, ...).
     pub warnings: Vec<String>,
     /// ParaView collection of the whole model's displaced shape over time (time in s as
     /// the series value), written when the history records the displacement of every

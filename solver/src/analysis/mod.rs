@@ -55,15 +55,20 @@ use crate::model::{Analysis, Model};
 /// What one load case produced.
 #[derive(Debug, Clone)]
 pub enum CaseSolution {
+    /// A static load case's solution.
     Static(StaticSolution),
+    /// A modal load case's solution.
     Modal(ModalSolution),
+    /// A transient load case's solution.
     Transient(TransientSolution),
 }
 
 /// One load case's title and solution.
 #[derive(Debug, Clone)]
 pub struct CaseResult {
+    /// The load case's title.
     pub title: String,
+    /// What the load case produced.
     pub solution: CaseSolution,
 }
 

@@ -58,7 +58,9 @@ const MASSLESS_MU: f64 = 1e-14;
 pub struct Mode {
     /// omega^2 (rad^2/s^2).
     pub omega_squared: f64,
+    /// Natural frequency (Hz).
     pub frequency_hz: f64,
+    /// Natural period (s).
     pub period_s: f64,
     /// Mass-normalised shape on the free DOFs.
     pub shape_free: Vec<f64>,

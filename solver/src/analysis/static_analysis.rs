@@ -36,17 +36,24 @@ use crate::model::{LoadCase, Model, NodeId, DOFS_PER_NODE};
 /// A reaction force (N) or moment (N mm) at a prescribed DOF.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reaction {
+    /// The node's id.
     pub node: NodeId,
+    /// The DOF number (1..=6: ux, uy, uz, rx, ry, rz).
     pub dof: u8,
+    /// The reaction (N on a translation, N mm on a rotation).
     pub value: f64,
 }
 
 /// A loaded DOF with its load (N or N mm), displacement (mm or rad) and F/u.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoadedDof {
+    /// The node's id.
     pub node: NodeId,
+    /// The DOF number (1..=6: ux, uy, uz, rx, ry, rz).
     pub dof: u8,
+    /// The applied load (N on a translation, N mm on a rotation).
     pub load: f64,
+    /// The displacement there (mm on a translation, rad on a rotation).
     pub displacement: f64,
     /// `load / displacement`, `None` when the displacement is exactly zero.
     pub stiffness: Option<f64>,
@@ -57,7 +64,9 @@ pub struct LoadedDof {
 pub struct StaticSolution {
     /// Full displacement vector (6 per node, mm and rad).
     pub displacement: Vec<f64>,
+    /// The reactions at the prescribed DOFs.
     pub reactions: Vec<Reaction>,
+    /// Every loaded DOF with its load, displacement and F/u.
     pub loaded: Vec<LoadedDof>,
     /// The loaded reference node whose F/u is the stiffness, if one is identified.
     pub reference_node: Option<NodeId>,

@@ -14,8 +14,11 @@ use nalgebra::SMatrix;
 /// The assembled, constraint-reduced system of a model.
 #[derive(Debug)]
 pub struct System<'m> {
+    /// The model the system is assembled from.
     pub model: &'m Model,
+    /// The map from the model's DOFs to free equations (constraints eliminated).
     pub dofs: DofMap,
+    /// The scatter plans and shared sparsity pattern of K, M and C.
     pub assembler: Assembler,
     /// Full DOFs of every block: the model's elements first (in `model.elements`
     /// order), then the point masses (in `model.point_masses` order).
@@ -186,6 +189,7 @@ impl<'m> System<'m> {
         })
     }
 
+    /// Number of free DOFs (equations) of the reduced system.
     pub fn dim(&self) -> usize {
         self.dofs.free_len()
     }

@@ -9,24 +9,35 @@
 pub enum IntegrateError {
     /// The time step is zero, negative or not finite.
     #[error("time step dt = {dt} must be finite and > 0")]
-    InvalidTimeStep { dt: f64 },
+    InvalidTimeStep {
+        /// The rejected time step (s in coil).
+        dt: f64,
+    },
 
     /// A scheme parameter lies outside the range where the scheme is unconditionally
     /// stable and second-order accurate.
     #[error("{scheme}: {name} = {value} is outside [{min}, {max}]")]
     InvalidParameter {
+        /// The scheme's name.
         scheme: &'static str,
+        /// The parameter's name.
         name: &'static str,
+        /// The rejected value.
         value: f64,
+        /// Lower end of the admissible range.
         min: f64,
+        /// Upper end of the admissible range.
         max: f64,
     },
 
     /// A matrix or vector has the wrong size.
     #[error("{what} has size {found}, expected {expected}")]
     DimensionMismatch {
+        /// Which matrix or vector.
         what: &'static str,
+        /// The size it must have.
         expected: usize,
+        /// The size it has.
         found: usize,
     },
 
@@ -37,22 +48,35 @@ pub enum IntegrateError {
          {transposed:e}; the integrators need symmetric M, C, K with both triangles stored"
     )]
     NotSymmetric {
+        /// The matrix's name.
         matrix: &'static str,
+        /// Row of the entry (0-based).
         row: usize,
+        /// Column of the entry (0-based).
         col: usize,
+        /// The entry at (`row`, `col`).
         value: f64,
+        /// The entry at (`col`, `row`).
         transposed: f64,
     },
 
     /// An input holds NaN or infinity.
     #[error("{what} holds a non-finite value at index {index}")]
-    NonFiniteInput { what: &'static str, index: usize },
+    NonFiniteInput {
+        /// Which input.
+        what: &'static str,
+        /// Index of the non-finite entry (0-based).
+        index: usize,
+    },
 
     /// An operator matrix holds NaN or infinity.
     #[error("{matrix} holds a non-finite value at ({row}, {col})")]
     NonFiniteEntry {
+        /// The matrix's name.
         matrix: &'static str,
+        /// Row of the non-finite entry (0-based).
         row: usize,
+        /// Column of the non-finite entry (0-based).
         col: usize,
     },
 
@@ -62,12 +86,19 @@ pub enum IntegrateError {
          unconstrained mechanism, a DOF with neither mass nor stiffness, or negative \
          mass/stiffness near that DOF"
     )]
-    NotPositiveDefinite { matrix: &'static str, dof: usize },
+    NotPositiveDefinite {
+        /// The matrix's name.
+        matrix: &'static str,
+        /// The operator row (0-based) whose pivot failed.
+        dof: usize,
+    },
 
     /// The sparse factorisation could not run (out of memory, index overflow).
     #[error("sparse factorisation of {matrix} failed: {message}")]
     Factorization {
+        /// The matrix's name.
         matrix: &'static str,
+        /// faer's message.
         message: String,
     },
 
@@ -76,19 +107,34 @@ pub enum IntegrateError {
         "non-finite state at t = {time} (step {step}), DOF {dof}; check the applied force \
          history at that time"
     )]
-    NonFiniteState { step: usize, time: f64, dof: usize },
+    NonFiniteState {
+        /// The step at which the state became non-finite.
+        step: usize,
+        /// The time of that step (s in coil).
+        time: f64,
+        /// The first non-finite operator row (0-based; the mode's index in modal superposition).
+        dof: usize,
+    },
 
     /// A modal frequency or damping ratio is negative or not finite.
     #[error("mode {mode}: {name} = {value} must be finite and >= 0")]
     InvalidMode {
+        /// The mode's index (0-based).
         mode: usize,
+        /// The quantity's name (e.g. `omega`, `zeta`).
         name: &'static str,
+        /// The rejected value.
         value: f64,
     },
 
     /// A requested output DOF lies outside the mode shapes.
     #[error("output DOF {dof} is out of range (mode shapes have {n_dofs} rows)")]
-    DofOutOfRange { dof: usize, n_dofs: usize },
+    DofOutOfRange {
+        /// The requested output DOF (0-based row).
+        dof: usize,
+        /// Number of rows of the mode shapes.
+        n_dofs: usize,
+    },
 
     /// Nonlinear point laws were given to a scheme whose balance is not at the end of
     /// the step (`alpha_m`, `alpha_f` not both zero).
@@ -97,7 +143,10 @@ pub enum IntegrateError {
          {scheme} balances the forces at a shifted time, where the one-DOF implicit solve \
          of a law does not apply"
     )]
-    PointLawScheme { scheme: &'static str },
+    PointLawScheme {
+        /// The scheme's name.
+        scheme: &'static str,
+    },
 
     /// A point law's DOF is out of range or a coefficient is negative or not finite.
     #[error(
@@ -105,9 +154,13 @@ pub enum IntegrateError {
          DOFs below the operator size {n_dofs}"
     )]
     InvalidPointLaw {
+        /// The law's position in the list given (0-based).
         index: usize,
+        /// The operator row (0-based) the law acts on.
         dof: usize,
+        /// Number of operator rows.
         n_dofs: usize,
+        /// What is wrong with the law.
         reason: &'static str,
     },
 
@@ -118,7 +171,14 @@ pub enum IntegrateError {
         "the point law on DOF {dof} has no stable solution at step {step} (t = {time}): \
          a non-finite state, or a softening spring driven beyond its stable amplitude"
     )]
-    PointLawUnsolvable { step: usize, time: f64, dof: usize },
+    PointLawUnsolvable {
+        /// The step at which the solve failed.
+        step: usize,
+        /// The time of that step (s in coil).
+        time: f64,
+        /// The operator row (0-based) the law acts on.
+        dof: usize,
+    },
 
     /// The Gauss-Seidel sweeps over several point laws of one step did not converge.
     #[error(
@@ -127,9 +187,13 @@ pub enum IntegrateError {
          coupled: try a smaller dt"
     )]
     PointLawsNotConverged {
+        /// The step whose sweeps did not converge.
         step: usize,
+        /// The time of that step (s in coil).
         time: f64,
+        /// Number of sweeps run.
         sweeps: usize,
+        /// The last sweep's largest change of a law force (N in coil).
         change: f64,
     },
 }

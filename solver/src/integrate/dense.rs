@@ -72,24 +72,45 @@ pub enum DenseError {
     Integrate(#[from] IntegrateError),
     /// Two laws on one DOF (combine them into one law).
     #[error("two point laws act on DOF {dof}; give one law per DOF")]
-    LawTwice { dof: usize },
+    LawTwice {
+        /// The reduced DOF (0-based) both laws act on.
+        dof: usize,
+    },
     /// A law's implicit solve failed at this step: a non-finite input, or a softening
     /// spring that lost stability.
     #[error("the point law at DOF {dof} could not be solved at step {step}")]
-    LawSolve { step: usize, dof: usize },
+    LawSolve {
+        /// The step at which the solve failed.
+        step: usize,
+        /// The law's reduced DOF (0-based).
+        dof: usize,
+    },
     /// The Gauss-Seidel sweeps over several laws did not converge.
     #[error("the {laws} point laws did not converge in {MAX_SWEEPS} sweeps at step {step}")]
-    SweepsNotConverged { step: usize, laws: usize },
+    SweepsNotConverged {
+        /// The step whose sweeps did not converge.
+        step: usize,
+        /// Number of point laws.
+        laws: usize,
+    },
     /// Newton's method for the static equilibrium did not converge.
     #[error("static equilibrium: Newton did not converge in {iterations} iterations (residual {residual:e})")]
-    StaticNotConverged { iterations: usize, residual: f64 },
+    StaticNotConverged {
+        /// Number of Newton iterations run.
+        iterations: usize,
+        /// The last residual's largest entry (N in coil).
+        residual: f64,
+    },
 }
 
 /// One sample of the observed DOF.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Sample {
+    /// Displacement of the observed DOF (operator units: mm, rad, or sqrt(t) mm if modal).
     pub u: f64,
+    /// Velocity of the observed DOF (displacement unit per s).
     pub v: f64,
+    /// Acceleration of the observed DOF (displacement unit per s^2).
     pub a: f64,
 }
 

@@ -55,7 +55,9 @@ use crate::error::integrate::IntegrateError;
 /// Displacement and velocity of one modal coordinate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SdofState {
+    /// Modal coordinate (sqrt(t) mm in coil: the shapes are mass-normalised).
     pub q: f64,
+    /// Modal velocity (sqrt(t) mm/s in coil).
     pub v: f64,
 }
 
@@ -101,14 +103,17 @@ impl ExactSdof {
         })
     }
 
+    /// Circular frequency omega (rad/s).
     pub fn omega(&self) -> f64 {
         self.omega
     }
 
+    /// Damping ratio zeta.
     pub fn zeta(&self) -> f64 {
         self.zeta
     }
 
+    /// Time step (s).
     pub fn dt(&self) -> f64 {
         self.dt
     }
@@ -249,16 +254,22 @@ pub struct ModalBasis<'a> {
 /// Modal coordinates and velocities at time `t`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalState {
+    /// Time (s).
     pub t: f64,
+    /// Modal coordinates, one per mode (sqrt(t) mm in coil).
     pub q: Vec<f64>,
+    /// Modal velocities, one per mode (sqrt(t) mm/s in coil).
     pub qd: Vec<f64>,
 }
 
 /// Displacement, velocity and acceleration at the requested DOFs, in request order.
 #[derive(Debug, Clone, Copy)]
 pub struct DofResponse<'a> {
+    /// Displacements at the requested DOFs (mm or rad in coil).
     pub u: &'a [f64],
+    /// Velocities at the requested DOFs (mm/s or rad/s in coil).
     pub v: &'a [f64],
+    /// Accelerations at the requested DOFs (mm/s^2 or rad/s^2 in coil).
     pub a: &'a [f64],
 }
 

@@ -195,9 +195,17 @@ pub const MAX_SWEEPS: usize = 200;
 pub enum StepLawError {
     /// Law `law`'s scalar solve failed: a non-finite input, or a softening spring with
     /// no stable root (it lost stability within the step).
-    Unsolvable { law: usize },
+    Unsolvable {
+        /// The law's position in the step's list (0-based).
+        law: usize,
+    },
     /// The sweeps did not converge; the last change of a force.
-    NotConverged { sweeps: usize, change: f64 },
+    NotConverged {
+        /// Number of sweeps run.
+        sweeps: usize,
+        /// The last sweep's largest change of a law force (N in coil).
+        change: f64,
+    },
 }
 
 /// The end-of-step forces of the laws of one step, shared by every stepper (the banded

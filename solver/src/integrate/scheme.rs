@@ -16,10 +16,16 @@ pub enum Scheme {
     #[default]
     AverageAcceleration,
     /// Hilber-Hughes-Taylor with `alpha` in `[-1/3, 0]` (`0` is average acceleration).
-    Hht { alpha: f64 },
+    Hht {
+        /// HHT's alpha, in `[-1/3, 0]`.
+        alpha: f64,
+    },
     /// Chung-Hulbert generalised-alpha with spectral radius at infinity `rho_inf` in
     /// `[0, 1]` (`1` is average acceleration).
-    GeneralizedAlpha { rho_inf: f64 },
+    GeneralizedAlpha {
+        /// Spectral radius at infinite frequency, in `[0, 1]`.
+        rho_inf: f64,
+    },
 }
 
 impl Scheme {

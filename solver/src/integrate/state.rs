@@ -4,9 +4,13 @@
 /// Displacement, velocity and acceleration at time `t`, one entry per operator row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct State {
+    /// Time (s).
     pub t: f64,
+    /// Displacements (mm, or rad on a rotation).
     pub u: Vec<f64>,
+    /// Velocities (mm/s, or rad/s on a rotation).
     pub v: Vec<f64>,
+    /// Accelerations (mm/s^2, or rad/s^2 on a rotation).
     pub a: Vec<f64>,
 }
 

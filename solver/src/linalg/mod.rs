@@ -96,7 +96,9 @@ pub enum Kernel {
     /// faer's flop-ratio heuristic.
     #[default]
     Auto,
+    /// faer's simplicial (column by column) kernel, forced.
     Simplicial,
+    /// faer's supernodal (dense block) kernel, forced.
     Supernodal,
 }
 
@@ -106,8 +108,11 @@ pub enum FactorError {
     /// Equation `equation` (original numbering) has a non-positive or negligible pivot.
     #[error("singular matrix at equation {equation} (pivot {pivot:e}, diagonal {diagonal:e})")]
     Singular {
+        /// The equation (original numbering) with the bad pivot.
         equation: usize,
+        /// The pivot found there (NaN when faer stopped before it).
         pivot: f64,
+        /// The matrix's diagonal entry at that equation.
         diagonal: f64,
     },
     /// faer could not allocate its workspace or the input does not fit the pattern.
@@ -432,8 +437,11 @@ pub fn sym_upper_matvec(a: SparseColMatRef<'_, usize, f64>, x: &[f64], alpha: f6
 /// eigenvectors `y` giving `phi = P^T L^-T y`.
 #[derive(Debug)]
 pub struct ShiftInvert<'a> {
+    /// The Cholesky factor of K.
     pub factor: &'a Cholesky,
+    /// The mass matrix M (its upper triangle is read).
     pub mass: SparseColMatRef<'a, usize, f64>,
+    /// The factor multiplying the operator (1 in coil's eigensolves).
     pub scale: f64,
 }
 

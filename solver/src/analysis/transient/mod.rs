@@ -151,20 +151,24 @@ pub struct RunOptions {
 pub struct TransientSolution {
     /// The method as run (after any command-line override).
     pub method: TransientMethod,
+    /// The time step (s).
     pub dt_s: f64,
     /// The end time, `steps * dt` (s).
     pub total_time_s: f64,
+    /// Number of time steps.
     pub steps: usize,
     /// Steps between recorded samples.
     pub output_every: usize,
     /// Title of the static load case whose displacement is the initial state.
     pub initial_displacement_from: Option<String>,
+    /// How the initial velocity field was made.
     pub velocity_field: VelocityField,
     /// Present for modal superposition.
     pub modal: Option<ModalSummary>,
     /// Things the user should know (off-grid table breakpoints, a rounded end time, a
     /// missing output request).
     pub warnings: Vec<String>,
+    /// The recorded signals (SI units, see [`History`]).
     pub history: History,
 }
 
@@ -210,7 +214,10 @@ pub enum MethodOverride {
     Direct,
     /// Modal superposition with this many modes, or the deck's count, or
     /// [`DEFAULT_MODAL_MODES`].
-    Modal { modes: Option<u32> },
+    Modal {
+        /// Number of modes to retain; `None` for the deck's count or the default.
+        modes: Option<u32>,
+    },
 }
 
 /// Applies a [`MethodOverride`] to every transient case of `model`.
@@ -244,7 +251,9 @@ pub fn override_method(model: &mut Model, choice: MethodOverride) {
 /// immediately before it, with its title.
 #[derive(Debug, Clone, Copy)]
 pub struct StaticStart<'a> {
+    /// The static load case's title.
     pub title: &'a str,
+    /// Its solution, whose displacement is the initial state.
     pub solution: &'a StaticSolution,
 }
 

@@ -26,6 +26,7 @@ pub struct HistoryColumn {
 pub struct History {
     /// Sample times (s), `k dt` for the recorded steps `k`.
     pub time_s: Vec<f64>,
+    /// One column per recorded signal, in header order.
     pub columns: Vec<HistoryColumn>,
 }
 

@@ -16,7 +16,9 @@ use faer::Mat;
 /// One retained mode of a modal superposition.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModalTerm {
+    /// Circular natural frequency (rad/s).
     pub omega_rad_s: f64,
+    /// Natural frequency (Hz).
     pub frequency_hz: f64,
     /// `phi^T C phi / (2 w)`: the damping ratio the mode is integrated with.
     pub zeta: f64,
@@ -31,6 +33,7 @@ pub struct ModalTerm {
 /// What a modal superposition kept and left out.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalSummary {
+    /// The retained modes, in the order integrated.
     pub modes: Vec<ModalTerm>,
     /// `max |c_ij| / sqrt(c_ii c_jj)` over `i != j` of `c = Phi^T C Phi`: the largest
     /// normalised damping coupling that the decoupled integration neglects (0 for

@@ -90,6 +90,13 @@ pub struct LossFit {
     pub amplitude_range_m: (f64, f64),
     /// The one-term fits.
     pub single: SingleTermFits,
+    /// `a0` of the two-term fit `a0 + a1 A` (m): dry friction beside viscous damping,
+    /// without the drag term that widens `a0`'s error in the three-term fit; `None` when
+    /// singular.
+    pub a0_without_drag_m: Option<Estimate>,
+    /// `a2` of the two-term fit `a1 A + a2 A^2` (1/m): drag beside viscous damping,
+    /// without the friction term; `None` when singular.
+    pub a2_without_friction_per_m: Option<Estimate>,
     /// The windows of the fit.
     pub points: Vec<LossPoint>,
 }
@@ -197,6 +204,8 @@ pub fn loss_per_cycle_windowed(cycles: &[Cycle], cycles_per_window: usize) -> Re
         viscous_a1: single(1).ok_or_else(singular)?,
         quadratic_a2_per_m: single(2).ok_or_else(singular)?,
     };
+    let a0_without_drag_m = fit_terms(&[0, 1]).map(|(e, _)| e[0]);
+    let a2_without_friction_per_m = fit_terms(&[1, 2]).map(|(e, _)| e[1]);
     let amplitudes = points.iter().map(|p| p.amplitude_m);
     let amplitude_range_m = (
         amplitudes.clone().fold(f64::INFINITY, f64::min),
@@ -210,6 +219,8 @@ pub fn loss_per_cycle_windowed(cycles: &[Cycle], cycles_per_window: usize) -> Re
         cycles_per_window: m,
         amplitude_range_m,
         single,
+        a0_without_drag_m,
+        a2_without_friction_per_m,
         points,
     })
 }

@@ -159,7 +159,7 @@ impl Effect for CoulombFriction {
         // A constant term in the loss per cycle, or the static record's hysteresis.
         let loss = s
             .loss
-            .map_or(f64::NAN, |l| l.a0_m / l.a0_se)
+            .map_or(f64::NAN, |l| l.friction_z(SIGNATURE_Z))
             .max(robust_z(s, 0));
         let hysteresis = s
             .statics
@@ -237,7 +237,7 @@ impl Effect for QuadraticDamping {
         // A loss per cycle growing as A^2.
         let z = s
             .loss
-            .map_or(f64::NAN, |l| l.a2_per_m / l.a2_se)
+            .map_or(f64::NAN, |l| l.drag_z(SIGNATURE_Z))
             .max(robust_z(s, 2));
         check(
             if z.is_nan() { 0.0 } else { z },

@@ -18,6 +18,36 @@ pub struct LossSummary {
     pub a2_per_m: f64,
     /// Standard error of `a2` (1/m).
     pub a2_se: f64,
+    /// `a0` over its standard error in the two-term fit `a0 + a1 A` (NaN if singular).
+    pub a0_two_term_z: f64,
+    /// `a2` over its standard error in the two-term fit `a1 A + a2 A^2` (NaN if singular).
+    pub a2_two_term_z: f64,
+}
+
+impl LossSummary {
+    /// How many standard errors the constant (friction) term stands from zero: the
+    /// three-term fit's, or, when the drag term is not itself evident (not a positive
+    /// loss above `limit` standard errors: a negative `a2` is no drag), the two-term
+    /// fit's, whose error is not widened by the drag column.
+    pub fn friction_z(&self, limit: f64) -> f64 {
+        let three = self.a0_m / self.a0_se;
+        if self.a2_per_m / self.a2_se < limit {
+            three.max(self.a0_two_term_z)
+        } else {
+            three
+        }
+    }
+
+    /// The same for the drag term `a2`, with the friction term left out when it is not
+    /// evident.
+    pub fn drag_z(&self, limit: f64) -> f64 {
+        let three = self.a2_per_m / self.a2_se;
+        if self.a0_m / self.a0_se < limit {
+            three.max(self.a2_two_term_z)
+        } else {
+            three
+        }
+    }
 }
 
 /// Backbone `f^2 = f0^2 (1 + b A^2)` and the cubic stiffness it implies.

@@ -118,6 +118,29 @@ impl Job<'_> {
         seed
     }
 
+    /// The seeds, and each again with only the viscous part of the damping in beta:
+    /// the reference's beta holds every loss, so an added dissipative effect starts
+    /// with its loss counted twice, and a fit from there may walk the effect to zero
+    /// rather than hand it beta's share. The viscous part is the loss per cycle's
+    /// linear term, `a1 = 2 pi zeta` (`beta = 2 zeta / w`), when it stands above two
+    /// standard errors and below 0.9 of the reference's beta.
+    pub fn with_viscous_seed(&self, seeds: Vec<Physical>) -> Vec<Physical> {
+        let Some(l) = self.signatures.loss else {
+            return seeds;
+        };
+        let w = std::f64::consts::TAU * self.signatures.axial_hz;
+        let beta = l.a1 / (std::f64::consts::PI * w);
+        let reference = self.reference.full.physical.beta_s;
+        if !(l.a1 / l.a1_se > 2.0 && beta.is_finite() && beta < 0.9 * reference) {
+            return seeds;
+        }
+        let viscous: Vec<Physical> = seeds
+            .iter()
+            .map(|p| Physical { beta_s: beta, ..*p })
+            .collect();
+        seeds.into_iter().chain(viscous).collect()
+    }
+
     fn model(&self, set: &[usize]) -> &ReducedSpring {
         if set
             .iter()
@@ -214,7 +237,23 @@ impl Job<'_> {
             seed.mass_kg = b.full.physical.mass_kg;
             seed.beta_s = b.full.physical.beta_s;
         }
-        self.candidate(set.to_vec(), evidence.join("; "), &[seed], init)
+        // Also from the signatures' own values: effects that mimic viscous damping
+        // together (friction's constant loss and drag's A^2 loss add up to nearly a
+        // linear one over a record) each fail alone and walk to zero, so their fitted
+        // values are no start for the pair.
+        let mut proposed = self.base(set);
+        for &i in set {
+            if let Some(&v) = CATALOGUE[i]
+                .propose(self.signatures, self.figures)
+                .starts
+                .first()
+            {
+                proposed.effects[i] = v;
+            }
+        }
+        let proposed = self.with_consistent_mass(proposed);
+        let seeds = self.with_viscous_seed(vec![seed, proposed]);
+        self.candidate(set.to_vec(), evidence.join("; "), &seeds, init)
     }
 
     fn fit(
@@ -360,6 +399,7 @@ pub fn candidates(
                     job.with_consistent_mass(p)
                 })
                 .collect();
+            let seeds = job.with_viscous_seed(seeds);
             let init = reference.full.initial_state.clone();
             job.candidate(vec![i], proposal.evidence, &seeds, init)
         })

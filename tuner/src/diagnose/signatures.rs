@@ -78,6 +78,12 @@ pub fn compute(
         a1_se: l.a1.std_error,
         a2_per_m: l.a2_per_m.value,
         a2_se: l.a2_per_m.std_error,
+        a0_two_term_z: l
+            .a0_without_drag_m
+            .map_or(f64::NAN, |e| e.value / e.std_error),
+        a2_two_term_z: l
+            .a2_without_friction_per_m
+            .map_or(f64::NAN, |e| e.value / e.std_error),
     });
     let backbone = signature::backbone(cycles).ok().map(|b| {
         // The backbone bends about the preloaded state: its tangent stiffness is the

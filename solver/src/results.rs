@@ -51,7 +51,7 @@
 //! Every file is written to a temporary file in the same directory and renamed, so a
 //! failed run never leaves half a file.
 
-use crate::analysis::transient::{ModalSummary, TransientSolution};
+use crate::analysis::transient::{ModalCapture, ModalSummary, TransientSolution};
 use crate::analysis::{CaseResult, CaseSolution, ModalSolution, StaticSolution};
 use crate::dof::dof_name;
 use crate::error::Error;
@@ -307,18 +307,10 @@ pub struct ModalTermEntry {
 pub struct ModalSummaryEntry {
     /// The retained modes.
     pub modes: Vec<ModalTermEntry>,
-    /// Largest `|c_ij| / sqrt(c_ii c_jj)` of `Phi^T C Phi`, `i != j`.
-    pub max_damping_coupling: f64,
-    /// The two modes of that coupling (1-based).
-    pub coupling_pair: Option<(usize, usize)>,
-    /// Largest `|zeta_coupled / zeta - 1|`.
-    pub max_zeta_shift: Option<f64>,
-    /// Fraction of the initial strain energy in the retained modes.
-    pub initial_displacement_captured: Option<f64>,
-    /// Fraction of the initial kinetic energy in the retained modes.
-    pub initial_velocity_captured: Option<f64>,
-    /// Smallest fraction of a load pattern's static compliance in the retained modes.
-    pub load_captured: Option<f64>,
+    /// The damping coupling neglected and the fractions captured (flattened: the same
+    /// keys as before in results.json).
+    #[serde(flatten)]
+    pub capture: ModalCapture,
 }
 
 /// A transient load case.
@@ -613,12 +605,7 @@ fn modal_summary_entry(m: &ModalSummary) -> ModalSummaryEntry {
                 axial_effective_mass_kg: units::mass_to_si(t.axial_effective_mass),
             })
             .collect(),
-        max_damping_coupling: m.max_damping_coupling,
-        coupling_pair: m.coupling_pair,
-        max_zeta_shift: m.max_zeta_shift,
-        initial_displacement_captured: m.initial_displacement_captured,
-        initial_velocity_captured: m.initial_velocity_captured,
-        load_captured: m.load_captured,
+        capture: m.capture.clone(),
     }
 }
 

@@ -212,10 +212,13 @@ fn modal_superposition_agrees_with_direct_integration() {
         rel(report.zeta_mean, direct.zeta_mean),
         report.period_s,
         rel(report.period_s, direct.period_s),
-        summary.max_damping_coupling,
-        summary.coupling_pair,
-        summary.max_zeta_shift.unwrap_or(f64::NAN),
-        summary.initial_velocity_captured.unwrap_or(f64::NAN),
+        summary.capture.max_damping_coupling,
+        summary.capture.coupling_pair,
+        summary.capture.max_zeta_shift.unwrap_or(f64::NAN),
+        summary
+            .capture
+            .initial_velocity_captured
+            .unwrap_or(f64::NAN),
     );
     // The bound: 0.1 % in zeta and T.
     assert!(rel(report.zeta_mean, direct.zeta_mean).abs() < 1e-3);
@@ -223,10 +226,10 @@ fn modal_superposition_agrees_with_direct_integration() {
     // What the superposition leaves out is small and reported: the quasi-static field puts
     // its kinetic energy into the low modes, and the neglected coupling moves no retained
     // mode's damping ratio by more than 1e-6 of itself.
-    assert!(summary.initial_velocity_captured.expect("velocity") > 0.9999);
-    assert!(summary.max_zeta_shift.expect("shift") < 1e-6);
+    assert!(summary.capture.initial_velocity_captured.expect("velocity") > 0.9999);
+    assert!(summary.capture.max_zeta_shift.expect("shift") < 1e-6);
     assert!(
-        summary.max_damping_coupling > 0.0,
+        summary.capture.max_damping_coupling > 0.0,
         "alpha on the wire only is not classical"
     );
     assert_eq!(summary.modes.len(), 20);

@@ -140,14 +140,16 @@ fn summary(model: &Model, cases: &[CaseResult]) -> String {
                     out.push_str(&format!(
                         "  damping coupling neglected: {:.2e}{}, largest zeta shift {}; \
                          captured: initial displacement {}, velocity {}, loads {}\n",
-                        m.max_damping_coupling,
-                        m.coupling_pair
+                        m.capture.max_damping_coupling,
+                        m.capture
+                            .coupling_pair
                             .map_or(String::new(), |(i, j)| format!(" (modes {i}, {j})")),
-                        m.max_zeta_shift
+                        m.capture
+                            .max_zeta_shift
                             .map_or_else(|| "-".to_string(), |x| format!("{x:.2e}")),
-                        percent(m.initial_displacement_captured),
-                        percent(m.initial_velocity_captured),
-                        percent(m.load_captured),
+                        percent(m.capture.initial_displacement_captured),
+                        percent(m.capture.initial_velocity_captured),
+                        percent(m.capture.load_captured),
                     ));
                 }
                 for w in &t.warnings {

@@ -107,7 +107,7 @@ mod tests;
 
 pub use initial::VelocityField;
 pub use recording::{column_name, History, HistoryColumn, MAX_HISTORY_VALUES};
-pub use superposition::{ModalSummary, ModalTerm};
+pub use superposition::{ModalCapture, ModalSummary, ModalTerm};
 
 use direct::{run_direct, DirectCache};
 use initial::initial_velocity;

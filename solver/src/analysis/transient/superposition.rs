@@ -35,6 +35,15 @@ pub struct ModalTerm {
 pub struct ModalSummary {
     /// The retained modes, in the order integrated.
     pub modes: Vec<ModalTerm>,
+    /// The damping coupling neglected and the fractions captured.
+    pub capture: ModalCapture,
+}
+
+/// The damping coupling a decoupled modal integration neglects and the fractions of the
+/// initial state and the loads its retained modes carry (dimensionless; written as they
+/// are into results.json, flattened into the transient's `modal` entry).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ModalCapture {
     /// `max |c_ij| / sqrt(c_ii c_jj)` over `i != j` of `c = Phi^T C Phi`: the largest
     /// normalised damping coupling that the decoupled integration neglects (0 for
     /// classical damping).
@@ -169,12 +178,14 @@ pub(super) fn run_modal(
         .collect();
     Ok(ModalSummary {
         modes,
-        max_damping_coupling: coupling.max,
-        coupling_pair: coupling.pair,
-        max_zeta_shift: coupling.max_zeta_shift,
-        initial_displacement_captured,
-        initial_velocity_captured,
-        load_captured,
+        capture: ModalCapture {
+            max_damping_coupling: coupling.max,
+            coupling_pair: coupling.pair,
+            max_zeta_shift: coupling.max_zeta_shift,
+            initial_displacement_captured,
+            initial_velocity_captured,
+            load_captured,
+        },
     })
 }
 

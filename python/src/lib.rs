@@ -7,6 +7,7 @@
 //! Errors are `coil.CoilError` carrying the library's message unchanged (file, line,
 //! field and what was expected). Long runs release the GIL, so Dask's threads and the
 //! library's own thread pool run beside the interpreter.
+#![warn(missing_docs)]
 
 use coil_tuner::cli::{self, MaterialArgs, ModelArgs, ToleranceArgs};
 use coil_tuner::output::OutDir;

@@ -185,18 +185,14 @@ pub struct ReducedOperators {
     pub k: DMatrix<f64>,
 }
 
-/// Reduces `model` to the `boundary` DOFs plus `n_modes` fixed-interface modes
-/// (Craig-Bampton; `n_modes = 0` is Guyan's static condensation).
-pub fn craig_bampton(
+/// The free equation of each boundary DOF, in the caller's order; an unknown node, a
+/// DOF out of range, a prescribed or tied DOF, or a repeat is an error naming its
+/// position in `boundary`.
+fn boundary_equations(
     model: &Model,
+    system: &System,
     boundary: &[(NodeId, u8)],
-    n_modes: usize,
-) -> Result<Reduction, ReduceError> {
-    if boundary.is_empty() {
-        return Err(ReduceError::NoBoundary);
-    }
-    let system = System::new(model).map_err(solve_err("assembling the model"))?;
-    let n = system.dim();
+) -> Result<Vec<usize>, ReduceError> {
     let mut boundary_eq = Vec::with_capacity(boundary.len());
     for (index, &(node, dof)) in boundary.iter().enumerate() {
         if model.node_index(node).is_none() {
@@ -230,6 +226,22 @@ pub fn craig_bampton(
         }
         boundary_eq.push(eq);
     }
+    Ok(boundary_eq)
+}
+
+/// Reduces `model` to the `boundary` DOFs plus `n_modes` fixed-interface modes
+/// (Craig-Bampton; `n_modes = 0` is Guyan's static condensation).
+pub fn craig_bampton(
+    model: &Model,
+    boundary: &[(NodeId, u8)],
+    n_modes: usize,
+) -> Result<Reduction, ReduceError> {
+    if boundary.is_empty() {
+        return Err(ReduceError::NoBoundary);
+    }
+    let system = System::new(model).map_err(solve_err("assembling the model"))?;
+    let n = system.dim();
+    let boundary_eq = boundary_equations(model, &system, boundary)?;
     let nb = boundary.len();
     let n_interior = n - nb;
     if n_modes > n_interior {

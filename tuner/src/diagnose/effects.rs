@@ -112,6 +112,11 @@ pub trait Effect: Sync {
     fn mount(&self) -> Mount {
         Mount::Guided
     }
+    /// True when it dissipates energy beside the linear damping (its fit then also
+    /// starts with only the viscous part of the damping in beta).
+    fn dissipative(&self) -> bool {
+        false
+    }
     /// Its force in the static record at compression `x_m` (N), when it shows there:
     /// the static record is then fitted with the decay.
     fn static_force(&self, _value: f64, _x_m: f64) -> Option<f64> {
@@ -143,6 +148,9 @@ fn starts(value: f64, fallback: f64) -> Vec<f64> {
 /// `coulomb_friction`: a dry friction force of constant magnitude `friction_force_n` (N).
 pub struct CoulombFriction;
 impl Effect for CoulombFriction {
+    fn dissipative(&self) -> bool {
+        true
+    }
     fn name(&self) -> &'static str {
         "coulomb_friction"
     }
@@ -221,6 +229,9 @@ impl Effect for CoulombFriction {
 /// `quadratic_damping`: a drag `c2 v |v|` on the weight, `quadratic_damping_n_s2_m2` (N s^2/m^2).
 pub struct QuadraticDamping;
 impl Effect for QuadraticDamping {
+    fn dissipative(&self) -> bool {
+        true
+    }
     fn name(&self) -> &'static str {
         "quadratic_damping"
     }

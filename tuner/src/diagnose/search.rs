@@ -118,7 +118,8 @@ impl Job<'_> {
         seed
     }
 
-    /// The seeds, and each again with only the viscous part of the damping in beta:
+    /// The seeds of a set holding a dissipative effect, and each again with only the
+    /// viscous part of the damping in beta:
     /// the reference's beta holds every loss, so an added dissipative effect starts
     /// with its loss counted twice, and a fit from there may walk the effect to zero
     /// rather than hand it beta's share. The viscous part is the loss per cycle's
@@ -252,7 +253,11 @@ impl Job<'_> {
             }
         }
         let proposed = self.with_consistent_mass(proposed);
-        let seeds = self.with_viscous_seed(vec![seed, proposed]);
+        let seeds = if set.iter().any(|&i| CATALOGUE[i].dissipative()) {
+            self.with_viscous_seed(vec![seed, proposed])
+        } else {
+            vec![seed, proposed]
+        };
         self.candidate(set.to_vec(), evidence.join("; "), &seeds, init)
     }
 
@@ -399,7 +404,11 @@ pub fn candidates(
                     job.with_consistent_mass(p)
                 })
                 .collect();
-            let seeds = job.with_viscous_seed(seeds);
+            let seeds = if CATALOGUE[i].dissipative() {
+                job.with_viscous_seed(seeds)
+            } else {
+                seeds
+            };
             let init = reference.full.initial_state.clone();
             job.candidate(vec![i], proposal.evidence, &seeds, init)
         })

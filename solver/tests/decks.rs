@@ -541,6 +541,10 @@ fn every_field_model() -> Model {
             loss_factor_modes: 12,
             ratios: vec![0.0, 0.02, 0.005],
         },
+        beam_tensions: vec![BeamTension {
+            force: 2.0e4,
+            elements: vec![1, 2],
+        }],
     }
     .build()
     .expect("every field is valid")

@@ -224,6 +224,8 @@ pub(crate) struct RawDeck {
     pub materials: Vec<RawMaterial>,
     pub geometries: Vec<RawGeometry>,
     pub damping: Vec<RawDamping>,
+    /// `BEAM TENSION` groups.
+    pub beam_tensions: Vec<RawBeamTension>,
     pub point_masses: Vec<RawPointMass>,
     pub point_laws: Vec<RawPointLaw>,
     /// `LOSS FACTOR`: (eta, modes, where).
@@ -256,6 +258,14 @@ pub(crate) struct RawDeck {
     /// Where `END` and `END OPTION` were.
     pub end: Option<Loc>,
     pub end_option: Option<Loc>,
+}
+
+/// A `BEAM TENSION` group: an axial force (N) on a list of elements.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawBeamTension {
+    pub force: f64,
+    pub loc: Loc,
+    pub elements: RawList,
 }
 
 /// A `BEAM SECT` section.

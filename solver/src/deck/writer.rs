@@ -203,7 +203,7 @@ impl Writer<'_> {
         self.loads_and_outputs();
     }
 
-    /// Materials, geometries and Rayleigh damping.
+    /// Materials, geometries, Rayleigh damping and beam tensions.
     fn properties(&mut self) {
         let m = self.model;
         let node_sets = node_sets(m);
@@ -275,6 +275,15 @@ impl Writer<'_> {
                     self.comment("nodes whose point masses get alpha");
                     self.list(&d.mass_nodes, &node_sets);
                 }
+            }
+        }
+        if !m.beam_tensions.is_empty() {
+            self.line("BEAM TENSION");
+            for t in &m.beam_tensions {
+                self.comment("axial force (N)");
+                self.line(&nums([t.force]));
+                self.comment("elements");
+                self.list(&t.elements, &element_sets);
             }
         }
     }

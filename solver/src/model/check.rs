@@ -11,7 +11,8 @@
 //!    coefficient of every type-98 element) on existing elements, non-empty lists;
 //! 4. every element has a material and a geometry;
 //! 5. point masses (existing node, one per node, non-negative values), Rayleigh
-//!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass);
+//!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass),
+//!    beam tensions (finite force, existing elements, each element once);
 //! 6. constraints: prescribed DOFs 1..=6 once each, rigid ties (existing reference not
 //!    in its own list, no overlap, no chain, no tied DOF also prescribed), nonlinear
 //!    point elements and dashpots on existing, free DOFs with non-negative values;
@@ -97,6 +98,8 @@ pub enum Site {
     Dashpot(usize),
     /// `modal_damping`.
     ModalDamping,
+    /// `beam_tensions[i]`.
+    BeamTension(usize),
 }
 
 impl fmt::Display for Site {
@@ -130,6 +133,7 @@ impl fmt::Display for Site {
             Site::PointLaw(i) => write!(f, "point element {}", i + 1),
             Site::Dashpot(i) => write!(f, "dashpot {}", i + 1),
             Site::ModalDamping => write!(f, "modal damping"),
+            Site::BeamTension(i) => write!(f, "beam tension {}", i + 1),
         }
     }
 }
@@ -173,6 +177,7 @@ pub(crate) fn check(mut p: ModelParts) -> Result<ModelParts, ModelError> {
     check_geometries(&p, &ids)?;
     check_coverage(&p)?;
     check_masses_and_damping(&p, &ids)?;
+    check_beam_tensions(&p, &ids)?;
     let fixed = check_constraints(&p, &ids)?;
     check_point_elements(&p, &ids, &fixed)?;
     check_loads_and_cases(&p, &ids)?;
@@ -193,6 +198,9 @@ fn normalise(p: &mut ModelParts) {
     }
     for g in &mut p.geometries {
         sort_unique(&mut g.elements);
+    }
+    for t in &mut p.beam_tensions {
+        sort_unique(&mut t.elements);
     }
     for d in &mut p.damping {
         sort_unique(&mut d.elements);
@@ -559,6 +567,31 @@ fn check_masses_and_damping(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 Site::DampingMassNodes(i),
                 format!("node {n} has no POINT MASS to damp"),
                 "nodes that carry a POINT MASS",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Beam tensions: a finite force on existing elements, each element in one entry.
+fn check_beam_tensions(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
+    let mut seen = HashSet::new();
+    for (i, t) in p.beam_tensions.iter().enumerate() {
+        let site = Site::BeamTension(i);
+        if !t.force.is_finite() {
+            return fail(
+                site,
+                format!("axial force {:?}", t.force),
+                "a finite force (N)",
+            );
+        }
+        non_empty(&t.elements, site, "elements")?;
+        ids.elements_exist(&t.elements, site)?;
+        if let Some(e) = t.elements.iter().find(|e| !seen.insert(**e)) {
+            return fail(
+                site,
+                format!("element {e} already has a tension"),
+                "each element in one BEAM TENSION entry",
             );
         }
     }

@@ -447,6 +447,9 @@ pub struct Model {
     /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub(crate) modal_damping: ModalDamping,
+    /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
+    #[serde(default)]
+    pub(crate) beam_tensions: Vec<BeamTension>,
 }
 
 /// The pieces of a [`Model`] before validation: every field public, so a caller (the
@@ -499,6 +502,22 @@ pub struct ModelParts {
     /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub modal_damping: ModalDamping,
+    /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
+    #[serde(default)]
+    pub beam_tensions: Vec<BeamTension>,
+}
+
+/// A given axial force in beam elements (coil card `BEAM TENSION`): a wire under a
+/// tension `N` that the model does not compute itself (a catenary's contact or messenger
+/// wire, tensioned by weights at its ends). It enters every analysis as the elements'
+/// geometric stiffness (`crate::element::beam::local_geometric_stiffness`), linear in the
+/// displacements from the straight reference line.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BeamTension {
+    /// Axial force N (N), positive in tension; finite.
+    pub force: f64,
+    /// Element ids (sorted, unique).
+    pub elements: Vec<ElementId>,
 }
 
 /// A linear (viscous) dashpot between one DOF of a node and the ground (coil card
@@ -623,6 +642,7 @@ impl Model {
             point_laws: p.point_laws,
             dashpots: p.dashpots,
             modal_damping: p.modal_damping,
+            beam_tensions: p.beam_tensions,
         })
     }
 
@@ -659,6 +679,7 @@ impl Model {
             point_laws: self.point_laws,
             dashpots: self.dashpots,
             modal_damping: self.modal_damping,
+            beam_tensions: self.beam_tensions,
         }
     }
 
@@ -810,6 +831,19 @@ impl Model {
             .iter()
             .rev()
             .find(|m| m.elements.binary_search(&id).is_ok())
+    }
+
+    /// Tensioned beams (`BEAM TENSION`).
+    pub fn beam_tensions(&self) -> &[BeamTension] {
+        &self.beam_tensions
+    }
+
+    /// The given axial force of an element (`BEAM TENSION`; N), zero when none is given.
+    pub fn tension_of(&self, id: ElementId) -> f64 {
+        self.beam_tensions
+            .iter()
+            .find(|t| t.elements.binary_search(&id).is_ok())
+            .map_or(0.0, |t| t.force)
     }
 
     /// The geometry of an element, if one is assigned.

@@ -109,6 +109,8 @@ pub fn paper_spring_parts(
         dashpots: Vec::new(),
         modal_damping: Default::default(),
         beam_tensions: Vec::new(),
+        tension_links: Vec::new(),
+        moving_contacts: Vec::new(),
     }
 }
 

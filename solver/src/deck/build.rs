@@ -116,6 +116,11 @@ fn locate(b: &Builder<'_>, raw: &RawDeck, keys: &PointKeys, e: ModelError) -> De
             ("DAMPING", list)
         }),
         Site::BeamTension(i) => raw.beam_tensions.get(i).map(|t| ("BEAM TENSION", t.loc)),
+        Site::TensionLink(i) => raw.tension_links.get(i).map(|t| ("TENSION LINK", t.1)),
+        Site::MovingContact(i) => raw
+            .moving_contacts
+            .get(i)
+            .map(|c| ("MOVING CONTACT", c.loc)),
         Site::PointMass(i) => raw.point_masses.get(i).map(|p| ("POINT MASS", p.node_loc)),
         Site::RigidTie(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.loc)),
         Site::RigidTieReference(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.reference_loc)),

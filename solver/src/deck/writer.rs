@@ -203,7 +203,7 @@ impl Writer<'_> {
         self.loads_and_outputs();
     }
 
-    /// Materials, geometries, Rayleigh damping and beam tensions.
+    /// Materials, geometries, Rayleigh damping, beam tensions, links and contacts.
     fn properties(&mut self) {
         let m = self.model;
         let node_sets = node_sets(m);
@@ -284,6 +284,33 @@ impl Writer<'_> {
                 self.line(&nums([t.force]));
                 self.comment("elements");
                 self.list(&t.elements, &element_sets);
+            }
+        }
+        if !m.tension_links.is_empty() {
+            self.line("TENSION LINK");
+            self.comment("node a, node b, dof, stiffness (N/mm), slack (mm)");
+            for l in &m.tension_links {
+                self.line(&format!(
+                    "{}, {}, {}, {}",
+                    l.nodes[0],
+                    l.nodes[1],
+                    l.dof,
+                    nums([l.stiffness, l.slack])
+                ));
+            }
+        }
+        if !m.moving_contacts.is_empty() {
+            self.line("MOVING CONTACT");
+            for c in &m.moving_contacts {
+                self.comment("head, dof, stiffness (N/mm), speed (mm/s), start (mm)");
+                self.line(&format!(
+                    "{}, {}, {}",
+                    c.head,
+                    c.dof,
+                    nums([c.stiffness, c.speed, c.start])
+                ));
+                self.comment("the line's nodes");
+                self.list(&c.line, &node_sets);
             }
         }
     }

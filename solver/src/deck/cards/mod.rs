@@ -39,6 +39,8 @@ pub static KEYWORDS: &[Keyword] = &[
     properties::GEOMETRY,
     masses::DAMPING,
     catenary::BEAM_TENSION,
+    catenary::TENSION_LINK,
+    catenary::MOVING_CONTACT,
     masses::POINT_MASS,
     point_laws::FRICTION,
     point_laws::QUADRATIC_DAMPER,

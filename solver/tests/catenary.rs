@@ -283,3 +283,47 @@ fn a_force_moving_on_a_taut_string_deflects_it_by_the_closed_form() {
         "{mean} against {lambda}"
     );
 }
+
+/// A tension link pulls only: node 2 on a bar of k_b = 10 N/mm to the fixed node 1
+/// below it, and a link of k = 100 N/mm to the fixed node 3 above it. Pulled away from
+/// node 3 the two springs act in parallel (u = F / (k_b + k)); pushed towards it the link
+/// goes slack (u = F / k_b); a pretensioned link holds until the push exceeds it.
+#[test]
+fn a_tension_link_pulls_and_goes_slack() {
+    let deck = |slack: f64, force: f64| {
+        format!(
+            "TITLE, link\nELEMENTS, 52\nEND\nCOORDINATES\n3, 3\n1, 0, 0, -1000\n2, 0, 0, 0\n\
+             3, 0, 0, 500\nCONNECTIVITY\n1\n1, 52, 1, 2\nISOTROPIC\n1\n1, bar\n1000.0, 0.3, 0\n1\n\
+             GEOMETRY\n1\n1, bar\n10, 1, 1, 1\n1, 0, 0\n1\n\
+             TENSION LINK\n2, 3, 3, 100.0, {slack}\n\
+             FIXED DISP\n0, 0, 0, 0, 0, 0\n1, 2, 3, 4, 5, 6\n1, 3\n0, 0, 0, 0, 0\n1, 2, 4, 5, 6\n2\n\
+             POINT LOAD\n0, 0, {force}\n2\n\
+             END OPTION\nAUTO LOAD\n1\nTIME STEP\n1.0\nCONTINUE\n"
+        )
+    };
+    let u = |slack: f64, force: f64| {
+        let model = read_str(&deck(slack, force), "link.dat").unwrap();
+        let results = run(&model).unwrap();
+        let CaseSolution::Static(sol) = &results[0].solution else {
+            panic!("not static");
+        };
+        assert!(
+            sol.relative_residual < 1e-12,
+            "{} {:?}",
+            sol.relative_residual,
+            sol.node_displacement(&model, 2)
+        );
+        sol.node_displacement(&model, 2).unwrap()[2]
+    };
+    // The link from node 2 (a) to node 3 (b, above it along +z): e = u_3 - u_2 - slack,
+    // stretched when node 2 moves down.
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12 * b.abs().max(1.0);
+    assert!(close(u(0.0, -55.0), -55.0 / 110.0));
+    assert!(close(u(0.0, 55.0), 55.0 / 10.0));
+    // Pretensioned (slack -1 mm, 100 N at the reference): it lifts node 2 by 100 / 110;
+    // a pull of 200 N down keeps it taut; a push of 200 N up slackens it (the taut
+    // guess 300 / 110 would shorten it by 1.7 mm).
+    assert!(close(u(-1.0, 0.0), 100.0 / 110.0));
+    assert!(close(u(-1.0, -200.0), -100.0 / 110.0));
+    assert!(close(u(-1.0, 200.0), 200.0 / 10.0));
+}

@@ -4,27 +4,29 @@
 //! # Formulation
 //! Each element `i` has a gap `g_i(u) = g0_i + b_i^T u` (mm; `b_i` a few free rows) and
 //! exerts `lambda_i = k_i max(g_i, 0)` (N), entering the balance as the internal force
-//! `+ b_i lambda_i` (`K u + B lambda = f`).
+//! `s_i b_i lambda_i` (`K u + B S lambda = f`, `s_i = +-1`).
 //! * A taut link is linear and sits in `K` (its pretension `-k slack` is a constant load,
 //!   see [`crate::analysis::System`]); what this module adds for it is the correction of
-//!   a slack one: `b = -(e_b - e_a)`, `g0 = slack`, so `lambda = k max(-e, 0)` cancels the
-//!   linear spring's compression `k e` exactly when `e < 0`.
+//!   a slack one: `b = -(e_b - e_a)`, `g0 = slack`, `s = -1`, so `lambda = k max(-e, 0)`
+//!   and the internal force `lambda (e_b - e_a)` cancels the linear spring's compression
+//!   `k e (e_b - e_a)` exactly when `e < 0`.
 //! * A contact's gap is the penetration `p = (x_h + u_h) - (x_l + w_l)(s)`: `b` has `+1`
 //!   at the head and minus the cubic Hermite weights of the line's translation and
 //!   rotation at the point `s` (which moves), `g0 = x_h - x_l` along the DOF.
 //!
 //! # Solve (static and per step)
 //! With a factor `S` of the linear problem (K for a static case, the stepper's effective
-//! matrix for a step), the response to the element loads is `u = u* - W lambda`,
-//! `W = S^-1 B` scaled to displacements, so the gaps are `g = g* - G lambda` with
-//! `G = B^T W` (symmetric positive semi-definite). The forces solve the linear
-//! complementarity problem `lambda = k max(g* - G lambda, 0)`, found by an active set:
-//! guess the closed elements (last step's, or those with `g* > 0`), solve
-//! `(diag(1/k) + G_AA) lambda_A = g*_A`, drop an element whose force is negative, add one
-//! whose gap is open-but-penetrated, repeat (at most [`MAX_ACTIVE_SET`] times). With
-//! `G` positive semi-definite and `1/k > 0` the system matrix is positive definite, so
-//! each solve is unique; the iteration ends in a few passes since the set changes little
-//! from step to step.
+//! matrix for a step), the response to the element loads is `u = u* - W S lambda`,
+//! `W = A^-1 B` scaled to displacements (`A` the factored matrix), so the gaps are
+//! `g = g* - G S lambda` with `G = B^T W`. The forces solve the linear complementarity
+//! problem `lambda = k max(g* - G S lambda, 0)`, found by an active set: guess the closed
+//! elements (last step's, or those with `g* > 0`), solve
+//! `(diag(1/k) + G_AA S_AA) lambda_A = g*_A` (LU), drop an element whose force is
+//! negative, add one whose gap is open-but-penetrated, repeat (at most
+//! [`MAX_ACTIVE_SET`] times). For contacts alone the matrix is symmetric positive
+//! definite; a slack link's `1/k - G_ii` is positive because `A` holds the link's own
+//! stiffness `k` (`G_ii <= 1/k`). The set changes little from step to step, so a
+//! solve takes one or two passes.
 //!
 //! Sources: P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
 //! sec. 6.3 (penalty method) and 6.4 (active sets); the Hermite shape functions of the
@@ -48,6 +50,9 @@ pub struct Gap {
     pub g0: f64,
     /// Penalty or link stiffness (N/mm).
     pub k: f64,
+    /// The direction of its internal force `sign lambda b`: `+1` for a contact, `-1`
+    /// for a link's slack correction (which removes the taut link's stiffness).
+    pub sign: f64,
 }
 
 impl Gap {
@@ -207,6 +212,7 @@ impl ContactLine {
             full: Vec::with_capacity(5),
             g0: self.head.1 - line_x,
             k: self.contact.stiffness,
+            sign: 1.0,
         };
         self.head.0.push_into(1.0, &mut gap);
         for (rows, wgt) in [(&a.2, n1), (&a.3, n2), (&b.2, n3), (&b.3, n4)] {
@@ -225,6 +231,7 @@ pub fn link_gaps(system: &System) -> Result<Vec<Gap>, SolveError> {
             full: Vec::new(),
             g0: l.slack,
             k: l.stiffness,
+            sign: -1.0,
         };
         rows(system, l.nodes[1], l.dof, "TENSION LINK")?.push_into(-1.0, &mut gap);
         rows(system, l.nodes[0], l.dof, "TENSION LINK")?.push_into(1.0, &mut gap);
@@ -233,9 +240,10 @@ pub fn link_gaps(system: &System) -> Result<Vec<Gap>, SolveError> {
     Ok(out)
 }
 
-/// Solves `lambda = k max(g* - G lambda, 0)` (module docs) for the elements `gstar`,
-/// `g(i, j)` the entries of `G`, starting from the closed set `active`, which holds the
-/// final one on return. Returns the forces, or `None` when the active set cycles.
+/// Solves `lambda = k max(g* - G S lambda, 0)` (module docs) for the elements `gstar`,
+/// `g(i, j)` the entries of `G S` (column `j` carrying its element's sign), starting
+/// from the closed set `active`, which holds the final one on return. Returns the
+/// forces, or `None` when the active set cycles or its matrix is singular.
 pub fn solve_forces(
     gstar: &[f64],
     k: &[f64],
@@ -257,7 +265,7 @@ pub fn solve_forces(
                 g(i, j) + if p == q { 1.0 / k[i] } else { 0.0 }
             });
             let rhs = nalgebra::DVector::from_fn(m, |p, _| gstar[active[p]]);
-            let x = a.cholesky()?.solve(&rhs);
+            let x = a.lu().solve(&rhs)?;
             for (p, &i) in active.iter().enumerate() {
                 lambda[i] = x[p];
             }
@@ -324,17 +332,17 @@ pub fn correct_static(
     let gstar: Vec<f64> = gaps.iter().map(|gap| gap.gap(q)).collect();
     let k: Vec<f64> = gaps.iter().map(|gap| gap.k).collect();
     let mut active = Vec::new();
-    let lambda = solve_forces(&gstar, &k, |i, j| gaps[i].dot(&columns[j]), &mut active)
-        .ok_or_else(|| SolveError::BadInput {
-            what: format!(
-                "load case '{title}': the tension links and contacts found no consistent \
+    let g = |i: usize, j: usize| gaps[i].dot(&columns[j]) * gaps[j].sign;
+    let lambda = solve_forces(&gstar, &k, g, &mut active).ok_or_else(|| SolveError::BadInput {
+        what: format!(
+            "load case '{title}': the tension links and contacts found no consistent \
                  set of closed elements in {MAX_ACTIVE_SET} passes"
-            ),
-        })?;
-    for (l, w) in lambda.iter().zip(&columns) {
+        ),
+    })?;
+    for ((l, w), gap) in lambda.iter().zip(&columns).zip(&gaps) {
         if *l != 0.0 {
             for (x, wi) in q.iter_mut().zip(w) {
-                *x -= l * wi;
+                *x -= gap.sign * l * wi;
             }
         }
     }

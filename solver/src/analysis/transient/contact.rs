@@ -3,8 +3,8 @@
 //! unilateral elements' end-of-step forces are found exactly and their response removed
 //! (`crate::analysis::unilateral`, "Solve"). A step is affine in its end load, so the
 //! response to an element's `b` as end load from rest, `(u_j, v_j, a_j)`, turns the
-//! forces `lambda` into the state change `-sum_j lambda_j (u_j, v_j, a_j)`, and the
-//! end-of-step gaps are `g* - G lambda`, `G_ij = b_i^T u_j`. The links' responses are
+//! forces `lambda` into the state change `-sum_j s_j lambda_j (u_j, v_j, a_j)`, and the
+//! end-of-step gaps are `g* - G S lambda`, `G_ij = b_i^T u_j`. The links' responses are
 //! computed once per stepper; the contact's `b` moves with its point, so its response
 //! is one more solve per step.
 
@@ -78,7 +78,7 @@ impl UnilateralTerm {
     pub(super) fn add_initial_force(&mut self, t: f64, u: &[f64], f: &mut [f64]) {
         for gap in &self.links {
             let l = gap.k * gap.gap(u).max(0.0);
-            gap.add_to(-l, f);
+            gap.add_to(-gap.sign * l, f);
         }
         for (c, force) in self.contacts.iter().zip(&mut self.contact_force) {
             *force = 0.0;
@@ -145,8 +145,9 @@ impl UnilateralTerm {
                  consistent set of closed elements"
                 ),
             })?;
-        for (l, r) in lambda.iter().zip(&responses) {
-            if *l != 0.0 {
+        for ((&l, r), gap) in lambda.iter().zip(&responses).zip(&gaps) {
+            let l = l * gap.sign;
+            if l != 0.0 {
                 for (x, c) in state.u.iter_mut().zip(&r.u) {
                     *x -= l * c;
                 }

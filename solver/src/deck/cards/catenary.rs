@@ -63,8 +63,10 @@ pub(crate) const TENSION_LINK: Keyword = Keyword {
         ("TENSION LINK", ""),
         (
             "node a, node b, dof, k, slack",
-            "one line per link: dof 1..3, k > 0 (N/mm), slack (mm; negative: the link \
-             is pretensioned by -k slack in the reference configuration)",
+            "one line per link: node b lies on the +dof side of node a (a dropper: a on \
+             the contact wire, b on the messenger); dof 1..3, k > 0 (N/mm), slack (mm; \
+             negative: the link is pretensioned by -k slack in the reference \
+             configuration)",
         ),
     ],
     notes: "Lines repeat until the next card. The taut link's stiffness k is part of K \

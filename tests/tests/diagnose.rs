@@ -23,7 +23,7 @@
 
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use std::sync::Mutex;
 use std::time::Instant;
 

@@ -11,7 +11,7 @@
 //! otherwise `law` must be null and `identifiable` false, never a guess.
 //!
 //! CI runs a representative subset; `--ignored` runs the full matrix
-//! (`cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture`).
+//! (`cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture`).
 
 use coil_tests::truth_damping::{DampingTruth, TruthLaw};
 use coil_ident::law::{identify, DampingSettings, Law};
@@ -195,7 +195,7 @@ fn representative_cases_are_decided_or_refused() {
 }
 
 #[test]
-#[ignore = "full matrix: cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture"]
+#[ignore = "full matrix: cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture"]
 fn every_generated_case() {
     let m = 5.24;
     let mut seed = 100;

@@ -8,7 +8,7 @@
 //! cannot be read by CI).
 
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use std::path::Path;
 
 fn cause(folder: &Path) -> (String, Vec<String>) {

@@ -651,6 +651,8 @@ impl SpringSpec {
             dashpots: vec![],
             modal_damping: Default::default(),
             beam_tensions: Vec::new(),
+            tension_links: Vec::new(),
+            moving_contacts: Vec::new(),
         };
         // The spec was validated above, so this fails only on a mesher bug; it still
         // goes through the model's checks like every other model.

@@ -289,6 +289,21 @@ pub enum Command {
         #[arg(long, default_value_t = 0.03)]
         scatter: f64,
     },
+    /// The EN 13906-1 sheet of a compression spring (SPRING.json, docs/spring-design.md)
+    /// beside coil's FE values on the same spring: rate, surge mode, peak wire shear.
+    Check {
+        /// The spring (e.g. cases/spring-design/160ect_spring.json).
+        spring: PathBuf,
+        /// Print the sheet as JSON (snake_case keys with units) instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Also write DIR/sheet.json and DIR/sheet.md (one output set).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Beams per coil of the FE helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         /// The procedure file.
@@ -429,7 +444,44 @@ pub fn run(cli: Cli) -> Result<()> {
             dry_run,
             max_points,
         } => procedure_command(procedure, out, dry_run, max_points),
+        Command::Check {
+            spring,
+            json,
+            out,
+            elements_per_coil,
+        } => check_command(&spring, json, out, elements_per_coil),
     }
+}
+
+/// `coil-tune check`: the EN 13906-1 sheet beside coil's FE values.
+fn check_command(
+    spring: &std::path::Path,
+    json: bool,
+    out: Option<PathBuf>,
+    elements_per_coil: u32,
+) -> Result<()> {
+    let out = out.map(OutDir::create).transpose()?;
+    let input = crate::sheet::input::read_spring(spring)?;
+    let settings = crate::fe::FeSettings {
+        elements_per_coil,
+        ..Default::default()
+    };
+    let report = crate::sheet::check(&input, &settings)?;
+    let json_text = report.json()?;
+    if let Some(out) = &out {
+        out.write("sheet.json", json_text.as_bytes())?;
+        out.write("sheet.md", report.markdown(spring).as_bytes())?;
+        out.commit()?;
+    }
+    if json {
+        say!("{json_text}")?;
+    } else {
+        text(&report.table())?;
+        if let Some(out) = &out {
+            say!("sheet in {}", out.path("sheet.md").display())?;
+        }
+    }
+    Ok(())
 }
 
 /// `coil-tune sweep`: Table 4's variants with the validated material (or one shard of them).

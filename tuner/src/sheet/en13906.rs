@@ -126,6 +126,9 @@ pub struct Spring {
     pub loading: Loading,
     /// The correction factor used for the corrected stresses.
     pub stress_correction: StressCorrection,
+    /// A measured rate to print beside the sheet and the FE value (N/mm), if any.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub measured_rate_n_mm: Option<f64>,
 }
 
 /// One pass/fail check of the sheet.
@@ -495,6 +498,7 @@ mod tests {
             working: Working::Forces(280.0, 620.0),
             loading: Loading::Dynamic,
             stress_correction: StressCorrection::Bergstraesser,
+            measured_rate_n_mm: None,
         }
     }
 

@@ -8,7 +8,8 @@
 //! [`super::grades`]), `seating_coefficient`, `force_1_n` and `force_2_n` or
 //! `length_1_mm` and `length_2_mm`, `loading` (`static`, `dynamic`), optional
 //! `stress_correction` (`bergstraesser`, the default, or `wahl`) and optional
-//! `wire_tolerance_mm` (the upper deviation of d, 0 when absent: `dmax = d`).
+//! `wire_tolerance_mm` (the upper deviation of d, 0 when absent: `dmax = d`) and
+//! `measured_rate_n_mm` (a measured rate printed beside the sheet and the FE value).
 
 use super::en13906::{Coiling, EndType, Loading, Spring, StressCorrection, Working};
 use crate::case::{read_json, CaseError};
@@ -175,6 +176,11 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
             "stress_correction",
             &CORRECTIONS,
             Some(StressCorrection::Bergstraesser),
+        )?,
+        measured_rate_n_mm: o.opt_number(
+            "measured_rate_n_mm",
+            Range::Positive,
+            "a measured rate to print beside the sheet (N/mm)",
         )?,
     })
 }

@@ -42,6 +42,33 @@ pub fn check(spring: &Spring, settings: &FeSettings) -> Result<CheckReport> {
 }
 
 impl CheckReport {
+    /// The report as pretty JSON (the `--json` keys).
+    pub fn json(&self) -> Result<String> {
+        serde_json::to_string_pretty(self)
+            .map_err(|e| crate::TuneError::Invalid(format!("sheet.json: {e}")))
+    }
+
+    /// `sheet.md`: the table, every check and where the formulas are documented.
+    pub fn markdown(&self, file: &std::path::Path) -> String {
+        use std::fmt::Write as _;
+        let mut s = format!(
+            "# EN 13906-1 sheet: {}\n\nFormulas: docs/spring-design.md. FE: coil's beam model on the same \
+             spring (active coils at the free pitch, G through nu = E/(2G) - 1).\n\n```\n{}```\n\n## Checks\n\n",
+            file.display(),
+            self.table()
+        );
+        for c in &self.sheet.checks {
+            let _ = writeln!(
+                s,
+                "- {} {}: {}",
+                if c.passed { "pass" } else { "FAIL" },
+                c.name,
+                c.detail
+            );
+        }
+        s
+    }
+
     /// The sheet as a text table, handbook beside FE where both exist.
     pub fn table(&self) -> String {
         use std::fmt::Write as _;
@@ -183,6 +210,15 @@ impl CheckReport {
         let _ = writeln!(t, "{:<24} {:<28} coil FE", "", "EN 13906-1");
         for (name, handbook, fe) in rows {
             let _ = writeln!(t, "{name:<24} {handbook:<28} {fe}");
+        }
+        if let Some(k) = self.spring.measured_rate_n_mm {
+            let _ = writeln!(
+                t,
+                "{:<24} {k:.4}: sheet {:+.2}%, FE {:+.2}%",
+                "measured R (N/mm)",
+                100.0 * (s.rate_n_mm / k - 1.0),
+                100.0 * (f.rate_n_mm / k - 1.0)
+            );
         }
         for c in s.checks.iter().filter(|c| !c.passed) {
             let _ = writeln!(t, "  {}: {}", c.name, c.detail);

@@ -304,6 +304,27 @@ pub enum Command {
         #[arg(long, default_value_t = 24)]
         elements_per_coil: u32,
     },
+    /// Design to a target (TARGET.json, docs/spring-design.md): search standard wires,
+    /// mean diameters, quarter turns and the pitch through every EN 13906-1 check and
+    /// the envelope, verify the short list by FE, predict each one's zeta per damping
+    /// law; writes DIR/design.json, report.md, design.png and decks/.
+    Design {
+        /// The target (e.g. cases/spring-design/160ect_target.json).
+        target: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/design")]
+        out: PathBuf,
+        /// Rank by this instead of the target's `objective`.
+        #[arg(long, value_enum)]
+        objective: Option<crate::design::target::Objective>,
+        /// Verify this many of the best handbook candidates by FE (default: the
+        /// target's `short_list`, else 8).
+        #[arg(long)]
+        short_list: Option<usize>,
+        /// No figure.
+        #[arg(long)]
+        no_plots: bool,
+    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         /// The procedure file.
@@ -450,6 +471,26 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             elements_per_coil,
         } => check_command(&spring, json, out, elements_per_coil),
+        Command::Design {
+            target,
+            out,
+            objective,
+            short_list,
+            no_plots,
+        } => {
+            let out = OutDir::create(out)?;
+            let target = crate::design::target::read_target(&target)?;
+            let settings = crate::design::DesignSettings {
+                objective,
+                short_list,
+            };
+            let design = crate::design::design(&target, &settings)?;
+            crate::design::output::write(&design, &out, !no_plots)?;
+            out.commit()?;
+            text(&crate::design::output::summary(&design))?;
+            say!("design in {}", out.path("design.json").display())?;
+            Ok(())
+        }
     }
 }
 

@@ -19,6 +19,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
+pub mod design;
 pub mod diagnose;
 pub mod grid;
 pub mod law;

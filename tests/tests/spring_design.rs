@@ -136,6 +136,7 @@ fn designs_hold_the_papers_springs_and_their_decks_rebuild() {
         target.material = MaterialSource::Calibration {
             calibration: file.clone(),
             grade: None,
+            damping: None,
         };
         let result = design(&target, &DesignSettings::default()).unwrap();
         assert!(!result.candidates.is_empty(), "{target_file}: no candidate");
@@ -208,6 +209,7 @@ fn an_off_curve_damping_target_is_reported_not_met() {
     target.material = MaterialSource::Calibration {
         calibration: file,
         grade: None,
+        damping: None,
     };
     target.damping_ratio = Some(0.0035);
     let result = design(&target, &DesignSettings::default()).unwrap();
@@ -223,4 +225,35 @@ fn an_off_curve_damping_target_is_reported_not_met() {
         .find(|l| l.law == "rayleigh_beta_only")
         .unwrap();
     assert!(beta.gap_percent > 90.0, "{}", beta.gap_percent);
+}
+
+/// A damping.json's identified law is predicted beside the band (a loss factor gives
+/// eta / 2 for every spring), and a damping coefficient at the weight is read as
+/// zeta = c / (2 sqrt(K m)).
+#[test]
+fn an_identified_law_and_a_damping_coefficient_are_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, _) = calibration(dir.path());
+    let damping = dir.path().join("damping.json");
+    std::fs::write(
+        &damping,
+        r#"{"law": "hysteretic", "parameters": {"loss_factor": 0.0035}}"#,
+    )
+    .unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(cases().join("spring-design/160ect_target.json")).unwrap(),
+    )
+    .unwrap();
+    json["material"] = serde_json::json!({ "calibration": file, "damping": damping });
+    json.as_object_mut().unwrap().remove("damping_ratio");
+    json["damping_coefficient_n_s_m"] = 5.0.into();
+    let path = dir.path().join("target.json");
+    std::fs::write(&path, json.to_string()).unwrap();
+    let target = read_target(&path).unwrap();
+    let zeta = 5.0 / (2.0 * (3.9275e3 * 5.3f64).sqrt());
+    assert!((target.damping_ratio.unwrap() / zeta - 1.0).abs() < 1e-12);
+    let result = design(&target, &DesignSettings::default()).unwrap();
+    for c in &result.candidates {
+        assert!((c.damping_ratio["identified_hysteretic"] - 0.00175).abs() < 1e-12);
+    }
 }

@@ -4,9 +4,11 @@
 //! `rayleigh` `alpha d / (2 w) + beta w / 2`, `hysteretic` `eta / 2`, `external_viscous`
 //! `c phi_w^2 / (2 w)`, from coil's FE weight mode).
 //!
-//! Laws: the calibration's own Rayleigh pair (`calibrated_rayleigh`), and the four of
+//! Laws: the calibration's own Rayleigh pair (`calibrated_rayleigh`), the four of
 //! `crate::law::BAND_LAWS` (Rayleigh with beta alone, with alpha alone, a loss factor, a
-//! dashpot at the weight), each fitted to the reference zeta alone.
+//! dashpot at the weight), each fitted to the reference zeta alone, and, when a
+//! damping.json of `coil-tune damping` identified one, that law with its fitted
+//! parameters (`identified_<law>`).
 //!
 //! What geometry can buy: at a fixed weight the viscous laws give `zeta ~ sqrt(K)`
 //! (`beta w / 2` with `w^2 = K / m_eff`), the loss factor gives the same zeta whatever
@@ -28,6 +30,8 @@ pub struct LawBand {
     pub parameters: [f64; 4],
     /// FE settings of the modal runs.
     pub fe: FeSettings,
+    /// The law a damping.json identified, with its parameters in the law's order.
+    pub identified: Option<(Law, Vec<f64>)>,
 }
 
 /// zeta per law for the mode coefficients `c`.
@@ -47,12 +51,45 @@ fn zetas(band: &LawBand, c: &Coefficients) -> BTreeMap<String, f64> {
         .map(|(name, z)| (name.to_string(), z))
         .collect();
     out.insert("calibrated_rayleigh".into(), alpha * r[0] + beta * r[1]);
+    if let Some((law, p)) = &band.identified {
+        let z = c.row(*law).iter().zip(p).map(|(a, b)| a * b).sum();
+        out.insert(format!("identified_{}", law.name()), z);
+    }
     out
 }
 
+/// A damping.json's law by name with its parameters in [`Law::parameters`] order.
+fn identified_law(found: &(String, BTreeMap<String, f64>)) -> Result<(Law, Vec<f64>)> {
+    let (name, parameters) = found;
+    let law = crate::law::LAWS
+        .into_iter()
+        .find(|l| l.name() == name)
+        .ok_or_else(|| {
+            crate::TuneError::Invalid(format!(
+                "damping.json: law \"{name}\"; expected rayleigh, hysteretic or external_viscous"
+            ))
+        })?;
+    let values = law
+        .parameters()
+        .iter()
+        .map(|p| {
+            parameters.get(*p).copied().ok_or_else(|| {
+                crate::TuneError::Invalid(format!("damping.json: the {name} law without {p}"))
+            })
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    Ok((law, values))
+}
+
 impl LawBand {
-    /// Calibrates every law to the reference's measured zeta on its own weight mode.
-    pub fn calibrate(reference: &DampingReference, fe: &FeSettings) -> Result<Self> {
+    /// Calibrates every law to the reference's measured zeta on its own weight mode;
+    /// `identified` is a damping.json's law and parameters (spec names), predicted as
+    /// `identified_<law>`.
+    pub fn calibrate(
+        reference: &DampingReference,
+        fe: &FeSettings,
+        identified: Option<&(String, BTreeMap<String, f64>)>,
+    ) -> Result<Self> {
         let c = mode_coefficients(&reference.state, fe, DecayMode::Axial)?;
         let r = c.row(Law::Rayleigh);
         let z = reference.damping_ratio;
@@ -65,6 +102,7 @@ impl LawBand {
                 z / c.row(Law::ExternalViscous)[0],
             ],
             fe: fe.clone(),
+            identified: identified.map(identified_law).transpose()?,
         })
     }
 

@@ -109,7 +109,9 @@ pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
     let band = material
         .damping
         .as_ref()
-        .map(|reference| band::LawBand::calibrate(reference, &material.fe))
+        .map(|reference| {
+            band::LawBand::calibrate(reference, &material.fe, material.identified_law.as_ref())
+        })
         .transpose()?;
     let (candidates, rejected): (Vec<_>, Vec<_>) =
         verify::verify(short, &target, &material, weight_kg, band.as_ref())?

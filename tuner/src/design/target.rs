@@ -7,7 +7,10 @@
 //! `springs_in_parallel` (default 1), `envelope` {`max_outer_diameter_mm`,
 //! `min_inner_diameter_mm`, `max_free_length_mm`, `max_solid_length_mm`}, `material`
 //! {`calibration`: a path} or {`grade`: a name} (both: the calibration's E and density
-//! with the grade's Rm), `objective` (`lightest` or `stress_margin`). Optional, with the
+//! with the grade's Rm; beside a calibration, `damping`: a damping.json of `coil-tune
+//! damping` whose identified law is predicted too), `objective` (`lightest` or
+//! `stress_margin`). `damping_coefficient_n_s_m` (with `weight_kg`) may replace
+//! `damping_ratio`: `zeta = c / (2 sqrt(K m))` on the target rate. Optional, with the
 //! defaults written into `design.json`'s `assumptions`: `end_type` (`closed_ground`),
 //! `coiling` (`cold`), `loading` (`dynamic`), `seating_coefficient` (0.5: both ends
 //! fixed, the top guided, as the paper's test), `surge_band_hz` ([lo, hi]: the surge
@@ -22,6 +25,7 @@ use crate::fields::{root, Range};
 use crate::sheet::en13906::{Coiling, EndType, Loading, Working};
 use crate::sheet::input::{choice, working, COILING, END_TYPES, LOADING};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// What the ranking maximises.
@@ -52,12 +56,15 @@ pub struct Envelope {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MaterialSource {
-    /// A calibration.json (path as resolved), with an optional grade for Rm.
+    /// A calibration.json (path as resolved), with an optional grade for Rm and an
+    /// optional damping.json of `coil-tune damping`.
     Calibration {
         /// The file.
         calibration: PathBuf,
         /// The EN 10270-1 grade for Rm.
         grade: Option<String>,
+        /// A damping.json whose identified law (if any) is predicted beside the band.
+        damping: Option<PathBuf>,
     },
     /// An EN 10270-1 grade with the handbook moduli.
     Grade {
@@ -128,13 +135,17 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
     let material_field = o.require("material", "{\"calibration\": path} or {\"grade\": name}")?;
     let m = material_field.object("the material")?;
     let grade = m.opt_string("grade", "an EN 10270-1 grade name, e.g. \"DH\"")?;
+    let beside = |file: String| path.parent().unwrap_or(Path::new(".")).join(file);
     let material = match (
         m.opt_string("calibration", "a calibration.json path")?,
         grade,
     ) {
         (Some(file), grade) => MaterialSource::Calibration {
-            calibration: path.parent().unwrap_or(Path::new(".")).join(file),
+            calibration: beside(file),
             grade,
+            damping: m
+                .opt_string("damping", "a damping.json path (coil-tune damping)")?
+                .map(beside),
         },
         (None, Some(grade)) => MaterialSource::Grade { grade },
         (None, None) => {
@@ -146,6 +157,25 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
                 .into())
         }
     };
+    let rate = o.number("rate_n_mm", Range::Positive, "the target rate (N/mm)")?;
+    let weight = o.opt_number("weight_kg", Range::Positive, "the suspended mass (kg)")?;
+    let mut zeta = o.opt_number("damping_ratio", Range::Open(0.0, 1.0), "a damping ratio")?;
+    if let Some(c) = o.opt_number(
+        "damping_coefficient_n_s_m",
+        Range::Positive,
+        "a damping coefficient at the weight (N s/m)",
+    )? {
+        // zeta = c / (2 sqrt(K m)) of the weight on the target rate.
+        match (zeta, weight) {
+            (None, Some(w)) => zeta = Some(c / (2.0 * (rate * 1e3 * w).sqrt())),
+            _ => return Err(o
+                .error(
+                    "damping_coefficient_n_s_m needs weight_kg and excludes damping_ratio",
+                    "one of damping_ratio and damping_coefficient_n_s_m, the latter with weight_kg",
+                )
+                .into()),
+        }
+    }
     let band = match o.get("surge_band_hz") {
         None => None,
         Some(f) => {
@@ -165,14 +195,14 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         }
     };
     Ok(Target {
-        rate_n_mm: o.number("rate_n_mm", Range::Positive, "the target rate (N/mm)")?,
+        rate_n_mm: rate,
         rate_tolerance_percent: o.number(
             "rate_tolerance_percent",
             Range::Open(0.0, 50.0),
             "the rate tolerance (%)",
         )?,
-        weight_kg: o.opt_number("weight_kg", Range::Positive, "the suspended mass (kg)")?,
-        damping_ratio: o.opt_number("damping_ratio", Range::Open(0.0, 1.0), "a damping ratio")?,
+        weight_kg: weight,
+        damping_ratio: zeta,
         working,
         springs_in_parallel: o
             .opt_number(
@@ -243,6 +273,8 @@ pub struct Material {
     pub fe: FeSettings,
     /// The damping reference, with a calibration.
     pub damping: Option<DampingReference>,
+    /// The law a damping.json identified and its parameters (its spec names).
+    pub identified_law: Option<(String, BTreeMap<String, f64>)>,
     /// Where each value comes from, in words.
     pub source: String,
 }
@@ -262,12 +294,17 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
                 grade: grade.clone(),
                 fe: FeSettings::default(),
                 damping: None,
+                identified_law: None,
                 source: format!(
                     "EN 10270-1 {grade}: E = {e} MPa, G = {g} MPa, rho = {rho} kg/m^3 (EN 13906-1 handbook values); no damping law (give a calibration for the zeta band)"
                 ),
             })
         }
-        MaterialSource::Calibration { calibration, grade } => {
+        MaterialSource::Calibration {
+            calibration,
+            grade,
+            damping,
+        } => {
             let text =
                 coil_io::read_bounded(calibration, coil_io::MAX_JSON_BYTES, "a calibration.json")?;
             #[derive(serde::Deserialize)]
@@ -293,6 +330,17 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
             })?;
             let s = file.state;
             let grade = grade.clone().unwrap_or_else(|| "DM".to_string());
+            let identified_law = damping.as_deref().map(identified).transpose()?;
+            let law_note = match (damping, &identified_law) {
+                (None, _) => String::new(),
+                (Some(p), Some(Some((law, _)))) => {
+                    format!("; {} identified the {law} law", p.display())
+                }
+                (Some(p), _) => format!(
+                    "; {} could not decide the law (identifiable false): the band stands",
+                    p.display()
+                ),
+            };
             let g = s.youngs_modulus_mpa / (2.0 * (1.0 + s.poisson_ratio));
             Ok(Material {
                 youngs_modulus_mpa: s.youngs_modulus_mpa,
@@ -305,8 +353,9 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
                     state: s,
                     damping_ratio: file.targets.damping_ratio,
                 }),
+                identified_law: identified_law.flatten(),
                 source: format!(
-                    "{}: E = {:.1} MPa, nu = {} (G = {g:.1} MPa), rho = {} kg/m^3, {} elements per coil, Rayleigh alpha = {}, beta = {} calibrated to zeta = {} at {} kg; Rm from EN 10270-1 {grade}",
+                    "{}: E = {:.1} MPa, nu = {} (G = {g:.1} MPa), rho = {} kg/m^3, {} elements per coil, Rayleigh alpha = {}, beta = {} calibrated to zeta = {} at {} kg; Rm from EN 10270-1 {grade}{law_note}",
                     calibration.display(),
                     s.youngs_modulus_mpa,
                     s.poisson_ratio,
@@ -320,4 +369,23 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
             })
         }
     }
+}
+
+/// The law and parameters a damping.json (`coil-tune damping`) identified, `None` when
+/// it could not decide.
+fn identified(path: &Path) -> Result<Option<(String, BTreeMap<String, f64>)>, crate::TuneError> {
+    let text = coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a damping.json")?;
+    #[derive(serde::Deserialize)]
+    struct File {
+        law: Option<String>,
+        parameters: BTreeMap<String, f64>,
+    }
+    let file: File = serde_json::from_str(&text).map_err(|e| crate::TuneError::Json {
+        path: path.to_path_buf(),
+        line: e.line(),
+        message: format!(
+            "{e}; expected a damping.json written by `coil-tune damping` (law, parameters)"
+        ),
+    })?;
+    Ok(file.law.map(|law| (law, file.parameters)))
 }

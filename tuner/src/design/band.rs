@@ -15,7 +15,7 @@
 //! loss factor the same zeta whatever the spring; so a target (K, zeta) off those curves
 //! cannot be met by the wire alone.
 
-use super::target::DampingReference;
+use super::target::{DampingReference, IdentifiedLaw};
 use crate::band::{mode_coefficients, Coefficients, Law, BAND_LAWS};
 use crate::case::DecayMode;
 use crate::error::Result;
@@ -60,7 +60,7 @@ fn zetas(band: &LawBand, c: &Coefficients) -> BTreeMap<String, f64> {
 }
 
 /// A damping.json's law by name with its parameters in [`Law::parameters`] order.
-fn identified_law(found: &(String, BTreeMap<String, f64>)) -> Result<(Law, Vec<f64>)> {
+fn identified_law(found: &IdentifiedLaw) -> Result<(Law, Vec<f64>)> {
     let (name, parameters) = found;
     let law = crate::band::LAWS
         .into_iter()
@@ -89,7 +89,7 @@ impl LawBand {
     pub fn calibrate(
         reference: &DampingReference,
         fe: &FeSettings,
-        identified: Option<&(String, BTreeMap<String, f64>)>,
+        identified: Option<&IdentifiedLaw>,
     ) -> Result<Self> {
         let c = mode_coefficients(&reference.state, fe, DecayMode::Axial)?;
         let r = c.row(Law::Rayleigh);

@@ -256,6 +256,9 @@ pub struct DampingReference {
     pub damping_ratio: f64,
 }
 
+/// A damping.json's identified law: its name and its parameters by their spec names.
+pub type IdentifiedLaw = (String, BTreeMap<String, f64>);
+
 /// The resolved material of a design.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Material {
@@ -274,7 +277,7 @@ pub struct Material {
     /// The damping reference, with a calibration.
     pub damping: Option<DampingReference>,
     /// The law a damping.json identified and its parameters (its spec names).
-    pub identified_law: Option<(String, BTreeMap<String, f64>)>,
+    pub identified_law: Option<IdentifiedLaw>,
     /// Where each value comes from, in words.
     pub source: String,
 }
@@ -373,7 +376,7 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
 
 /// The law and parameters a damping.json (`coil-tune damping`) identified, `None` when
 /// it could not decide.
-fn identified(path: &Path) -> Result<Option<(String, BTreeMap<String, f64>)>, crate::TuneError> {
+fn identified(path: &Path) -> Result<Option<IdentifiedLaw>, crate::TuneError> {
     let text = coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a damping.json")?;
     #[derive(serde::Deserialize)]
     struct File {

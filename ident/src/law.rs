@@ -732,7 +732,6 @@ fn predict_variants(
     Ok(out)
 }
 
-
 /// Repeats per mass so that a relative difference `delta` between two mean zetas stands
 /// at 3 sigma when each measurement scatters by `scatter`: `3 scatter sqrt(2 / n) <= delta`.
 pub fn repeats_needed(delta: f64, scatter: f64) -> usize {
@@ -906,7 +905,6 @@ pub fn summary(r: &DampingReport) -> String {
     }
     s
 }
-
 
 /// report.md: the records, the candidates, the verdict, Table 4 and the deciding test.
 pub fn report_markdown(r: &DampingReport) -> String {

@@ -44,6 +44,8 @@ __all__ = [
     "run_shard",
     "merge",
     "diagnose",
+    "check",
+    "design",
 ]
 
 CoilError = _coil.CoilError
@@ -324,3 +326,72 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     ('coulomb_friction', 0.011)
     """
     return json.loads(_coil.diagnose(os.fspath(case), os.fspath(out), elements_per_coil, modes, plots))
+
+
+def _json_file(value, folder):
+    """A path as it is; a dict written as a JSON file into ``folder`` (a relative path
+    inside the dict would be taken from that folder: give paths absolute)."""
+    if isinstance(value, dict):
+        import tempfile
+
+        os.makedirs(folder, exist_ok=True)
+        handle, path = tempfile.mkstemp(suffix=".json", dir=folder)
+        with os.fdopen(handle, "w") as f:
+            json.dump(value, f)
+        return path
+    return os.fspath(value)
+
+
+def check(spring, elements_per_coil=24):
+    """The EN 13906-1 sheet of a spring beside coil's FE values on the same spring
+    (``coil-tune check --json``, docs/spring-design.md): ``spring`` is a SPRING.json path
+    or a dict with its keys. Returns the sheet as a dict (``fe`` holds the FE values).
+
+    >>> s = coil.check(repo / "cases/spring-design/helispring.json")
+    >>> round(s["rate_n_mm"], 3), round(s["solid_length_mm"], 2), s["buckling_stable"]
+    (16.181, 57.79, True)
+    >>> s = coil.check(repo / "cases/spring-design/160ect_spring.json")
+    >>> round(s["rate_n_mm"], 4), round(s["fe"]["rate_n_mm"], 3)
+    (3.8373, 3.864)
+    """
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        return json.loads(_coil.check(_json_file(spring, folder), elements_per_coil))
+
+
+def design(target, out, objective=None, short_list=None, plots=True):
+    """Designs to a target (``coil-tune design``, docs/spring-design.md): ``target`` is a
+    TARGET.json path or a dict with its keys (a calibration path in it: absolute, or
+    relative to the target file). Writes design.json, report.md, design.png and the
+    decks into ``out``; returns (design.json as a dict, its ``candidates`` as a
+    DataFrame, best first).
+
+    >>> cal = coil.calibrate(case, out=tmp / "cal")
+    >>> target = {"rate_n_mm": 3.9275, "rate_tolerance_percent": 2.0, "weight_kg": 5.3,
+    ...           "force_1_n": 40, "force_2_n": 120, "objective": "stress_margin",
+    ...           "envelope": {"max_outer_diameter_mm": 27.0, "min_inner_diameter_mm": 21.0,
+    ...                        "max_free_length_mm": 100.0, "max_solid_length_mm": 50.0},
+    ...           "material": {"calibration": str(tmp / "cal" / "calibration.json")}}
+    >>> d, table = coil.design(target, out=tmp / "design", plots=False)
+    >>> table[["wire_diameter_mm", "mean_diameter_mm", "active_coils"]].values[0].tolist()
+    [3.0, 24.0, 14.0]
+    >>> round(float(table["fe_rate_n_mm"][0]), 3), d["candidates"][0]["deck"]
+    (3.928, 'decks/candidate_01.dat')
+    """
+    import tempfile
+
+    import pandas as pd
+
+    with tempfile.TemporaryDirectory() as folder:
+        result = json.loads(_coil.design(_json_file(target, folder), os.fspath(out),
+                                         objective, short_list, plots))
+    columns = ["rank", "wire_diameter_mm", "mean_diameter_mm", "active_coils", "total_coils",
+               "pitch_mm", "free_length_mm", "rate_n_mm", "fe_rate_n_mm", "spring_mass_kg",
+               "stress_margin", "deck"]
+    rows = []
+    for c in result["candidates"]:
+        row = {k: c[k] for k in columns}
+        row.update({f"damping_ratio_{law}": z for law, z in c["damping_ratio"].items()})
+        rows.append(row)
+    return result, pd.DataFrame(rows)

@@ -269,7 +269,9 @@ fn input(e: coil_io::ConfineError) -> CaseError {
     }
 }
 
-fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
+/// Reads a JSON input (bounded in size) into a located tree; errors name the file,
+/// line and column.
+pub fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
     let text =
         coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input").map_err(input)?;
     let node = json::parse(&text).map_err(|e| CaseError::Syntax {

@@ -13,8 +13,8 @@
 //! CI runs a representative subset; `--ignored` runs the full matrix
 //! (`cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture`).
 
-use coil_tests::truth_damping::{DampingTruth, TruthLaw};
 use coil_ident::law::{identify, DampingSettings, Law};
+use coil_tests::truth_damping::{DampingTruth, TruthLaw};
 
 const ALPHA: f64 = 1.6;
 const BETA: f64 = 1.2e-4;

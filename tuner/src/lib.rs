@@ -26,6 +26,7 @@ pub mod paper;
 pub mod plots;
 pub mod procedure;
 pub mod report;
+pub mod scatter;
 pub mod study;
 pub mod sweep;
 pub mod tolerance;

@@ -930,22 +930,63 @@ pub fn repeat_scatter(records: &[RecordFit], default: f64) -> RepeatScatter {
     RepeatScatter::estimate(&zeta, &repeat_groups(records), &names, default)
 }
 
-/// Runs the damping-law identification on a case folder.
-pub fn identify(case_path: &Path, settings: &DampingSettings) -> Result<DampingReport> {
-    let case = read_case(case_path)?;
-    let records = record_fits(&case, &settings.fe)?;
+/// The law's verdict from a case's decay records, before any prediction.
+#[derive(Debug, Clone)]
+pub struct Verdict {
+    /// Every decay record reduced to its frequency and damping ratio.
+    pub records: Vec<RecordFit>,
+    /// The repeat scatter the records were judged with.
+    pub scatter: RepeatScatter,
+    /// Every law fitted to all the records.
+    pub candidates: Vec<Candidate>,
+    /// The chosen law; `None` when the records cannot decide.
+    pub law: Option<Law>,
+    /// Why the law was chosen, or why none could be.
+    pub reason: String,
+}
+
+/// Reduces, checks and judges the decay records of `case` (module docs): the records,
+/// their repeat scatter (`default_scatter` without repeats), every law fitted and the
+/// choice.
+pub fn verdict(case: &MeasuredCase, fe: &FeSettings, default_scatter: f64) -> Result<Verdict> {
+    let records = record_fits(case, fe)?;
     if records.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: no decay record; expected records.decay with at least one file",
             case.file.display()
         )));
     }
-    let scatter = repeat_scatter(&records, settings.scatter);
+    let scatter = repeat_scatter(&records, default_scatter);
     let candidates: Vec<Candidate> = LAWS
         .iter()
         .filter_map(|&law| fit_law(law, &records, &scatter))
         .collect();
     let (law, reason) = choose(&candidates, records.len());
+    Ok(Verdict {
+        records,
+        scatter,
+        candidates,
+        law,
+        reason,
+    })
+}
+
+/// Runs the damping-law identification on a case folder.
+pub fn identify(case_path: &Path, settings: &DampingSettings) -> Result<DampingReport> {
+    let scatter = settings.scatter;
+    if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
+        return Err(TuneError::Invalid(format!(
+            "scatter {scatter}; expected a relative repeat scatter of zeta in (0, 1), e.g. 0.03"
+        )));
+    }
+    let case = read_case(case_path)?;
+    let Verdict {
+        records,
+        scatter,
+        candidates,
+        law,
+        reason,
+    } = verdict(&case, &settings.fe, settings.scatter)?;
     let chosen = law.and_then(|l| candidates.iter().find(|c| c.law == l));
     let variants = match &settings.variants {
         Some(p) => Some(read_variants(p)?),
@@ -1171,6 +1212,22 @@ fn deciding_test(
         surge_zeta,
         text,
     })
+}
+
+/// The variants file `coil-tune damping` predicts by default: `table4.json` beside the
+/// case's case.json, when there is one.
+pub fn variants_beside(case: &Path) -> Option<PathBuf> {
+    let beside = crate::case::case_file(case).with_file_name("table4.json");
+    beside.is_file().then_some(beside)
+}
+
+/// Writes report.md and damping.json into `out` and commits them as one set.
+pub fn write(r: &DampingReport, out: &crate::output::OutDir) -> Result<()> {
+    let json = serde_json::to_string_pretty(&report_json(r))
+        .map_err(|e| TuneError::Invalid(format!("damping.json: {e}")))?;
+    out.write("report.md", report_markdown(r).as_bytes())?;
+    out.write("damping.json", json.as_bytes())?;
+    out.commit()
 }
 
 /// damping.json (the spec's fields first, then the evidence).

@@ -21,7 +21,7 @@ def _record(path, mass_kg):
     w = np.sqrt(3927.5 / (mass_kg + 0.0586 / 3.0))
     t = np.arange(8000) * 1e-3
     a = np.exp(-ZETA * w * t) * np.cos(w * np.sqrt(1.0 - ZETA**2) * t)
-    path.write_text("time_s,accel_m_s2\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(t, a)))
+    path.write_text("time_s,accel_m_s2\n" + "".join(f"{x:.17g},{y:.17g}\n" for x, y in zip(t, a)))
 
 
 def _case(folder, decay):

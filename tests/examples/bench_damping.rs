@@ -3,7 +3,7 @@
 //! release binary on each, printing the verdict beside the hidden law and what the design
 //! can decide (each test's damping scattered by `SCATTER`, 3 % by default).
 //!
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_damping`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_damping`
 //! (`-- --keep DIR` writes the cases into DIR and keeps them).
 
 use coil_tests::truth_damping::{DampingTruth, TruthLaw};

@@ -17,8 +17,8 @@
 //! CI runs a representative subset; `--ignored` runs the full matrix
 //! (`cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture`).
 
+use coil_ident::law::{identify, DampingSettings, Law};
 use coil_tests::truth_damping::{DampingTruth, Decidability, TruthLaw};
-use coil_tuner::law::{identify, DampingSettings, Law};
 
 const ALPHA: f64 = 1.6;
 const BETA: f64 = 1.2e-4;

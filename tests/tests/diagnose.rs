@@ -21,9 +21,9 @@
 //! Cases run two at a time; the confusion table and the errors are printed
 //! (`-- --nocapture`).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::sync::Mutex;
 use std::time::Instant;
 

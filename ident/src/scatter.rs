@@ -39,6 +39,10 @@
 
 use serde::Serialize;
 
+/// How many fit errors a group's mean zeta must stand above zero to enter the scatter
+/// estimate.
+pub const MEASURED_ZETA: f64 = 10.0;
+
 /// Where the scatter used came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -81,15 +85,25 @@ impl RepeatScatter {
     }
 
     /// Pools the relative spread of `zeta` within each group of `members` (indices into
-    /// `zeta`, groups of at least two with a positive mean); `names` label the records.
-    /// Without such a group, or when the spread is zero, the stated `default` applies.
-    pub fn estimate(zeta: &[f64], members: &[Vec<usize>], names: &[String], default: f64) -> Self {
+    /// `zeta`); `se` are the records' fit errors, `names` their labels. A group counts
+    /// when it has at least two records and its mean stands [`MEASURED_ZETA`] fit errors
+    /// above zero (the relative spread of a zeta that is zero within its error, such as a
+    /// surge mode no law damps, is not a scatter). Without such a group, or when the
+    /// spread is zero, the stated `default` applies.
+    pub fn estimate(
+        zeta: &[f64],
+        se: &[f64],
+        members: &[Vec<usize>],
+        names: &[String],
+        default: f64,
+    ) -> Self {
         let mut sum = 0.0;
         let mut dof = 0;
         let mut used = Vec::new();
         for g in members {
             let mean = g.iter().map(|&i| zeta[i]).sum::<f64>() / g.len() as f64;
-            if g.len() < 2 || !(mean > 0.0 && mean.is_finite()) {
+            let largest_se = g.iter().map(|&i| se[i]).fold(0.0, f64::max);
+            if g.len() < 2 || !(mean.is_finite() && mean > MEASURED_ZETA * largest_se) {
                 continue;
             }
             sum += g
@@ -397,8 +411,10 @@ mod tests {
         // Two groups of three at 3 % apart-ish, one singleton.
         let zeta = [1.0, 1.03, 0.97, 2.0, 2.06, 1.94, 5.0];
         let names: Vec<String> = (0..7).map(|i| format!("r{i}")).collect();
+        let se = [1e-4; 7];
         let s = RepeatScatter::estimate(
             &zeta,
+            &se,
             &[vec![0, 1, 2], vec![3, 4, 5], vec![6]],
             &names,
             0.03,
@@ -413,7 +429,12 @@ mod tests {
         assert!(!s.judge(104.0, 5, 4.0).consistent);
         assert!(s.judge(60.0, 5, 4.0).consistent);
         // No repeats: the default, chi-square.
-        let d = RepeatScatter::estimate(&zeta, &[vec![0], vec![1]], &names, 0.03);
+        let d = RepeatScatter::estimate(&zeta, &se, &[vec![0], vec![1]], &names, 0.03);
+        // A group whose zeta is zero within its fit errors does not enter the estimate.
+        let z0 = [1e-7, 5e-7, -3e-7, 1.0, 1.03];
+        let groups = [vec![0, 1, 2], vec![3, 4]];
+        let e = RepeatScatter::estimate(&z0, &[1e-6; 5], &groups, &names, 0.03);
+        assert_eq!((e.dof, e.groups.len()), (1, 1));
         assert_eq!((d.source, d.relative), (ScatterSource::Default, 0.03));
         assert!(!d.judge(11.0, 1, 0.0).consistent && d.judge(10.0, 1, 0.0).consistent);
     }

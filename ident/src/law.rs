@@ -258,10 +258,12 @@ impl Candidate {
 }
 
 /// Weighted non-negative least squares `sum w (y - X p)^2`, with the covariance of `p`
-/// (unscaled, from the active columns). Brute force over active sets (at most 2 columns).
+/// (unscaled, from the active columns). Brute force over active sets (at most 2 columns),
+/// the empty one included: every parameter at zero when every other set wants one negative.
 fn nnls(x: &[Vec<f64>], y: &[f64], w: &[f64]) -> Option<(Vec<f64>, Vec<Vec<f64>>, f64)> {
     let k = x.first()?.len();
-    let mut best: Option<(Vec<f64>, Vec<Vec<f64>>, f64)> = None;
+    let zero: f64 = y.iter().zip(w).map(|(yi, wi)| wi * yi * yi).sum();
+    let mut best = Some((vec![0.0; k], vec![vec![0.0; k]; k], zero));
     for mask in 1..(1u32 << k) {
         let active: Vec<usize> = (0..k).filter(|j| mask & (1 << j) != 0).collect();
         let a = active.len();
@@ -1367,6 +1369,27 @@ mod tests {
         assert_eq!(repeats_needed(0.29, 0.03), 1);
         assert_eq!(repeats_needed(0.18, 0.03), 2);
         assert_eq!(repeats_needed(0.05, 0.03), 21);
+    }
+
+    /// A surge record whose zeta is slightly negative within its error (no law damps it):
+    /// the loss factor and Rayleigh are still fitted (held at zero where the records want
+    /// them negative) and judged, not dropped.
+    #[test]
+    fn a_law_held_at_zero_is_still_judged() {
+        let mut surge = record(815.0, 1.0, 0.0, -2e-7);
+        surge.mode = DecayMode::Surge;
+        let recs = vec![record(27.0, 0.0037, 1.0 / 5.26, 0.00175), surge];
+        let c: Vec<Candidate> = LAWS
+            .iter()
+            .filter_map(|&l| fit_law(l, &recs, &RepeatScatter::stated(0.03)))
+            .collect();
+        assert_eq!(c.len(), 3);
+        let (law, why) = choose(&c, 2);
+        assert_eq!(law, Some(Law::ExternalViscous), "{why}");
+        assert!(
+            why.contains("hysteretic") && why.contains("rayleigh"),
+            "{why}"
+        );
     }
 
     /// One weight-mode record and one surge record: Rayleigh has as many parameters as

@@ -57,7 +57,7 @@ use crate::case::{read_case, read_variants, DecayMode, MeasuredCase, VariantsFil
 use crate::diagnose::lm;
 use crate::error::{Result, TuneError};
 use crate::fe::{FeSettings, SpringState};
-use crate::scatter::{chi2_999, FitTest, RepeatScatter};
+use crate::scatter::{chi2_999, FitTest, RepeatScatter, MEASURED_ZETA};
 use coil_postproc::signal::Signal;
 use coil_postproc::spectrum::{amplitude_spectrum, SpectrumOptions};
 use serde::Serialize;
@@ -232,7 +232,8 @@ pub struct Candidate {
     /// determine the law.
     pub held_out: Option<f64>,
     /// Whether the test of fit and the held-out score are consistent with the records'
-    /// errors and the repeat scatter.
+    /// errors and the repeat scatter, and the parameters admissible (not every one held at
+    /// zero while a record measures damping).
     pub consistent: bool,
     /// Predicted zeta per record.
     pub predicted: Vec<f64>,
@@ -400,8 +401,15 @@ pub fn fit_law(law: Law, records: &[RecordFit], scatter: &RepeatScatter) -> Opti
         })
         .flatten();
     let test = scatter.judge(chi2, dof, scatter.pure_error(&y, &w));
-    let consistent =
-        test.consistent && held_out.is_none_or(|h| h < HELD_OUT_LIMIT * scatter.held_out_factor());
+    // Every parameter held at zero is no damping at all: inadmissible when a record
+    // measures damping well above its fit error, however wide the scatter estimate.
+    let undamped = free == 0
+        && records
+            .iter()
+            .any(|r| r.damping_ratio > MEASURED_ZETA * r.damping_ratio_se);
+    let consistent = test.consistent
+        && !undamped
+        && held_out.is_none_or(|h| h < HELD_OUT_LIMIT * scatter.held_out_factor());
     let names = law.parameters();
     let mut parameters = BTreeMap::new();
     let mut parameters_se = BTreeMap::new();
@@ -447,6 +455,11 @@ pub const HELD_OUT_LIMIT: f64 = 9.0;
 fn miss_text(c: &Candidate) -> String {
     let held = if c.at_bound.is_empty() {
         String::new()
+    } else if c.at_bound.len() == c.law.parameters().len() {
+        format!(
+            ", {} held at 0: no damping, where the records measure some",
+            c.at_bound.join(" and ")
+        )
     } else {
         format!(", {} held at 0", c.at_bound.join(" and "))
     };
@@ -1376,7 +1389,7 @@ mod tests {
     /// them negative) and judged, not dropped.
     #[test]
     fn a_law_held_at_zero_is_still_judged() {
-        let mut surge = record(815.0, 1.0, 0.0, -2e-7);
+        let mut surge = record(815.0, 1.0, 0.0, -2e-6);
         surge.mode = DecayMode::Surge;
         let recs = vec![record(27.0, 0.0037, 1.0 / 5.26, 0.00175), surge];
         let c: Vec<Candidate> = LAWS
@@ -1384,6 +1397,8 @@ mod tests {
             .filter_map(|&l| fit_law(l, &recs, &RepeatScatter::stated(0.03)))
             .collect();
         assert_eq!(c.len(), 3);
+        let h = c.iter().find(|c| c.law == Law::Hysteretic).unwrap();
+        assert_eq!((h.at_bound.len(), h.consistent), (1, false));
         let (law, why) = choose(&c, 2);
         assert_eq!(law, Some(Law::ExternalViscous), "{why}");
         assert!(

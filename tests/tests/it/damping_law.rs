@@ -15,7 +15,7 @@
 //! the true law or null, never another law.
 //!
 //! CI runs a representative subset; `--ignored` runs the full matrix
-//! (`cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture`).
+//! (`cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture`).
 
 use coil_ident::law::{identify, DampingSettings, Law};
 use coil_tests::truth_damping::{DampingTruth, Decidability, TruthLaw};
@@ -275,7 +275,7 @@ fn designs() -> Vec<(&'static str, Vec<f64>, usize)> {
 }
 
 #[test]
-#[ignore = "full matrix: cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture"]
+#[ignore = "full matrix: cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture"]
 fn every_generated_case() {
     let mut seed = 100;
     let mut cases = Vec::new();

@@ -93,9 +93,13 @@ fn check(case: &DampingTruth) -> (Decidability, bool, String) {
             let got = report.parameters[name];
             let se = report.parameters_se[name];
             let identified = chosen.parameters_identified[name];
+            let off = if value == 0.0 {
+                "truth 0".to_string()
+            } else {
+                format!("{:+.2}%", 100.0 * (got / value - 1.0))
+            };
             line.push_str(&format!(
-                " {name} {got:.4e} +- {se:.1e} ({:+.2}%{})",
-                100.0 * (got / value - 1.0),
+                " {name} {got:.4e} +- {se:.1e} ({off}{})",
                 if identified { "" } else { ", not identified" }
             ));
             if value == 0.0 || (name == "rayleigh_alpha" && !identified) {

@@ -446,6 +446,33 @@ fn design(
     })
 }
 
+/// Which damping law? (`coil-tune damping`): fits every law to all decay records of a case,
+/// writes damping.json and report.md into `out` and returns damping.json's content.
+#[pyfunction]
+#[pyo3(signature = (case, out, variants=None, elements_per_coil=24, scatter=0.03))]
+fn damping(
+    py: Python<'_>,
+    case: PathBuf,
+    out: PathBuf,
+    variants: Option<PathBuf>,
+    elements_per_coil: u32,
+    scatter: f64,
+) -> PyResult<String> {
+    py.detach(|| {
+        let mut settings = coil_ident::law::DampingSettings {
+            scatter,
+            ..Default::default()
+        };
+        settings.fe.elements_per_coil = elements_per_coil;
+        settings.variants = variants.or_else(|| coil_ident::law::variants_beside(&case));
+        let dir = OutDir::create(&out).map_err(fail)?;
+        let report = coil_ident::law::identify(&case, &settings).map_err(fail)?;
+        coil_ident::law::write(&report, &dir).map_err(fail)?;
+        let path = out.join("damping.json");
+        std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
+    })
+}
+
 #[pymodule]
 fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CoilError", m.py().get_type::<CoilError>())?;
@@ -465,5 +492,6 @@ fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(damping, m)?)?;
     Ok(())
 }

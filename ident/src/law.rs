@@ -634,6 +634,15 @@ pub const MODULUS_FACTOR: f64 = 2.0;
 /// See [`MODULUS_FACTOR`].
 pub const MODULUS_AGREEMENT: f64 = 0.25;
 
+/// A mass for a message: plain where plain reads well, else in exponent form.
+fn kg(x: f64) -> String {
+    if (1e-3..1e6).contains(&x.abs()) {
+        format!("{x} kg")
+    } else {
+        format!("{x:.3e} kg")
+    }
+}
+
 /// `records.decay[k] (file)` of `case`, for messages.
 fn entry(case: &MeasuredCase, k: usize) -> String {
     let name = case
@@ -729,7 +738,7 @@ fn check_record(
     let ratio = (w / expected).powi(2);
     if !(ratio.is_finite() && (1.0 / MODULUS_FACTOR..=MODULUS_FACTOR).contains(&ratio)) {
         let what = match mode {
-            DecayMode::Axial => format!("the weight mode with {mass_kg} kg attached"),
+            DecayMode::Axial => format!("the weight mode with {} attached", kg(mass_kg)),
             DecayMode::Surge => "the surge mode (weight held)".to_string(),
         };
         return bad(format!(
@@ -792,12 +801,12 @@ pub fn record_fits(case: &MeasuredCase, fe: &FeSettings) -> Result<Vec<RecordFit
             .position(|e| (e / median - 1.0).abs() > MODULUS_AGREEMENT)
         {
             return Err(TuneError::Invalid(format!(
-                "{}: its frequency {:.4} Hz at {} kg ({:?} mode) implies E = {:.3} times nominal, \
+                "{}: its frequency {:.4} Hz at {} ({:?} mode) implies E = {:.3} times nominal, \
                  the records' median {:.3}: one spring has one E; expected the record's mass_kg \
                  and mode as tested (a mass off by a factor moves the frequency by its root)",
                 entry(case, k),
                 out[k].frequency_hz,
-                out[k].mass_kg,
+                kg(out[k].mass_kg),
                 out[k].mode,
                 implied[k],
                 median

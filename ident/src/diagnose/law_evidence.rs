@@ -59,3 +59,64 @@ pub fn section(case: &MeasuredCase, m: &mut String) {
         v.reason
     ));
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// A free decay at `zeta` of the paper's spring with `mass_kg` attached (closed-form
+    /// damped cosine at `sqrt(K / m_eff)`, K = 3927.5 N/m, a third of the 0.0586 kg wire).
+    fn record(path: &Path, mass_kg: f64, zeta: f64) {
+        let w = (3927.5 / (mass_kg + 0.0586 / 3.0)).sqrt();
+        let wd = w * (1.0 - zeta * zeta).sqrt();
+        let mut s = String::from("time_s,accel_m_s2\n");
+        for i in 0..8000 {
+            let t = i as f64 * 1e-3;
+            s.push_str(&format!("{t},{}\n", (-zeta * w * t).exp() * (wd * t).cos()));
+        }
+        std::fs::write(path, s).unwrap();
+    }
+
+    fn case(dir: &Path, decay: &str) -> MeasuredCase {
+        std::fs::write(
+            dir.join("case.json"),
+            format!(
+                r#"{{"name": "two masses",
+  "spring": {{"active_coils": 14.0, "mean_diameter_mm": 24.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2}},
+  "material": {{"youngs_modulus_mpa": 206000.0, "poisson_ratio": 0.3, "density_kg_m3": 7850.0}},
+  "mass_kg": 5.24, "gravity_m_s2": 0.0, "records": {{"decay": {decay}}}}}"#
+            ),
+        )
+        .unwrap();
+        crate::case::read_case(dir).unwrap()
+    }
+
+    /// One zeta at two masses: the section names the loss factor with the scatter used;
+    /// one record: no section; a record listed twice: the refusal, not a failure.
+    #[test]
+    fn the_section_gives_the_damping_verdict() {
+        let dir = tempfile::tempdir().unwrap();
+        record(&dir.path().join("a.csv"), 5.24, 0.00175);
+        record(&dir.path().join("b.csv"), 10.48, 0.00175);
+        let mut m = String::new();
+        section(
+            &case(
+                dir.path(),
+                r#"["a.csv", {"file": "b.csv", "mass_kg": 10.48}]"#,
+            ),
+            &mut m,
+        );
+        assert!(m.contains("**Law: hysteretic.**"), "{m}");
+        assert!(m.contains("the stated default"), "{m}");
+        let mut one = String::new();
+        section(&case(dir.path(), r#"["a.csv"]"#), &mut one);
+        assert!(one.is_empty());
+        let mut twice = String::new();
+        section(&case(dir.path(), r#"["a.csv", "a.csv"]"#), &mut twice);
+        assert!(
+            twice.contains("cannot be compared") && twice.contains("the same file"),
+            "{twice}"
+        );
+    }
+}

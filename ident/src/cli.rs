@@ -2,7 +2,7 @@
 //! `damping` (docs/damping.md). Their arguments and dispatch; the binary joins them with the
 //! paper's commands of `coil_tuner::cli`.
 
-use crate::error::{Result, TuneError};
+use crate::error::Result;
 use crate::output::OutDir;
 use clap::Subcommand;
 use coil_tuner::cli::{say, text};
@@ -34,8 +34,9 @@ pub enum Command {
         quiet: bool,
     },
     /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
-    /// records of a case at once (records at several masses, a surge record), chooses by
-    /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
+    /// records of a case at once (records at several masses, a surge record, repeats),
+    /// judged against the repeat scatter of zeta; names the law when it alone fits or says
+    /// it cannot, and writes DIR/damping.json
     /// (docs/measured-case.md) and DIR/report.md (docs/damping.md).
     Damping {
         /// The case folder (or its case.json).
@@ -49,7 +50,9 @@ pub enum Command {
         /// Beams per coil of the helix.
         #[arg(long, default_value_t = 24)]
         elements_per_coil: u32,
-        /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
+        /// Repeat scatter of one test's zeta (relative) when the case has no repeated tests
+        /// (records of one mode at one mass); with repeats, their estimate is used. It weighs
+        /// each record in the fit, sets how far a law may miss, and sizes the proposed test.
         #[arg(long, default_value_t = 0.03)]
         scatter: f64,
     },
@@ -65,28 +68,16 @@ pub fn run(command: Command) -> Result<()> {
             elements_per_coil,
             scatter,
         } => {
-            if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
-                return Err(TuneError::Invalid(format!(
-                    "--scatter {scatter}; expected a relative scatter in (0, 1), e.g. 0.03"
-                )));
-            }
             let mut settings = crate::law::DampingSettings {
                 scatter,
                 ..Default::default()
             };
             settings.fe.elements_per_coil = elements_per_coil;
-            settings.variants = variants.or_else(|| {
-                let beside = coil_tuner::case::case_file(&case).with_file_name("table4.json");
-                beside.is_file().then_some(beside)
-            });
+            settings.variants = variants.or_else(|| crate::law::variants_beside(&case));
             let out = OutDir::create(out)?;
             let report = crate::law::identify(&case, &settings)?;
-            let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
-                .map_err(|e| TuneError::Invalid(format!("damping.json: {e}")))?;
             // One output set: damping.json and report.md appear together or not at all.
-            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
-            out.write("damping.json", json.as_bytes())?;
-            out.commit()?;
+            crate::law::write(&report, &out)?;
             text(&crate::law::summary(&report))?;
             say(&format!("damping.json in {}", out.root().display()))?;
             Ok(())

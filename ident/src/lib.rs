@@ -3,7 +3,8 @@
 //! - [`diagnose`]: fits the paper's model to a measured case, shows what it misses, names
 //!   the physical cause from a catalogue, extends the model and measures the gain
 //!   (docs/diagnose.md).
-//! - [`law`]: which damping law the decay records of a case support (docs/damping.md).
+//! - [`law`]: which damping law the decay records of a case support (docs/damping.md);
+//!   [`scatter`]: the repeat scatter of zeta it judges the laws with.
 //! - [`cli`]: the `diagnose` and `damping` commands of `coil-tune`.
 //!
 //! Identification starts from the paper's calibration (the baseline is the tuner's
@@ -18,5 +19,6 @@ pub(crate) use coil_tuner::{case, decay, error, fe, loops, output, plots};
 pub mod cli;
 pub mod diagnose;
 pub mod law;
+pub mod scatter;
 
 pub use coil_tuner::error::{Result, TuneError};

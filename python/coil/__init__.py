@@ -21,10 +21,10 @@ whether it runs here, split into shards (:func:`run_shard`, :func:`merge`, or
 docs/scale-out.md.
 """
 
-import json
-import os
+import json as _json
+import os as _os
 
-import numpy as np
+import numpy as _np
 
 from . import _coil
 
@@ -44,7 +44,15 @@ __all__ = [
     "run_shard",
     "merge",
     "diagnose",
+    "check",
+    "design",
+    "damping",
 ]
+
+
+def __dir__():
+    """The API (``__all__``), not the modules the package imports."""
+    return sorted(__all__)
 
 CoilError = _coil.CoilError
 
@@ -55,7 +63,7 @@ def _arrays(value):
         return {k: _arrays(v) for k, v in value.items()}
     if isinstance(value, list):
         if value and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value):
-            return np.asarray(value, dtype=float)
+            return _np.asarray(value, dtype=float)
         return [_arrays(x) for x in value]
     return value
 
@@ -74,13 +82,13 @@ def spring(**fields):
     Traceback (most recent call last):
     coil.CoilError: wire_diameter_mm = -3: expected a positive wire diameter smaller than the mean diameter
     """
-    return _coil.mesh(json.dumps(fields))
+    return _coil.mesh(_json.dumps(fields))
 
 
 def _deck(deck):
     """(text or path, is_path)."""
-    if isinstance(deck, os.PathLike) or ("\n" not in str(deck) and os.path.exists(str(deck))):
-        return os.fspath(deck), True
+    if isinstance(deck, _os.PathLike) or ("\n" not in str(deck) and _os.path.exists(str(deck))):
+        return _os.fspath(deck), True
     return str(deck), False
 
 
@@ -94,7 +102,7 @@ def read_deck(deck):
     Traceback (most recent call last):
     coil.CoilError: <deck text>:2:...
     """
-    return json.loads(_coil.read_deck(*_deck(deck)))
+    return _json.loads(_coil.read_deck(*_deck(deck)))
 
 
 def solve(deck, out=None):
@@ -113,7 +121,7 @@ def solve(deck, out=None):
     >>> [case["kind"] for case in r["load_cases"]]
     ['static', 'modal']
     """
-    return _arrays(json.loads(_coil.solve(*_deck(deck), None if out is None else os.fspath(out))))
+    return _arrays(_json.loads(_coil.solve(*_deck(deck), None if out is None else _os.fspath(out))))
 
 
 def decrement(time_s, values, every=10, lowpass_hz=None):
@@ -127,9 +135,9 @@ def decrement(time_s, values, every=10, lowpass_hz=None):
     >>> round(d["zeta_mean"], 5), round(d["period_s"], 4)
     (0.002, 0.23)
     """
-    return _arrays(json.loads(_coil.decrement(
-        np.asarray(time_s, dtype=float).tolist(),
-        np.asarray(values, dtype=float).tolist(),
+    return _arrays(_json.loads(_coil.decrement(
+        _np.asarray(time_s, dtype=float).tolist(),
+        _np.asarray(values, dtype=float).tolist(),
         every,
         lowpass_hz,
     )))
@@ -145,11 +153,11 @@ def plot_history(time_s, values, path, column="node1_uz_accel_m_s2", label=None)
     True
     """
     _coil.plot_history(
-        np.asarray(time_s, dtype=float).tolist(),
-        np.asarray(values, dtype=float).tolist(),
+        _np.asarray(time_s, dtype=float).tolist(),
+        _np.asarray(values, dtype=float).tolist(),
         label or column,
         column,
-        os.fspath(path),
+        _os.fspath(path),
     )
 
 
@@ -163,7 +171,7 @@ def calibrate(case, out, elements_per_coil=24, method="modal", check=True):
     >>> round(cal["stiffness"]["iterations"][-1]["result"], 4)
     3.9275
     """
-    return json.loads(_coil.calibrate(os.fspath(case), os.fspath(out), elements_per_coil, method, check))
+    return _json.loads(_coil.calibrate(_os.fspath(case), _os.fspath(out), elements_per_coil, method, check))
 
 
 def sweep_study(case, variants, out, calibration=None, paper_material=False,
@@ -177,8 +185,8 @@ def sweep_study(case, variants, out, calibration=None, paper_material=False,
     ('sweep', 6)
     """
     return _coil.sweep_study(
-        os.fspath(case), os.fspath(variants), os.fspath(out),
-        None if calibration is None else os.fspath(calibration),
+        _os.fspath(case), _os.fspath(variants), _os.fspath(out),
+        None if calibration is None else _os.fspath(calibration),
         paper_material, elements_per_coil, method, check,
     )
 
@@ -198,16 +206,16 @@ def tolerance_study(case, variants, out, samples=100, seed=1, wire_tol=0.03, gra
     24
     """
     return _coil.tolerance_study(
-        os.fspath(case), os.fspath(variants), os.fspath(out), samples, seed, wire_tol,
+        _os.fspath(case), _os.fspath(variants), _os.fspath(out), samples, seed, wire_tol,
         grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
-        None if calibration is None else os.fspath(calibration),
+        None if calibration is None else _os.fspath(calibration),
         paper_material, elements_per_coil, method,
     )
 
 
 def _run_chunk(study, tasks):
     """Runs some tasks of a study (on a Dask worker): [(task, row), ...]."""
-    return list(zip(tasks, json.loads(_coil.run_tasks(study, list(tasks)))))
+    return list(zip(tasks, _json.loads(_coil.run_tasks(study, list(tasks)))))
 
 
 def run_study(study, client=None, chunks=None):
@@ -226,10 +234,10 @@ def run_study(study, client=None, chunks=None):
     """
     import pandas as pd
 
-    info = json.loads(_coil.study_info(study))
+    info = _json.loads(_coil.study_info(study))
     n = info["tasks"]
     if client is None:
-        rows = json.loads(_coil.run_tasks(study, list(range(n))))
+        rows = _json.loads(_coil.run_tasks(study, list(range(n))))
     else:
         workers = max(1, len(client.scheduler_info()["workers"]))
         k = max(1, min(n, chunks or 4 * workers))
@@ -243,9 +251,9 @@ def run_study(study, client=None, chunks=None):
 
 
 def _write(study, table, out, plots):
-    rows = json.dumps([[None if isinstance(v, float) and v != v else v for v in row]
+    rows = _json.dumps([[None if isinstance(v, float) and v != v else v for v in row]
                        for row in table.itertuples(index=False, name=None)])
-    return json.loads(_coil.write_table(study, rows, os.fspath(out), plots))
+    return _json.loads(_coil.write_table(study, rows, _os.fspath(out), plots))
 
 
 def sweep(case, variants, out, calibration=None, paper_material=False, elements_per_coil=24,
@@ -293,7 +301,7 @@ def run_shard(study, shard, out):
     >>> os.path.basename(coil.run_shard(s, "2/3", tmp / "parts"))
     'part-0002-of-0003.csv'
     """
-    return _coil.run_shard(study, shard, os.fspath(out))
+    return _coil.run_shard(study, shard, _os.fspath(out))
 
 
 def merge(parts, out, plots=True):
@@ -311,7 +319,7 @@ def merge(parts, out, plots=True):
     >>> os.path.basename(coil.merge([tmp / "p"], tmp / "m", plots=False))
     'tolerance.csv'
     """
-    return _coil.merge([os.fspath(p) for p in parts], os.fspath(out), plots)
+    return _coil.merge([_os.fspath(p) for p in parts], _os.fspath(out), plots)
 
 
 def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
@@ -323,4 +331,92 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     >>> d["cause"], round(d["extended"]["parameters"]["friction_force_n"], 3)
     ('coulomb_friction', 0.011)
     """
-    return json.loads(_coil.diagnose(os.fspath(case), os.fspath(out), elements_per_coil, modes, plots))
+    return _json.loads(_coil.diagnose(_os.fspath(case), _os.fspath(out), elements_per_coil, modes, plots))
+
+
+def _json_file(value, folder):
+    """A path as it is; a dict written as a JSON file into ``folder`` (a relative path
+    inside the dict would be taken from that folder: give paths absolute)."""
+    if isinstance(value, dict):
+        import tempfile
+
+        _os.makedirs(folder, exist_ok=True)
+        handle, path = tempfile.mkstemp(suffix=".json", dir=folder)
+        with _os.fdopen(handle, "w") as f:
+            _json.dump(value, f)
+        return path
+    return _os.fspath(value)
+
+
+def check(spring, elements_per_coil=24):
+    """The EN 13906-1 sheet of a spring beside coil's FE values on the same spring
+    (``coil-tune check --json``, docs/spring-design.md): ``spring`` is a SPRING.json path
+    or a dict with its keys. Returns the sheet as a dict (``fe`` holds the FE values).
+
+    >>> s = coil.check(repo / "cases/spring-design/helispring.json")
+    >>> round(s["rate_n_mm"], 3), round(s["solid_length_mm"], 2), s["buckling_stable"]
+    (16.181, 57.79, True)
+    >>> s = coil.check(repo / "cases/spring-design/160ect_spring.json")
+    >>> round(s["rate_n_mm"], 4), round(s["fe"]["rate_n_mm"], 3)
+    (3.8373, 3.864)
+    """
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        return _json.loads(_coil.check(_json_file(spring, folder), elements_per_coil))
+
+
+def design(target, out, objective=None, short_list=None, plots=True):
+    """Designs to a target (``coil-tune design``, docs/spring-design.md): ``target`` is a
+    TARGET.json path or a dict with its keys (a calibration path in it: absolute, or
+    relative to the target file). Writes design.json, report.md, design.png and the
+    decks into ``out``; returns (design.json as a dict, its ``candidates`` as a
+    DataFrame, best first).
+
+    >>> cal = coil.calibrate(case, out=tmp / "cal")
+    >>> target = {"rate_n_mm": 3.9275, "rate_tolerance_percent": 2.0, "weight_kg": 5.3,
+    ...           "force_1_n": 40, "force_2_n": 120, "objective": "stress_margin",
+    ...           "envelope": {"max_outer_diameter_mm": 27.0, "min_inner_diameter_mm": 21.0,
+    ...                        "max_free_length_mm": 100.0, "max_solid_length_mm": 50.0},
+    ...           "material": {"calibration": str(tmp / "cal" / "calibration.json")}}
+    >>> d, table = coil.design(target, out=tmp / "design", plots=False)
+    >>> table[["wire_diameter_mm", "mean_diameter_mm", "active_coils"]].values[0].tolist()
+    [3.0, 24.0, 14.0]
+    >>> round(float(table["fe_rate_n_mm"][0]), 3), d["candidates"][0]["deck"]
+    (3.928, 'decks/candidate_01.dat')
+    """
+    import tempfile
+
+    import pandas as pd
+
+    with tempfile.TemporaryDirectory() as folder:
+        result = _json.loads(_coil.design(_json_file(target, folder), _os.fspath(out),
+                                         objective, short_list, plots))
+    columns = ["rank", "wire_diameter_mm", "mean_diameter_mm", "active_coils", "total_coils",
+               "pitch_mm", "free_length_mm", "rate_n_mm", "fe_rate_n_mm", "spring_mass_kg",
+               "stress_margin", "deck"]
+    rows = []
+    for c in result["candidates"]:
+        row = {k: c[k] for k in columns}
+        row.update({f"damping_ratio_{law}": z for law, z in c["damping_ratio"].items()})
+        rows.append(row)
+    return result, pd.DataFrame(rows)
+
+
+def damping(case, out, variants=None, elements_per_coil=24, scatter=0.03):
+    """Which damping law? (``coil-tune damping``, docs/damping.md): fits the Rayleigh,
+    hysteretic and external-dashpot laws to all decay records of a measured case, judged
+    against the repeat scatter of zeta (estimated from repeated tests, else ``scatter``);
+    writes damping.json and report.md into ``out`` and returns damping.json's content.
+    ``variants`` defaults to a table4.json beside case.json.
+
+    >>> d = coil.damping(repo / "cases/measured/null_g4", tmp / "damping", elements_per_coil=8)
+    >>> d["law"], d["identifiable"], d["repeat_scatter"]["source"]
+    (None, False, 'default')
+    >>> "surge" in d["deciding_test"]["text"]
+    True
+    """
+    return _json.loads(_coil.damping(
+        _os.fspath(case), _os.fspath(out),
+        None if variants is None else _os.fspath(variants), elements_per_coil, scatter,
+    ))

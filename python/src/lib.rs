@@ -393,6 +393,86 @@ fn diagnose(
     })
 }
 
+/// The EN 13906-1 sheet of a SPRING.json beside coil's FE values on the same spring
+/// (`coil-tune check --json`): returns the report's JSON.
+#[pyfunction]
+#[pyo3(signature = (spring, elements_per_coil=24))]
+fn check(py: Python<'_>, spring: PathBuf, elements_per_coil: u32) -> PyResult<String> {
+    py.detach(|| {
+        let input = coil_tuner::sheet::input::read_spring(&spring).map_err(fail)?;
+        let settings = coil_tuner::fe::FeSettings {
+            elements_per_coil,
+            ..Default::default()
+        };
+        let report = coil_tuner::sheet::check(&input, &settings).map_err(fail)?;
+        report.json().map_err(fail)
+    })
+}
+
+/// Designs to a TARGET.json (`coil-tune design`): writes design.json, report.md, the
+/// figure and the decks into `out` and returns design.json's content.
+#[pyfunction]
+#[pyo3(signature = (target, out, objective=None, short_list=None, plots=true))]
+fn design(
+    py: Python<'_>,
+    target: PathBuf,
+    out: PathBuf,
+    objective: Option<String>,
+    short_list: Option<usize>,
+    plots: bool,
+) -> PyResult<String> {
+    use coil_tuner::design::{self, target::Objective};
+    let objective = match objective.as_deref() {
+        None => None,
+        Some("lightest") => Some(Objective::Lightest),
+        Some("stress_margin") => Some(Objective::StressMargin),
+        Some(other) => {
+            return Err(fail(format!(
+                "objective \"{other}\"; expected \"lightest\" or \"stress_margin\""
+            )))
+        }
+    };
+    py.detach(|| {
+        let dir = OutDir::create(&out).map_err(fail)?;
+        let target = design::target::read_target(&target).map_err(fail)?;
+        let settings = design::DesignSettings {
+            objective,
+            short_list,
+        };
+        let result = design::design(&target, &settings).map_err(fail)?;
+        design::output::write(&result, &dir, plots).map_err(fail)?;
+        dir.commit().map_err(fail)?;
+        design::output::json(&result).map_err(fail)
+    })
+}
+
+/// Which damping law? (`coil-tune damping`): fits every law to all decay records of a case,
+/// writes damping.json and report.md into `out` and returns damping.json's content.
+#[pyfunction]
+#[pyo3(signature = (case, out, variants=None, elements_per_coil=24, scatter=0.03))]
+fn damping(
+    py: Python<'_>,
+    case: PathBuf,
+    out: PathBuf,
+    variants: Option<PathBuf>,
+    elements_per_coil: u32,
+    scatter: f64,
+) -> PyResult<String> {
+    py.detach(|| {
+        let mut settings = coil_ident::law::DampingSettings {
+            scatter,
+            ..Default::default()
+        };
+        settings.fe.elements_per_coil = elements_per_coil;
+        settings.variants = variants.or_else(|| coil_ident::law::variants_beside(&case));
+        let dir = OutDir::create(&out).map_err(fail)?;
+        let report = coil_ident::law::identify(&case, &settings).map_err(fail)?;
+        coil_ident::law::write(&report, &dir).map_err(fail)?;
+        let path = out.join("damping.json");
+        std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
+    })
+}
+
 #[pymodule]
 fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CoilError", m.py().get_type::<CoilError>())?;
@@ -410,5 +490,8 @@ fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_shard, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(damping, m)?)?;
     Ok(())
 }

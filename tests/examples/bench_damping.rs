@@ -1,6 +1,7 @@
 //! Benchmark of `coil-tune damping` (issue 10): writes generated cases from the damping
 //! truth model (`coil_tests::truth_damping`) into a temporary folder and times the
-//! release binary on each, printing the verdict beside the hidden law.
+//! release binary on each, printing the verdict beside the hidden law and what the design
+//! can decide (each test's damping scattered by `SCATTER`, 3 % by default).
 //!
 //! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_damping`
 //! (`-- --keep DIR` writes the cases into DIR and keeps them).
@@ -21,12 +22,13 @@ fn main() {
     let root = keep.unwrap_or_else(|| temp.path().to_path_buf());
     let binary = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/release/coil-tune");
     let m = 5.24;
+    // (name, law, masses (a mass listed again is a repeated test), surge records)
     let cases = [
         (
             "hysteretic_2m",
             TruthLaw::Hysteretic { eta: 0.0035 },
             vec![m, 2.0 * m],
-            false,
+            0,
         ),
         (
             "beta_2m_surge",
@@ -35,7 +37,7 @@ fn main() {
                 beta: 1.28e-4,
             },
             vec![m, 1.5 * m],
-            true,
+            1,
         ),
         (
             "alpha_beta_3m_surge",
@@ -44,35 +46,59 @@ fn main() {
                 beta: 1.2e-4,
             },
             vec![m, 1.7 * m, 2.5 * m],
-            true,
+            1,
         ),
-        (
-            "dashpot_1m_surge",
-            TruthLaw::Dashpot { c: 0.5 },
-            vec![m],
-            true,
-        ),
+        ("dashpot_1m_surge", TruthLaw::Dashpot { c: 0.5 }, vec![m], 1),
         (
             "dashpot_3m",
             TruthLaw::Dashpot { c: 0.5 },
             vec![m, 2.0 * m, 3.0 * m],
-            false,
+            0,
         ),
         (
             "hysteretic_close",
             TruthLaw::Hysteretic { eta: 0.0035 },
             vec![m, 1.02 * m],
-            false,
+            0,
+        ),
+        (
+            "beta_axial_surge",
+            TruthLaw::Rayleigh {
+                alpha: 0.0,
+                beta: 1.28e-4,
+            },
+            vec![m],
+            1,
+        ),
+        (
+            "hysteretic_2m_4_repeats",
+            TruthLaw::Hysteretic { eta: 0.0035 },
+            vec![m, m, m, m, 2.0 * m, 2.0 * m, 2.0 * m, 2.0 * m],
+            0,
+        ),
+        (
+            "beta_axial_surge_3_repeats",
+            TruthLaw::Rayleigh {
+                alpha: 0.0,
+                beta: 1.28e-4,
+            },
+            vec![m, m, m],
+            3,
         ),
     ];
     let mut times = Vec::new();
-    for (seed, (name, law, masses, surge)) in cases.into_iter().enumerate() {
+    let scatter = std::env::var("SCATTER")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.03);
+    for (seed, (name, law, masses, surges)) in cases.into_iter().enumerate() {
         let dir = root.join(name);
-        DampingTruth {
+        let truth = DampingTruth {
             name: name.to_string(),
             law,
             masses_kg: masses,
-            surge,
+            surges,
+            scatter,
             noise: std::env::var("NOISE")
                 .ok()
                 .and_then(|s| s.parse().ok())
@@ -81,9 +107,8 @@ fn main() {
                 .ok()
                 .and_then(|s| s.parse().ok())
                 .unwrap_or(seed as u64 + 1),
-        }
-        .write(&dir)
-        .expect("the case is written");
+        };
+        truth.write(&dir).expect("the case is written");
         if !binary.is_file() {
             println!(
                 "{name}: written to {} (no release binary to time)",
@@ -106,7 +131,14 @@ fn main() {
             .lines()
             .find(|l| l.starts_with("law:"))
             .unwrap_or("(no verdict)");
-        println!("{name:22} {wall:6.2} s  hidden {law:?}\n    {verdict}");
+        let scatter_line = text
+            .lines()
+            .find(|l| l.starts_with("repeat scatter"))
+            .unwrap_or("");
+        println!(
+            "{name:28} {wall:6.2} s  hidden {law:?} ({:?})\n    {scatter_line}\n    {verdict}",
+            truth.decidability()
+        );
         if !out.status.success() {
             println!("    failed: {}", String::from_utf8_lossy(&out.stderr));
         }

@@ -161,6 +161,17 @@ fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldErro
     }
     let o = item.object("a decay record: a file name or {file, mass_kg, mode, location}")?;
     let file = o.require("file", "the record's file, relative to the case folder")?;
+    // An explicit null is not an absent key: a mass left blank is an error, not the case's.
+    if let Some(m) = o
+        .get("mass_kg")
+        .filter(|m| m.node.value == json::Value::Null)
+    {
+        return Err(m.error(
+            "found null",
+            "the attached mass of this record in kg (a number > 0); leave the key out for the \
+             case's mass_kg",
+        ));
+    }
     let mass_kg = o.opt_number(
         "mass_kg",
         Range::Positive,
@@ -269,7 +280,9 @@ fn input(e: coil_io::ConfineError) -> CaseError {
     }
 }
 
-fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
+/// Reads a JSON input (bounded in size) into a located tree; errors name the file,
+/// line and column.
+pub fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
     let text =
         coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input").map_err(input)?;
     let node = json::parse(&text).map_err(|e| CaseError::Syntax {

@@ -2,7 +2,8 @@
 //! same zeta (a loss factor, written here as closed-form damped cosines with the
 //! frequencies `sqrt(K / m_eff)` of the two masses) is named hysteretic in damping.json
 //! with the spec's fields; a bad decay entry fails with file, line and field and writes
-//! nothing; one record gives law null and the deciding test.
+//! nothing; one record gives law null and the deciding test; records that cannot be tests
+//! (listed twice, an impossible mass, growing, noise) are refused.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -127,4 +128,93 @@ fn a_bad_decay_entry_is_located_and_nothing_is_written() {
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// Runs `damping` on `decay` and expects exit 1, nothing written, and every `needles` in the
+/// message.
+fn refused(dir: &Path, decay: &str, needles: &[&str]) {
+    case(dir, decay);
+    let out = dir.join("out");
+    let o = damping(dir, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{decay}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{decay}: expected {n:?} in {err}");
+    }
+    assert!(!out.exists(), "{decay}: an output was written");
+}
+
+/// A record listed twice (the same file, or a copy), a mass of 1e-300 kg or null, a
+/// growing oscillation and pure noise are refused with the entry and the reason, and
+/// nothing is written: pseudo-replication and impossible records never reach damping.json.
+#[test]
+fn records_that_cannot_be_tests_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    record(&d.join("a.csv"), 5.24);
+    record(&d.join("b.csv"), 10.48);
+    std::fs::copy(d.join("b.csv"), d.join("b_copy.csv")).unwrap();
+    refused(
+        d,
+        r#"["a.csv", "b.csv", "a.csv"]"#,
+        &[
+            "records.decay[2] (a.csv)",
+            "records.decay[0]",
+            "the same file",
+        ],
+    );
+    refused(
+        d,
+        r#"["a.csv", {"file": "b.csv", "mass_kg": 10.48}, {"file": "b_copy.csv", "mass_kg": 10.48}]"#,
+        &[
+            "records.decay[2] (b_copy.csv)",
+            "records.decay[1]",
+            "identical content",
+        ],
+    );
+    refused(
+        d,
+        r#"["a.csv", {"file": "b.csv", "mass_kg": 1e-300}]"#,
+        &["records.decay[1] (b.csv)", "Hz", "mass_kg"],
+    );
+    refused(
+        d,
+        r#"["a.csv", {"file": "b.csv", "mass_kg": null}]"#,
+        &["case.json:", "records.decay[1].mass_kg", "null"],
+    );
+    // Growing: the decay reversed in time.
+    let text = std::fs::read_to_string(d.join("a.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    let values: Vec<&str> = rows
+        .iter()
+        .rev()
+        .map(|r| r.split(',').nth(1).unwrap())
+        .collect();
+    let times: Vec<&str> = rows.iter().map(|r| r.split(',').next().unwrap()).collect();
+    let mut grown = String::from("time_s,accel_m_s2\n");
+    for (t, v) in times.iter().zip(&values) {
+        grown.push_str(&format!("{t},{v}\n"));
+    }
+    std::fs::write(d.join("grows.csv"), grown).unwrap();
+    refused(
+        d,
+        r#"["a.csv", "grows.csv"]"#,
+        &["records.decay[1] (grows.csv)", "grows"],
+    );
+    // Pure noise: seeded uniform values at 1 kHz.
+    let mut state = 12345u64;
+    let mut noise = String::from("time_s,accel_m_s2\n");
+    for i in 0..8000 {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        noise.push_str(&format!("{},{v}\n", i as f64 * 1e-3));
+    }
+    std::fs::write(d.join("noise.csv"), noise).unwrap();
+    refused(
+        d,
+        r#"["a.csv", "noise.csv"]"#,
+        &["records.decay[1] (noise.csv)", "unexplained"],
+    );
 }

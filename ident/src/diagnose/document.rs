@@ -25,13 +25,15 @@ fn opt(x: Option<f64>) -> String {
     x.map_or("-".into(), f)
 }
 
-/// report.md's text: the headline, then the four sections.
+/// report.md's text: the headline, then the four sections (the damping law's evidence
+/// before the last when the case has several decay records).
 fn markdown(o: &Outcome, figures: &[(&str, &str)]) -> String {
     let mut m = String::new();
     headline(o, &mut m);
     baseline_section(o, &mut m);
     misses_section(o, figures, &mut m);
     candidates_section(o, &mut m);
+    super::law_evidence::section(&o.case, &mut m);
     honesty_section(o, &mut m);
     m
 }

@@ -32,6 +32,7 @@ pub mod document;
 pub mod effects;
 pub mod evidence;
 pub mod fit;
+pub mod law_evidence;
 pub mod lm;
 pub mod model;
 pub mod outcome;

@@ -12,6 +12,7 @@ mod paper_spring;
 mod readme;
 mod reduction;
 mod results;
+mod spring_design;
 mod transient;
 mod truth;
 mod tuner;

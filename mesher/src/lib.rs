@@ -650,6 +650,9 @@ impl SpringSpec {
             point_laws,
             dashpots: vec![],
             modal_damping: Default::default(),
+            beam_tensions: Vec::new(),
+            tension_links: Vec::new(),
+            moving_contacts: Vec::new(),
         };
         // The spec was validated above, so this fails only on a mesher bug; it still
         // goes through the model's checks like every other model.

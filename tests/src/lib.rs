@@ -63,6 +63,9 @@ pub fn empty_parts(title: &str) -> ModelParts {
         point_laws: Vec::new(),
         dashpots: Vec::new(),
         modal_damping: Default::default(),
+        beam_tensions: Vec::new(),
+        tension_links: Vec::new(),
+        moving_contacts: Vec::new(),
     }
 }
 

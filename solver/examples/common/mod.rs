@@ -108,6 +108,9 @@ pub fn paper_spring_parts(
         point_laws: Vec::new(),
         dashpots: Vec::new(),
         modal_damping: Default::default(),
+        beam_tensions: Vec::new(),
+        tension_links: Vec::new(),
+        moving_contacts: Vec::new(),
     }
 }
 

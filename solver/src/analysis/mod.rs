@@ -42,6 +42,7 @@ pub mod modal;
 pub mod static_analysis;
 pub mod system;
 pub mod transient;
+pub mod unilateral;
 
 pub use crate::error::solve::SolveError;
 pub use modal::{ModalSolution, Mode};

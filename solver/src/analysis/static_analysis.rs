@@ -29,6 +29,7 @@
 //! hysteresis of a slow load cycle) is not modelled in a static load case.
 
 use super::system::System;
+use super::unilateral;
 use crate::error::solve::SolveError;
 use crate::linalg::Cholesky;
 use crate::model::{LoadCase, Model, NodeId, DOFS_PER_NODE};
@@ -112,6 +113,22 @@ pub fn solve(
         .map(|(eq, law)| (eq, law.cubic))
         .collect();
     let spring_forces = cubic_springs(factor, &springs, &mut q, &case.title)?;
+    let unilateral = !(model.tension_links().is_empty() && model.moving_contacts().is_empty());
+    if unilateral && !springs.is_empty() {
+        return Err(SolveError::BadInput {
+            what: format!(
+                "load case '{}': CUBIC SPRING together with TENSION LINK or MOVING \
+                 CONTACT in a STATIC case is not supported",
+                case.title
+            ),
+        });
+    }
+    let (gaps, gap_forces) = unilateral::correct_static(
+        system,
+        |x: &mut [f64]| factor.solve_in_place(x),
+        &mut q,
+        &case.title,
+    )?;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(SolveError::NonFinite {
             what: format!("static displacements of load case '{}'", case.title),
@@ -121,6 +138,13 @@ pub fn solve(
     let mut residual = system.residual(&displacement, &f_full);
     for (&(eq, _), f) in springs.iter().zip(&spring_forces.forces) {
         residual[dofs.free_to_full(eq)] += f;
+    }
+    // Contacts (links are in `residual` already, slack ones at zero force).
+    let n_links = model.tension_links().len();
+    for (gap, f) in gaps.iter().zip(&gap_forces).skip(n_links) {
+        for &(d, c) in &gap.full {
+            residual[d] += c * f;
+        }
     }
 
     // Equilibrium of the free equations, relative to the applied load.

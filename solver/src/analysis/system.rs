@@ -35,7 +35,8 @@ pub struct System<'m> {
     pub mass: SparseColMat<usize, f64>,
     /// Reduced Rayleigh damping (upper triangle).
     pub damping: SparseColMat<usize, f64>,
-    /// `-T^T K g`: the load the prescribed displacements put on the free DOFs.
+    /// `-T^T K g`: the load the prescribed displacements put on the free DOFs, plus the
+    /// tension links' force at the reference (`k slack (e_b - e_a)`).
     pub prescribed_load: Vec<f64>,
     /// Symbolic Cholesky of the pattern, shared by every factor on it.
     pub symbolic: SymbolicFactor,
@@ -87,6 +88,13 @@ impl<'m> System<'m> {
         for d in &model.dashpots {
             dashpot_blocks.push(dashpot_block(d)?);
             blocks.push(node_dofs(d.node, "DASHPOT")?.collect());
+        }
+        // Tension links (`TENSION LINK`), taut: a 2x2 block along their DOF each.
+        let link_first = blocks.len();
+        for l in &model.tension_links {
+            let a = node_dofs(l.nodes[0], "TENSION LINK")?.start + usize::from(l.dof - 1);
+            let b = node_dofs(l.nodes[1], "TENSION LINK")?.start + usize::from(l.dof - 1);
+            blocks.push(vec![a, b]);
         }
         let assembler = Assembler::new(&dofs, &blocks)?;
         let n_elements = model.elements.len();
@@ -150,6 +158,19 @@ impl<'m> System<'m> {
         for (k, block) in dashpot_blocks.iter().enumerate() {
             assembler.add_block(&mut c_values, dashpot_first + k, block.as_slice(), 1.0);
         }
+        // A link's force at the reference, k (u_b - u_a - slack) at u = 0, is the
+        // constant load k slack (e_b - e_a) on the right-hand side.
+        let mut pretension = vec![0.0; dofs.full_len()];
+        for (i, l) in model.tension_links.iter().enumerate() {
+            let k = l.stiffness;
+            let block = [k, -k, -k, k];
+            assembler.add_block(&mut k_values, link_first + i, &block, 1.0);
+            assembler.add_prescribed_load(&mut prescribed_load, link_first + i, &block, 1.0);
+            let b = &blocks[link_first + i];
+            pretension[b[0]] -= k * l.slack;
+            pretension[b[1]] += k * l.slack;
+        }
+        dofs.restrict_add(&pretension, &mut prescribed_load);
         let stiffness = assembler.matrix(&k_values)?;
         let mass = assembler.matrix(&m_values)?;
         let damping = assembler.matrix(&c_values)?;
@@ -273,9 +294,18 @@ impl<'m> System<'m> {
         rhs
     }
 
-    /// `K_full u - f` in the full space, element by element (for reactions).
+    /// `K_full u - f` in the full space, element by element (for reactions), with the
+    /// tension links' forces `k max(e, 0)` (slack ones exert none).
     pub fn residual(&self, u_full: &[f64], f_full: &[f64]) -> Vec<f64> {
         let mut r: Vec<f64> = f_full.iter().map(|f| -f).collect();
+        let first =
+            self.model.elements.len() + self.model.point_masses.len() + self.model.dashpots.len();
+        for (l, b) in self.model.tension_links.iter().zip(&self.blocks[first..]) {
+            let e = u_full[b[1]] - u_full[b[0]] - l.slack;
+            let force = l.stiffness * e.max(0.0);
+            r[b[1]] += force;
+            r[b[0]] -= force;
+        }
         for (block, k) in self.blocks.iter().zip(&self.element_stiffness) {
             for (a, &da) in block.iter().enumerate() {
                 r[da] += block

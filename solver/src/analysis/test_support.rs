@@ -46,6 +46,9 @@ pub fn model(nodes: &[(NodeId, [f64; 3])], elements: &[[NodeId; 2]]) -> Model {
         point_laws: Vec::new(),
         dashpots: Vec::new(),
         modal_damping: Default::default(),
+        beam_tensions: Vec::new(),
+        tension_links: Vec::new(),
+        moving_contacts: Vec::new(),
     }
 }
 

@@ -15,7 +15,7 @@
 //! The build functions live with their cards (`cards/<family>.rs`); list resolution
 //! and the line-named checks they share are in [`super::resolve`].
 
-use super::cards::{history, loads, masses, mesh, point_laws, properties};
+use super::cards::{catenary, history, loads, masses, mesh, point_laws, properties};
 use super::error::{DeckError, Loc};
 use super::raw::{PointLawKind, RawDeck, SetKind};
 use super::resolve::Builder;
@@ -47,6 +47,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     loads::build_tables(&b, &raw, &mut parts)?;
     properties::build(&b, &raw, &mut parts)?;
     masses::build(&b, &raw, &mut parts)?;
+    catenary::build(&b, &raw, &mut parts)?;
     let prescribed = loads::build_supports(&b, &raw, &mut parts)?;
     masses::build_ties(&b, &raw, &prescribed, &mut parts)?;
     point_laws::build(&b, &raw, &prescribed, &mut parts)?;
@@ -114,6 +115,12 @@ fn locate(b: &Builder<'_>, raw: &RawDeck, keys: &PointKeys, e: ModelError) -> De
             let list = d.mass_nodes.as_ref().map_or(d.loc, |l| l.loc);
             ("DAMPING", list)
         }),
+        Site::BeamTension(i) => raw.beam_tensions.get(i).map(|t| ("BEAM TENSION", t.loc)),
+        Site::TensionLink(i) => raw.tension_links.get(i).map(|t| ("TENSION LINK", t.1)),
+        Site::MovingContact(i) => raw
+            .moving_contacts
+            .get(i)
+            .map(|c| ("MOVING CONTACT", c.loc)),
         Site::PointMass(i) => raw.point_masses.get(i).map(|p| ("POINT MASS", p.node_loc)),
         Site::RigidTie(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.loc)),
         Site::RigidTieReference(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.reference_loc)),

@@ -224,6 +224,12 @@ pub(crate) struct RawDeck {
     pub materials: Vec<RawMaterial>,
     pub geometries: Vec<RawGeometry>,
     pub damping: Vec<RawDamping>,
+    /// `BEAM TENSION` groups.
+    pub beam_tensions: Vec<RawBeamTension>,
+    /// `TENSION LINK` lines: the link and where.
+    pub tension_links: Vec<(crate::model::TensionLink, Loc)>,
+    /// `MOVING CONTACT` groups.
+    pub moving_contacts: Vec<RawMovingContact>,
     pub point_masses: Vec<RawPointMass>,
     pub point_laws: Vec<RawPointLaw>,
     /// `LOSS FACTOR`: (eta, modes, where).
@@ -256,6 +262,26 @@ pub(crate) struct RawDeck {
     /// Where `END` and `END OPTION` were.
     pub end: Option<Loc>,
     pub end_option: Option<Loc>,
+}
+
+/// A `BEAM TENSION` group: an axial force (N) on a list of elements.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawBeamTension {
+    pub force: f64,
+    pub loc: Loc,
+    pub elements: RawList,
+}
+
+/// A `MOVING CONTACT` group: its first line's values, where, and the line's nodes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawMovingContact {
+    pub head: u32,
+    pub dof: u8,
+    pub stiffness: f64,
+    pub speed: f64,
+    pub start: f64,
+    pub loc: Loc,
+    pub line: RawList,
 }
 
 /// A `BEAM SECT` section.

@@ -203,7 +203,7 @@ impl Writer<'_> {
         self.loads_and_outputs();
     }
 
-    /// Materials, geometries and Rayleigh damping.
+    /// Materials, geometries, Rayleigh damping, beam tensions, links and contacts.
     fn properties(&mut self) {
         let m = self.model;
         let node_sets = node_sets(m);
@@ -275,6 +275,42 @@ impl Writer<'_> {
                     self.comment("nodes whose point masses get alpha");
                     self.list(&d.mass_nodes, &node_sets);
                 }
+            }
+        }
+        if !m.beam_tensions.is_empty() {
+            self.line("BEAM TENSION");
+            for t in &m.beam_tensions {
+                self.comment("axial force (N)");
+                self.line(&nums([t.force]));
+                self.comment("elements");
+                self.list(&t.elements, &element_sets);
+            }
+        }
+        if !m.tension_links.is_empty() {
+            self.line("TENSION LINK");
+            self.comment("node a, node b, dof, stiffness (N/mm), slack (mm)");
+            for l in &m.tension_links {
+                self.line(&format!(
+                    "{}, {}, {}, {}",
+                    l.nodes[0],
+                    l.nodes[1],
+                    l.dof,
+                    nums([l.stiffness, l.slack])
+                ));
+            }
+        }
+        if !m.moving_contacts.is_empty() {
+            self.line("MOVING CONTACT");
+            for c in &m.moving_contacts {
+                self.comment("head, dof, stiffness (N/mm), speed (mm/s), start (mm)");
+                self.line(&format!(
+                    "{}, {}, {}",
+                    c.head,
+                    c.dof,
+                    nums([c.stiffness, c.speed, c.start])
+                ));
+                self.comment("the line's nodes");
+                self.list(&c.line, &node_sets);
             }
         }
     }

@@ -174,6 +174,20 @@ pub fn local_stiffness(p: &BeamProperties, k: &mut Matrix12) {
     scatter_plane(k, &bending_stiffness(E * s.iyy, L, phi_w), PLANE_XZ);
 }
 
+/// Adds the geometric stiffness of the axial force `force` (N, positive in tension) of
+/// an element of length `length` (mm) to the local matrix `k`: in both bending planes
+/// `N/(30 L) [36, 3L, -36, 3L; 3L, 4L^2, -3L, -L^2; ...]` (`theta = dw/dx`; Przemieniecki
+/// 1968, sec. 15.3, the consistent matrix of the cubic Hermite interpolation). With it a
+/// wire of negligible EI is the taut string `rho A w_tt = N w_xx`.
+pub fn add_local_geometric_stiffness(length: f64, force: f64, k: &mut Matrix12) {
+    let l = length;
+    let c = force / (30.0 * l);
+    let (a, b, d, e) = (36.0 * c, 3.0 * l * c, 4.0 * l * l * c, -l * l * c);
+    let block = [[a, b, -a, b], [b, d, -b, e], [-a, -b, a, -b], [b, e, -b, d]];
+    scatter_plane(k, &block, PLANE_XY);
+    scatter_plane(k, &block, PLANE_XZ);
+}
+
 /// Local consistent mass matrix (t, t mm, t mm^2), overwriting `m`.
 #[allow(non_snake_case)]
 pub fn local_consistent_mass(p: &BeamProperties, m: &mut Matrix12) {
@@ -242,6 +256,39 @@ mod tests {
                 shear_coefficient: 0.85,
             },
         }
+    }
+
+    /// The geometric stiffness does work `N/2 int w'^2 dx` on a deflection: exact for a
+    /// cubic, and a rigid rotation of the string costs `N L theta^2 / 2` per plane while
+    /// a rigid translation costs nothing.
+    #[test]
+    fn geometric_stiffness_is_the_strings_stretch_energy() {
+        let (l, n) = (7.0, 2.0e4);
+        let mut k = Matrix12::zeros();
+        add_local_geometric_stiffness(l, n, &mut k);
+        assert!((k - k.transpose()).amax() == 0.0);
+        // Rigid translation in z: no energy.
+        let mut u = Vector12::zeros();
+        u[2] = 1.0;
+        u[8] = 1.0;
+        assert!((k * u).amax() < 1e-9 * n);
+        // Rigid rotation about y (w = -theta x, theta_y = theta): N L theta^2 / 2 per
+        // plane, and nothing axial.
+        let theta = 1e-3;
+        let mut u = Vector12::zeros();
+        u[4] = theta;
+        u[10] = theta;
+        u[8] = -theta * l;
+        let energy = 0.5 * u.dot(&(k * u));
+        assert!((energy - 0.5 * n * l * theta * theta).abs() < 1e-12 * n * l);
+        // w = x^2 (w' = 2x): N/2 int_0^L 4 x^2 dx = 2 N L^3 / 3, in the x-y plane too.
+        let mut u = Vector12::zeros();
+        u[7] = l * l;
+        u[11] = 2.0 * l;
+        let energy = 0.5 * u.dot(&(k * u));
+        assert!((energy / (2.0 * n * l.powi(3) / 3.0) - 1.0).abs() < 1e-12);
+        assert_eq!(k[(0, 0)], 0.0);
+        assert_eq!(k[(3, 3)], 0.0);
     }
 
     fn both() -> [BeamProperties; 2] {

@@ -129,8 +129,9 @@ pub fn properties(
     ))
 }
 
-/// Global stiffness and mass (consistent, or HRZ-lumped when `lumped`) of one element,
-/// written into `k` and `m`.
+/// Global stiffness (with the geometric stiffness of the element's `BEAM TENSION`, if
+/// any) and mass (consistent, or HRZ-lumped when `lumped`) of one element, written into
+/// `k` and `m`.
 pub fn global_matrices(
     model: &Model,
     element: &Element,
@@ -140,6 +141,10 @@ pub fn global_matrices(
 ) -> Result<(), ElementError> {
     let (props, frame) = properties(model, element)?;
     beam::local_stiffness(&props, k);
+    let tension = model.tension_of(element.id);
+    if tension != 0.0 {
+        beam::add_local_geometric_stiffness(props.length, tension, k);
+    }
     if lumped {
         let mut consistent = Matrix12::zeros();
         beam::local_consistent_mass(&props, &mut consistent);

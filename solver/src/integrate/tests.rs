@@ -932,6 +932,9 @@ fn paper_like_spring(coils: usize, per_coil: usize, lumped_mass: bool) -> (Mck, 
         point_laws: Vec::new(),
         dashpots: Vec::new(),
         modal_damping: Default::default(),
+        beam_tensions: Vec::new(),
+        tension_links: Vec::new(),
+        moving_contacts: Vec::new(),
     };
     let system = System::new(&model).unwrap();
     let weight = match system.dofs.status(system.dofs.full_index(1, 3).unwrap()) {

@@ -11,7 +11,9 @@
 //!    coefficient of every type-98 element) on existing elements, non-empty lists;
 //! 4. every element has a material and a geometry;
 //! 5. point masses (existing node, one per node, non-negative values), Rayleigh
-//!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass);
+//!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass),
+//!    beam tensions (finite force, existing elements, each element once), tension
+//!    links and moving contacts (existing nodes, a translation, stiffness > 0);
 //! 6. constraints: prescribed DOFs 1..=6 once each, rigid ties (existing reference not
 //!    in its own list, no overlap, no chain, no tied DOF also prescribed), nonlinear
 //!    point elements and dashpots on existing, free DOFs with non-negative values;
@@ -97,6 +99,12 @@ pub enum Site {
     Dashpot(usize),
     /// `modal_damping`.
     ModalDamping,
+    /// `beam_tensions[i]`.
+    BeamTension(usize),
+    /// `tension_links[i]`.
+    TensionLink(usize),
+    /// `moving_contacts[i]`.
+    MovingContact(usize),
 }
 
 impl fmt::Display for Site {
@@ -130,6 +138,9 @@ impl fmt::Display for Site {
             Site::PointLaw(i) => write!(f, "point element {}", i + 1),
             Site::Dashpot(i) => write!(f, "dashpot {}", i + 1),
             Site::ModalDamping => write!(f, "modal damping"),
+            Site::BeamTension(i) => write!(f, "beam tension {}", i + 1),
+            Site::TensionLink(i) => write!(f, "tension link {}", i + 1),
+            Site::MovingContact(i) => write!(f, "moving contact {}", i + 1),
         }
     }
 }
@@ -173,6 +184,8 @@ pub(crate) fn check(mut p: ModelParts) -> Result<ModelParts, ModelError> {
     check_geometries(&p, &ids)?;
     check_coverage(&p)?;
     check_masses_and_damping(&p, &ids)?;
+    check_beam_tensions(&p, &ids)?;
+    check_links_and_contacts(&p, &ids)?;
     let fixed = check_constraints(&p, &ids)?;
     check_point_elements(&p, &ids, &fixed)?;
     check_loads_and_cases(&p, &ids)?;
@@ -193,6 +206,12 @@ fn normalise(p: &mut ModelParts) {
     }
     for g in &mut p.geometries {
         sort_unique(&mut g.elements);
+    }
+    for t in &mut p.beam_tensions {
+        sort_unique(&mut t.elements);
+    }
+    for c in &mut p.moving_contacts {
+        sort_unique(&mut c.line);
     }
     for d in &mut p.damping {
         sort_unique(&mut d.elements);
@@ -559,6 +578,85 @@ fn check_masses_and_damping(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 Site::DampingMassNodes(i),
                 format!("node {n} has no POINT MASS to damp"),
                 "nodes that carry a POINT MASS",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Beam tensions: a finite force on existing elements, each element in one entry.
+fn check_beam_tensions(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
+    let mut seen = HashSet::new();
+    for (i, t) in p.beam_tensions.iter().enumerate() {
+        let site = Site::BeamTension(i);
+        if !t.force.is_finite() {
+            return fail(
+                site,
+                format!("axial force {:?}", t.force),
+                "a finite force (N)",
+            );
+        }
+        non_empty(&t.elements, site, "elements")?;
+        ids.elements_exist(&t.elements, site)?;
+        if let Some(e) = t.elements.iter().find(|e| !seen.insert(**e)) {
+            return fail(
+                site,
+                format!("element {e} already has a tension"),
+                "each element in one BEAM TENSION entry",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Tension links and moving contacts: existing nodes, a translation, a positive finite
+/// stiffness, finite slack, speed and start, a line of two nodes or more without the head.
+fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
+    let translation = "a translation DOF 1..3";
+    for (i, l) in p.tension_links.iter().enumerate() {
+        let site = Site::TensionLink(i);
+        ids.nodes_exist(&l.nodes, site)?;
+        if l.nodes[0] == l.nodes[1] {
+            return fail(
+                site,
+                format!("both ends are node {}", l.nodes[0]),
+                "two different nodes",
+            );
+        }
+        if !(1..=3).contains(&l.dof) {
+            return fail(site, format!("DOF {}", l.dof), translation);
+        }
+        if !(l.stiffness > 0.0 && l.stiffness.is_finite() && l.slack.is_finite()) {
+            return fail(
+                site,
+                format!("stiffness {:?}, slack {:?}", l.stiffness, l.slack),
+                "a stiffness > 0 (N/mm) and a finite slack (mm)",
+            );
+        }
+    }
+    for (i, c) in p.moving_contacts.iter().enumerate() {
+        let site = Site::MovingContact(i);
+        ids.nodes_exist(&[c.head], site)?;
+        ids.nodes_exist(&c.line, site)?;
+        if c.line.len() < 2 || c.line.contains(&c.head) {
+            return fail(
+                site,
+                format!("a line of {} nodes (head {})", c.line.len(), c.head),
+                "a line of at least two nodes, not including the head",
+            );
+        }
+        if !(1..=3).contains(&c.dof) {
+            return fail(site, format!("DOF {}", c.dof), translation);
+        }
+        let finite = c.speed.is_finite() && c.start.is_finite();
+        if !(c.stiffness > 0.0 && c.stiffness.is_finite() && finite) {
+            return fail(
+                site,
+                format!(
+                    "stiffness {:?}, speed {:?}, start {:?}",
+                    c.stiffness, c.speed, c.start
+                ),
+                "a stiffness > 0 (N/mm), a finite speed (mm/s) and start (mm)",
             );
         }
     }

@@ -447,6 +447,15 @@ pub struct Model {
     /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub(crate) modal_damping: ModalDamping,
+    /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
+    #[serde(default)]
+    pub(crate) beam_tensions: Vec<BeamTension>,
+    /// Tension-only links between two nodes (`TENSION LINK`).
+    #[serde(default)]
+    pub(crate) tension_links: Vec<TensionLink>,
+    /// Moving unilateral contacts of a node on a beam line (`MOVING CONTACT`).
+    #[serde(default)]
+    pub(crate) moving_contacts: Vec<MovingContact>,
 }
 
 /// The pieces of a [`Model`] before validation: every field public, so a caller (the
@@ -499,6 +508,68 @@ pub struct ModelParts {
     /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
     #[serde(default)]
     pub modal_damping: ModalDamping,
+    /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
+    #[serde(default)]
+    pub beam_tensions: Vec<BeamTension>,
+    /// Tension-only links between two nodes (`TENSION LINK`).
+    #[serde(default)]
+    pub tension_links: Vec<TensionLink>,
+    /// Moving unilateral contacts of a node on a beam line (`MOVING CONTACT`).
+    #[serde(default)]
+    pub moving_contacts: Vec<MovingContact>,
+}
+
+/// A tension-only link (coil card `TENSION LINK`; a catenary's dropper): along the
+/// translation `dof` its elongation is `e = u_b - u_a - slack` (displacements from the
+/// reference, mm) and it pulls the two nodes together with `stiffness * max(e, 0)`;
+/// slack (`e < 0`) it exerts nothing. A negative `slack` is a link pretensioned in the
+/// reference configuration by `-stiffness * slack`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TensionLink {
+    /// The nodes a and b (different).
+    pub nodes: [NodeId; 2],
+    /// The translation 1..=3 the link acts along.
+    pub dof: u8,
+    /// Stiffness in tension (N/mm), > 0.
+    pub stiffness: f64,
+    /// The elongation at which the link becomes taut (mm), finite.
+    pub slack: f64,
+}
+
+/// A moving unilateral penalty contact (coil card `MOVING CONTACT`; a pantograph's head
+/// on the contact wire): a point moves along a straight line of beam nodes at a constant
+/// speed, and the `head` node presses on the line along the translation `dof`. The
+/// penetration `p = (x_head + u_head) - (x_line + w_line)(s)` along `dof` (`w_line` the
+/// line's cubic Hermite interpolation of that translation and its rotation at the point
+/// `s = start + speed t` from the line's first node) gives the force `stiffness *
+/// max(p, 0)`, pushing the head back and the line forward; `p <= 0` is an open contact.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MovingContact {
+    /// The pressing node.
+    pub head: NodeId,
+    /// The translation 1..=3 of the pressing.
+    pub dof: u8,
+    /// Penalty stiffness (N/mm), > 0.
+    pub stiffness: f64,
+    /// Speed along the line (mm/s), finite.
+    pub speed: f64,
+    /// The contact point at t = 0, from the line's first node (mm), finite.
+    pub start: f64,
+    /// The line's nodes (sorted, unique): collinear along a global axis other than `dof`.
+    pub line: Vec<NodeId>,
+}
+
+/// A given axial force in beam elements (coil card `BEAM TENSION`): a wire under a
+/// tension `N` that the model does not compute itself (a catenary's contact or messenger
+/// wire, tensioned by weights at its ends). It enters every analysis as the elements'
+/// geometric stiffness (`crate::element::beam::local_geometric_stiffness`), linear in the
+/// displacements from the straight reference line.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BeamTension {
+    /// Axial force N (N), positive in tension; finite.
+    pub force: f64,
+    /// Element ids (sorted, unique).
+    pub elements: Vec<ElementId>,
 }
 
 /// A linear (viscous) dashpot between one DOF of a node and the ground (coil card
@@ -623,6 +694,9 @@ impl Model {
             point_laws: p.point_laws,
             dashpots: p.dashpots,
             modal_damping: p.modal_damping,
+            beam_tensions: p.beam_tensions,
+            tension_links: p.tension_links,
+            moving_contacts: p.moving_contacts,
         })
     }
 
@@ -659,6 +733,9 @@ impl Model {
             point_laws: self.point_laws,
             dashpots: self.dashpots,
             modal_damping: self.modal_damping,
+            beam_tensions: self.beam_tensions,
+            tension_links: self.tension_links,
+            moving_contacts: self.moving_contacts,
         }
     }
 
@@ -810,6 +887,29 @@ impl Model {
             .iter()
             .rev()
             .find(|m| m.elements.binary_search(&id).is_ok())
+    }
+
+    /// Tensioned beams (`BEAM TENSION`).
+    pub fn beam_tensions(&self) -> &[BeamTension] {
+        &self.beam_tensions
+    }
+
+    /// Tension-only links (`TENSION LINK`).
+    pub fn tension_links(&self) -> &[TensionLink] {
+        &self.tension_links
+    }
+
+    /// Moving contacts (`MOVING CONTACT`).
+    pub fn moving_contacts(&self) -> &[MovingContact] {
+        &self.moving_contacts
+    }
+
+    /// The given axial force of an element (`BEAM TENSION`; N), zero when none is given.
+    pub fn tension_of(&self, id: ElementId) -> f64 {
+        self.beam_tensions
+            .iter()
+            .find(|t| t.elements.binary_search(&id).is_ok())
+            .map_or(0.0, |t| t.force)
     }
 
     /// The geometry of an element, if one is assigned.

@@ -103,10 +103,12 @@ fn hand_written_marc_cantilever_reads_as_meant() {
 
 #[test]
 fn the_every_card_deck_uses_every_card() {
-    // coil's cards in every_card.dat, Mentat's in mentat_cantilever.dat; the cards coil
+    // coil's cards in every_card.dat (the catenary's, which need NEWMARK, in
+    // moving_contact.dat), Mentat's in mentat_cantilever.dat; the cards coil
     // refuses are tested to fail in the keyword table's tests.
     let text = fs::read_to_string(good("every_card.dat")).unwrap()
-        + &fs::read_to_string(good("mentat_cantilever.dat")).unwrap();
+        + &fs::read_to_string(good("mentat_cantilever.dat")).unwrap()
+        + &fs::read_to_string(good("moving_contact.dat")).unwrap();
     for kw in KEYWORDS
         .iter()
         .filter(|k| k.origin != coil_solver::deck::Origin::Unsupported)
@@ -541,6 +543,17 @@ fn every_field_model() -> Model {
             loss_factor_modes: 12,
             ratios: vec![0.0, 0.02, 0.005],
         },
+        beam_tensions: vec![BeamTension {
+            force: 2.0e4,
+            elements: vec![1, 2],
+        }],
+        tension_links: vec![TensionLink {
+            nodes: [2, 3],
+            dof: 3,
+            stiffness: 100.0,
+            slack: -1.0,
+        }],
+        moving_contacts: Vec::new(),
     }
     .build()
     .expect("every field is valid")

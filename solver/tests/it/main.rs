@@ -2,6 +2,7 @@
 //! temporary folders, every deck of tests/decks, the Marc dialect. A new test file is a module here.
 
 mod boundary;
+mod catenary;
 mod cli;
 mod decks;
 mod marc;

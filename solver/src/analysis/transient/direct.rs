@@ -1,7 +1,7 @@
 //! The direct path of a transient case: the system's matrices handed to the stepper as
 //! their upper triangles, the stepper kept between cases (refactored only when the scheme or `dt` changes), the
 //! point laws bound to it, and the run loop (the "Direct integration" section of
-//! [`super`]).
+//! [`super`]); tension links and moving contacts run in [`super::contact`].
 
 use super::error::integrate_error;
 use super::loads::LoadPatterns;
@@ -83,6 +83,20 @@ pub(super) fn run_direct(
             }
         }
     };
+    let model = system.model;
+    if !(model.tension_links().is_empty() && model.moving_contacts().is_empty()) {
+        if model.modal_damping.is_active() {
+            return Err(SolveError::BadInput {
+                what: format!(
+                    "load case '{title}': LOSS FACTOR and MODAL DAMPING do not run with \
+                     TENSION LINK or MOVING CONTACT; use Rayleigh DAMPING"
+                ),
+            });
+        }
+        return super::contact::run_unilateral(
+            system, stepper, title, steps, u0, v0, &mut force, recorder, progress,
+        );
+    }
     let mut f0 = vec![0.0; n];
     force(0.0, &mut f0);
     if system.model.modal_damping.is_active() {

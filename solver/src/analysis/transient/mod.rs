@@ -95,6 +95,7 @@
 //! R. J. Guyan, AIAA J. 3 (1965) 380 (the static condensation shape behind the
 //! quasi-static velocity field).
 
+mod contact;
 mod direct;
 mod error;
 mod initial;
@@ -335,7 +336,11 @@ pub fn solve(
             )?;
             None
         }
-        TransientMethod::Modal { .. } if !system.point_laws()?.is_empty() => {
+        TransientMethod::Modal { .. }
+            if !(system.point_laws()?.is_empty()
+                && system.model.tension_links().is_empty()
+                && system.model.moving_contacts().is_empty()) =>
+        {
             return Err(SolveError::NonlinearNeedsDirect {
                 case: title.to_string(),
             });

@@ -89,6 +89,9 @@ pub(super) struct Recorder {
     pub(super) time: Vec<f64>,
     pub(super) values: Vec<Vec<f64>>,
     pub(super) scratch: [Vec<f64>; 3],
+    /// Columns the run computes itself: each `MOVING CONTACT`'s force,
+    /// `contact{i}_force_n` (i from 1, N), recorded by the direct path at the same rows.
+    pub(super) extras: Vec<HistoryColumn>,
 }
 
 impl Recorder {
@@ -155,7 +158,14 @@ impl Recorder {
             });
         }
         let n_slots = dofs.len();
+        let extras = (1..=model.moving_contacts().len())
+            .map(|i| HistoryColumn {
+                name: format!("contact{i}_force_n"),
+                values: Vec::with_capacity(rows),
+            })
+            .collect();
         Ok(Recorder {
+            extras,
             every,
             dofs,
             values: columns.iter().map(|_| Vec::with_capacity(rows)).collect(),
@@ -225,6 +235,7 @@ impl Recorder {
                     name: c.name,
                     values,
                 })
+                .chain(self.extras)
                 .collect(),
         }
     }

@@ -1,7 +1,7 @@
 //! THE keyword table (the registry). Every card of the deck language is one [`Keyword`]
 //! entry, defined beside its parse function and its tests in the module of its family
-//! (`parameters`, `mesh`, `properties`, `masses`, `point_laws`, `loads`, `history`,
-//! `mentat`); [`KEYWORDS`] lists them in the order of the deck reference. The reader
+//! (`parameters`, `mesh`, `properties`, `masses`, `catenary`, `point_laws`, `loads`,
+//! `history`, `mentat`); [`KEYWORDS`] lists them in the order of the deck reference. The reader
 //! finds cards here, the writer and docs/deck.md follow it ([`reference_markdown`];
 //! a test keeps docs/deck.md equal to it), and a test here keeps any two keywords from
 //! colliding.
@@ -10,6 +10,7 @@
 //! a value's sign); references between cards (node ids, set names, tables) are
 //! resolved afterwards by [`super::build`] and checked by [`crate::model::check`].
 
+pub(crate) mod catenary;
 pub(crate) mod history;
 pub(crate) mod loads;
 pub(crate) mod masses;
@@ -37,6 +38,9 @@ pub static KEYWORDS: &[Keyword] = &[
     properties::ISOTROPIC,
     properties::GEOMETRY,
     masses::DAMPING,
+    catenary::BEAM_TENSION,
+    catenary::TENSION_LINK,
+    catenary::MOVING_CONTACT,
     masses::POINT_MASS,
     point_laws::FRICTION,
     point_laws::QUADRATIC_DAMPER,

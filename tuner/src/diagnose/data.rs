@@ -54,7 +54,7 @@ use coil_postproc::signal::Signal;
 use serde::Serialize;
 
 /// Fewest oscillation cycles in a decay record.
-pub const MIN_CYCLES: usize = 20;
+pub const MIN_CYCLES: usize = 8;
 /// Fewest distinct values in a decay record.
 pub const MIN_LEVELS: usize = 16;
 /// Largest share of samples at the record's extremes.
@@ -791,7 +791,7 @@ mod tests {
 
     #[test]
     fn short_flat_and_clipped_records_are_refused() {
-        let short = check_decay(signal(decay(10.0, 2.0), 1e-3)).unwrap_err();
+        let short = check_decay(signal(decay(5.0, 2.0), 1e-3)).unwrap_err();
         assert!(short.to_string().contains("cycles"), "{short}");
         let flat = check_decay(signal(vec![0.5; 1000], 1e-3)).unwrap_err();
         assert!(flat.to_string().contains("flat"), "{flat}");

@@ -423,10 +423,10 @@ fn paper_calibration(
     // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
     // a record whose crests carry jumps (dry friction reverses its force at every
     // crest) needs a lower cut-off before its crests are regular.
-    // A short record (the forecast's first half of a 20-30 cycle decay) has too few
-    // crests for spans of 10; spans of 5, then 3, keep the estimator's form.
+    // A short record (an 8-cycle decay, or the forecast's first half of one) has too
+    // few crests for spans of 10; spans of 5, 3, 2, then 1 keep the estimator's form.
     let mut attempt = Err(TuneError::Invalid("no decrement".into()));
-    'search: for every in [10, 5, 3] {
+    'search: for every in [10, 5, 3, 2, 1] {
         for factor in [5.0, 2.0, 1.4] {
             attempt = decay::measure(
                 &record,

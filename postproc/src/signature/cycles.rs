@@ -160,7 +160,10 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
     // regular spectral peak (or only a noise bump as the most prominent one); the
     // zero-crossing rate still finds the oscillation, and it decides whenever the
     // spectral peak lies outside the band around it.
-    let f0 = match (dominant_frequency(spectrum), crossing_rate(&y, noise, step_s)) {
+    let f0 = match (
+        dominant_frequency(spectrum),
+        crossing_rate(&y, noise, step_s),
+    ) {
         (Ok(f), Some(rate)) if (f - rate).abs() <= AGREEMENT * rate => f,
         (_, Some(rate)) => rate,
         (Ok(f), None) => f,

@@ -35,8 +35,8 @@ mod test_records;
 pub use crate::stats::Estimate;
 pub use backbone::{backbone, cubic_from_backbone, BackboneFit};
 pub use cycles::{
-    crossing_frequency, cycles, cycles_in, Cycle, CycleOptions, CycleSeries, AGREEMENT, CYCLE_NOISE_FLOOR, CYCLE_TOLERANCE,
-    DEFAULT_BAND,
+    crossing_frequency, cycles, cycles_in, Cycle, CycleOptions, CycleSeries, AGREEMENT,
+    CYCLE_NOISE_FLOOR, CYCLE_TOLERANCE, DEFAULT_BAND,
 };
 pub use loss::{
     friction_force, loss_per_cycle, loss_per_cycle_windowed, quadratic_coefficient, zeta_from_a1,

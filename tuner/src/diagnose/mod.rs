@@ -257,6 +257,7 @@ fn compute(
         max_iterations: settings.max_iterations,
         signatures: &sigs,
         figures: &figures,
+        decrement_beta_s: baseline.full.physical.beta_s,
     };
     let ctx = select::Context {
         reference: &reference,

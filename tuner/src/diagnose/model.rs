@@ -362,7 +362,9 @@ mod tests {
                 .map(|x| x.u)
                 .collect();
             // The sample of largest |u| after the first period, for a well-posed ratio.
-            let n = (210..399).max_by(|&i, &j| u[i].abs().total_cmp(&u[j].abs())).unwrap();
+            let n = (210..399)
+                .max_by(|&i, &j| u[i].abs().total_cmp(&u[j].abs()))
+                .unwrap();
             ((u[n - 1] + u[n + 1]) / (2.0 * u[n])).acos() / dt
         };
         let plain = frequency(1.0) / w - 1.0;

@@ -95,9 +95,21 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
     }
 }
 
+/// Most fixed-interface modes of the reduced model. The axial frequency has converged
+/// to 1e-7 with 4 (docs/diagnose.md, section 4); each step costs about `(modes + 2)^2`,
+/// so 8 modes take about three times the default's time, and more would break the
+/// 15 s budget while changing no fitted figure.
+pub const MAX_MODES: usize = 8;
+
 /// Runs the whole diagnosis of the case at `path` (folder or case.json); writes nothing.
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
+    if settings.modes > MAX_MODES {
+        return Err(TuneError::Invalid(format!(
+            "{} fixed-interface modes; expected 0 to {MAX_MODES} (the axial frequency has              converged to 1e-7 with the default 4, and the time grows with the square of              the modes)",
+            settings.modes
+        )));
+    }
     let case = read_case(path)?;
     let mut decays = case.measured_decays()?;
     if decays.is_empty() {

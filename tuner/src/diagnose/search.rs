@@ -17,6 +17,13 @@ pub const MAX_COMBINED: usize = 3;
 /// Levenberg-Marquardt iterations of each start's first-quarter fit.
 const SEED_ITERATIONS: usize = 10;
 
+/// The share of the stability limit a softening start is kept within
+/// ([`Job::inside_limit`]).
+pub const STABLE_SHARE: f64 = 0.9;
+
+/// The share of its value each effect restarts from when every start failed.
+pub const SAFER: f64 = 0.25;
+
 /// Cycles a nonlinear start's initial state is also taken from ([`Job::early_state`]).
 const EARLY_CYCLES: f64 = 3.0;
 
@@ -198,6 +205,25 @@ impl Job<'_> {
         seeds.into_iter().chain(again).collect()
     }
 
+    /// `seed` with a softening start (a negative signed effect, the cubic spring) inside
+    /// [`STABLE_SHARE`] of the stability limit `|k3| x^2 < k / 3` at the record's
+    /// largest compression `x`, the gravity preload plus the displacement amplitude: a
+    /// start past it cannot run the record at all.
+    pub fn inside_limit(&self, mut seed: Physical) -> Physical {
+        let x = self.figures.preload_m + self.figures.amplitude_m;
+        let k = self.guided.stiffness_n_m(&seed);
+        if !(x > 0.0 && k > 0.0) {
+            return seed;
+        }
+        let limit = STABLE_SHARE * k / (3.0 * x * x);
+        for (v, e) in seed.effects.iter_mut().zip(CATALOGUE.iter()) {
+            if e.signed() && *v < -limit {
+                *v = -limit;
+            }
+        }
+        seed
+    }
+
     fn model(&self, set: &[usize]) -> &ReducedSpring {
         if set
             .iter()
@@ -366,58 +392,83 @@ impl Job<'_> {
         // they tell a good start from a bad one); the best is fitted to convergence
         // there (the first rolling origin), then on the first half (the forecast's),
         // the whole record, and the first three quarters (the last rolling origin).
-        let mut best: Option<Fitted> = None;
-        let mut last_error = String::from("no starting value");
-        for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
-            let iterations = self.max_iterations.min(SEED_ITERATIONS);
-            let mut seed = fit::run(
-                &problem(start, select::ORIGINS[0], first.clone()),
-                iterations,
-            );
-            // A long record's first quarter may hold more cycles than a nonlinear seed
-            // keeps its phase over: the start is also fitted on the first
-            // `SHORT_CYCLES` cycles, then on the quarter, and the better quarter fit
-            // goes on.
-            let cycles = self.signatures.cycles;
-            if nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
-                let short = fit::run(
-                    &problem(start, SHORT_CYCLES / cycles, first.clone()),
+        let try_seeds = |seeds: &[Physical]| -> Result<Fitted, String> {
+            let mut best: Option<Fitted> = None;
+            let mut last_error = String::from("no starting value");
+            for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
+                let iterations = self.max_iterations.min(SEED_ITERATIONS);
+                let mut seed = fit::run(
+                    &problem(start, select::ORIGINS[0], first.clone()),
                     iterations,
-                )
-                .and_then(|f| {
-                    fit::run(
-                        &problem(f.physical, select::ORIGINS[0], state(&f)),
+                );
+                // A long record's first quarter may hold more cycles than a nonlinear seed
+                // keeps its phase over: the start is also fitted on the first
+                // `SHORT_CYCLES` cycles, then on the quarter, and the better quarter fit
+                // goes on.
+                let cycles = self.signatures.cycles;
+                if nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
+                    let short = fit::run(
+                        &problem(start, SHORT_CYCLES / cycles, first.clone()),
                         iterations,
                     )
-                });
-                seed = match (seed, short) {
-                    (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
-                    (Err(_), Ok(b)) => Ok(b),
-                    (a, Err(_)) => a,
-                };
-            }
-            match seed {
-                Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
-                Ok(_) => {}
-                Err(e) => {
-                    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-                        eprintln!("  {set:?}: start {start:?} failed: {e}");
+                    .and_then(|f| {
+                        fit::run(
+                            &problem(f.physical, select::ORIGINS[0], state(&f)),
+                            iterations,
+                        )
+                    });
+                    seed = match (seed, short) {
+                        (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
+                        (Err(_), Ok(b)) => Ok(b),
+                        (a, Err(_)) => a,
+                    };
+                }
+                match seed {
+                    Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
+                    Ok(_) => {}
+                    Err(e) => {
+                        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+                            eprintln!("  {set:?}: start {start:?} failed: {e}");
+                        }
+                        last_error = e
                     }
-                    last_error = e
                 }
             }
-        }
-        let seed = best.ok_or(last_error)?;
+            best.ok_or(last_error)
+        };
+        // A start beyond a softening spring's stability limit starts inside it; when
+        // every start fails (a factorisation, a point law that does not converge, a
+        // motion past the limit), they are tried again from a safer start, each effect
+        // at [`SAFER`] of its value; a candidate that still fails is reported as failed
+        // with the reason, and the others go on.
+        let seeds: Vec<Physical> = seeds.iter().map(|p| self.inside_limit(*p)).collect();
+        let seed = try_seeds(&seeds).or_else(|first| {
+            let safer: Vec<Physical> = seeds
+                .iter()
+                .map(|p| {
+                    let mut q = *p;
+                    q.effects.iter_mut().for_each(|v| *v *= SAFER);
+                    q
+                })
+                .collect();
+            try_seeds(&safer).map_err(|again| {
+                format!(
+                    "every start failed ({first}), and again with each effect at {SAFER} of                      its start ({again})"
+                )
+            })
+        })?;
         if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
             eprintln!(
                 "  {set:?}: seed rss {:.4e} {:?}",
                 seed.rss, seed.physical.effects
             );
         }
+        let stage = |name: &'static str| move |e: String| format!("the {name} fit: {e}");
         let quarter = fit::run(
             &problem(seed.physical, select::ORIGINS[0], state(&seed)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first quarter's"))?;
         // The set nests the reference (its effects at zero): a fit that ends above the
         // reference's misfit on the same window lost the phase on the way from the
         // shorter window (a short record, a strong drift). It restarts from the
@@ -440,17 +491,20 @@ impl Job<'_> {
         let half_fit = fit::run(
             &problem(quarter.physical, 0.5, state(&quarter)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first half's"))?;
         let half_fit = rescue(half_fit, 0.5, &self.reference.half);
         let full = fit::run(
             &problem(half_fit.physical, 1.0, state(&half_fit)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("whole record's"))?;
         let full = rescue(full, 1.0, &self.reference.full);
         let three = fit::run(
             &problem(full.physical, select::ORIGINS[2], state(&full)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first three quarters'"))?;
         if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
             eprintln!(
                 "  {:?}: full {} iterations {} runs, half {} iterations {} runs",

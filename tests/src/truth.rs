@@ -2034,6 +2034,10 @@ pub fn hard_cases() -> Vec<TruthCase> {
     ]
 }
 
+/// Names of the [`hard_cases`] in the fast (CI) subset: the shortest friction decay, the
+/// 10-cycle null decay, and the preloaded softening spring (each a few seconds).
+pub const FAST_HARD: [&str; 3] = ["friction_stops_12_g1", "null_10_cycles_g2", "hanging_cubic"];
+
 /// Names of the extended cases in the fast (CI) subset: one per kind of record the
 /// reader conditions (a quantised position sensor, a band-limited record, a hammer blow
 /// at the start, jittered time stamps), all null so that none may name a cause, and a

@@ -1,6 +1,6 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
 //! time, with the confusion table and parameter errors:
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|all] [NAME...]`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|all] [NAME...]`
 //!
 //! Every selected case (`coil_tests::truth::standard_cases()` of issue 5,
 //! `extended_cases()` of issue 14, `hard_cases()`: short, strongly nonlinear and heavily
@@ -89,7 +89,7 @@ fn main() -> ExitCode {
     let exe = binary();
     if !exe.is_file() {
         eprintln!(
-            "error: no release binary at {}\nrun `cargo build --release -p coil-tuner` first",
+            "error: no release binary at {}\nrun `cargo build --release -p coil-tune` first",
             exe.display()
         );
         return ExitCode::FAILURE;

@@ -18,16 +18,16 @@
 //!   imperfection), and the 11 `hard_cases` (friction decays stopping after 12-20
 //!   cycles, a 10-cycle null decay, softening sweeping the frequency by 10-15 %, a
 //!   hanging weight with 110 mm of static deflection with each effect). Run it with
-//!   `cargo test --release -p coil-tests --test diagnose -- --ignored --nocapture`; the
+//!   `cargo test --release -p coil-tests --test it diagnose:: -- --ignored --nocapture`; the
 //!   benchmark `examples/bench_diagnose.rs` prints the same table with the whole
 //!   process's wall times.
 //!
 //! Cases run two at a time; the confusion table and the errors are printed
 //! (`-- --nocapture`).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::sync::Mutex;
 use std::time::Instant;
 

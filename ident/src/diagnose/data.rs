@@ -164,7 +164,7 @@ fn samples_per_period(signal: &Signal, frequency_hz: f64) -> f64 {
 /// period. Returns the record and `q` (`None`: unchanged).
 fn decimated(signal: Signal, frequency_hz: f64) -> Result<(Signal, Option<usize>)> {
     let per_period = samples_per_period(&signal, frequency_hz);
-    if !(per_period > DECIMATE_ABOVE) {
+    if per_period.is_nan() || per_period <= DECIMATE_ABOVE {
         return Ok((signal, None));
     }
     let q = (per_period / DECIMATED_PER_PERIOD).floor() as usize;

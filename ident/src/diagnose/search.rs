@@ -192,7 +192,10 @@ impl Job<'_> {
     /// and with it the frequency, wrong from the first cycles.
     pub fn with_decrement_seed(&self, seeds: Vec<Physical>) -> Vec<Physical> {
         let (reference, decrement) = (self.reference.full.physical.beta_s, self.decrement_beta_s);
-        if !(decrement > 0.0) || (reference / decrement).ln().abs() <= std::f64::consts::LN_2 {
+        if decrement.is_nan()
+            || decrement <= 0.0
+            || (reference / decrement).ln().abs() <= std::f64::consts::LN_2
+        {
             return seeds;
         }
         let again: Vec<Physical> = seeds

@@ -335,7 +335,7 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
         return Err(bad(
             &signal,
             format!(
-                "{cycles} oscillation cycles at {frequency_hz:.4} Hz ({n} samples); the                  diagnosis fits at most {MAX_CYCLES} cycles (each fit simulates every cycle                  thousands of times); cut the record to its first {keep_s:.1} s"
+                "{cycles} oscillation cycles at {frequency_hz:.4} Hz ({n} samples); the diagnosis fits at most {MAX_CYCLES} cycles (each fit simulates every cycle thousands of times); cut the record to its first {keep_s:.1} s"
             ),
             &format!("at most {MAX_CYCLES} cycles"),
         ));
@@ -343,7 +343,7 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
     let (signal, decimation) = decimated(signal, frequency_hz)?;
     if let Some(q) = decimation {
         warnings.push(format!(
-            "{}: {n} samples at {:.1} samples per period of the {frequency_hz:.4} Hz              oscillation; decimated by {q} (zero-phase low-pass at {:.3} Hz first) to {}              samples, {:.1} per period",
+            "{}: {n} samples at {:.1} samples per period of the {frequency_hz:.4} Hz oscillation; decimated by {q} (zero-phase low-pass at {:.3} Hz first) to {} samples, {:.1} per period",
             signal.source().display(),
             q as f64 * samples_per_period(&signal, frequency_hz),
             DECIMATED_CUTOFF * frequency_hz,

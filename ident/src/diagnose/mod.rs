@@ -106,7 +106,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
     if settings.modes > MAX_MODES {
         return Err(TuneError::Invalid(format!(
-            "{} fixed-interface modes; expected 0 to {MAX_MODES} (the axial frequency has              converged to 1e-7 with the default 4, and the time grows with the square of              the modes)",
+            "{} fixed-interface modes; expected 0 to {MAX_MODES} (the axial frequency has converged to 1e-7 with the default 4, and the time grows with the square of the modes)",
             settings.modes
         )));
     }

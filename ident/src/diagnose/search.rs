@@ -456,7 +456,7 @@ impl Job<'_> {
                 .collect();
             try_seeds(&safer).map_err(|again| {
                 format!(
-                    "every start failed ({first}), and again with each effect at {SAFER} of                      its start ({again})"
+                    "every start failed ({first}), and again with each effect at {SAFER} of its start ({again})"
                 )
             })
         })?;

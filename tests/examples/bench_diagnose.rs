@@ -1,9 +1,10 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
 //! time, with the confusion table and parameter errors:
-//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|all] [NAME...]`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|all] [NAME...]`
 //!
 //! Every selected case (`coil_tests::truth::standard_cases()` of issue 5,
-//! `extended_cases()` of issue 14; all by default, or only the cases named) is written to a
+//! `extended_cases()` of issue 14, `hard_cases()`: short, strongly nonlinear and heavily
+//! preloaded records; all by default, or only the cases named) is written to a
 //! temporary folder, then the release binary runs
 //! `coil-tune diagnose <case> --out <tmp>/out/<name> -q` (process start, FE reduction,
 //! fits, figures, report) and is timed with `std::time::Instant`. Its `diagnosis.json`
@@ -14,7 +15,7 @@
 //! parallel).
 
 use coil_tests::scoring::{self, Score};
-use coil_tests::truth::{extended_cases, standard_cases, write_case, TruthCase};
+use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -68,12 +69,18 @@ fn bench(exe: &Path, tmp: &Path, case: &TruthCase) -> Result<Score, String> {
 /// The cases the arguments select (module docs).
 fn selected() -> Vec<TruthCase> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let all = || standard_cases().into_iter().chain(extended_cases());
+    let all = || {
+        standard_cases()
+            .into_iter()
+            .chain(extended_cases())
+            .chain(hard_cases())
+    };
     let named = |c: &TruthCase| args.len() == 1 || args.contains(&c.name);
     match args.first().map(String::as_str) {
         None | Some("all") => all().collect(),
         Some("standard") => standard_cases().into_iter().filter(named).collect(),
         Some("extended") => extended_cases().into_iter().filter(named).collect(),
+        Some("hard") => hard_cases().into_iter().filter(named).collect(),
         Some(_) => all().filter(|c| args.contains(&c.name)).collect(),
     }
 }

@@ -1,8 +1,8 @@
-//! Writes the truth model's standard and extended measured cases (coil_tests::truth), one folder each:
+//! Writes the truth model's standard, extended and hard measured cases (coil_tests::truth), one folder each:
 //! `cargo run -p coil-tests --example make_measured_cases -- OUT_DIR [--only NAME]...`
 //! (`--shipped` writes only the cases kept under cases/measured/).
 
-use coil_tests::truth::{extended_cases, standard_cases, write_case, SHIPPED};
+use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, SHIPPED};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -28,6 +28,7 @@ fn main() -> ExitCode {
     let cases: Vec<_> = standard_cases()
         .into_iter()
         .chain(extended_cases())
+        .chain(hard_cases())
         .collect();
     for name in &only {
         if !cases.iter().any(|c| &c.name == name) {

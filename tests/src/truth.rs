@@ -1915,6 +1915,129 @@ pub fn extended_cases() -> Vec<TruthCase> {
     ]
 }
 
+/// A soft spring for a hanging weight: about 110 mm of static deflection under its
+/// 3.2 kg, 1.5 Hz, 160 mm of free travel between the coils.
+const RIG_SOFT: Rig = Rig {
+    spring: Helix {
+        active_coils: 20.0,
+        mean_diameter_mm: 30.0,
+        wire_diameter_mm: 2.0,
+        pitch_mm: 10.0,
+    },
+    youngs_modulus_mpa: 197_000.0,
+    mass_kg: 3.2,
+};
+
+/// Friction that stops the decay after about `cycles` cycles. Per cycle
+/// `dA/dn = -delta A - 4F/k` (friction_case's law) reaches `A = 0` at
+/// `n = ln(1 + A0 / c) / delta`, `c = 4F / (k delta)`; so `c = A0 / (e^(delta n) - 1)`
+/// and `F = c k delta / 4`, `n` counted from the start of the simulation. The record runs on for a third of that time while the weight
+/// rests in its dead band.
+fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> TruthCase {
+    let probe = linear_case(name, rig, test);
+    test.record_s = 1.35 * cycles * rayleigh_period_s(&probe);
+    let mut case = linear_case(name, rig, test);
+    // The record starts after `generate`'s random lead (its seed's first number), so the
+    // weight runs that many more cycles before it stops.
+    let lead_s = 0.2 + Rng::new(test.seed).uniform();
+    let cycles = cycles + lead_s / rayleigh_period_s(&case);
+    let delta = TAU * test.damping_ratio;
+    let c = test.amplitude_m / (delta * cycles).exp_m1();
+    let force = c * case.linear_stiffness_n_m() * delta / 4.0;
+    case.effect = Effect::CoulombFriction {
+        friction_force_n: round_to(force, 4),
+    };
+    case
+}
+
+/// Records from rigs outside the catalogue, the ones a new user brings: friction decays
+/// that stop after 12 to 20 cycles, and a null decay of 10 cycles (the shortest records
+/// the reader accepts are 8 cycles); softening decays of large amplitude whose frequency
+/// sweeps 10 to 15 % over 130 cycles (a line spread over many spectral bins); a weight
+/// hanging on a soft spring with 110 mm of static deflection, with each effect and
+/// without. Expected causes: [`TruthCase::causes`]; the measured sweep of each softening
+/// case is checked by the `truth` test.
+pub fn hard_cases() -> Vec<TruthCase> {
+    let test = |sample_rate_hz, record_s, noise_fraction, damping_ratio, amplitude_mm, seed| Test {
+        sample_rate_hz,
+        record_s,
+        noise_fraction,
+        damping_ratio,
+        amplitude_m: amplitude_mm * 1e-3,
+        nominal_mass_ratio: if seed % 2 == 0 { 1.1 } else { 0.9 },
+        seed,
+    };
+    // Short records: friction ends them.
+    let t = test(500.0, 0.0, 0.005, 0.001, 3.0, 701);
+    let stop_g1 = friction_stop_case("friction_stops_12_g1", RIG_G1, t, 12.0);
+    let t = test(1000.0, 0.0, 0.005, 0.0015, 3.0, 702);
+    let stop_paper = friction_stop_case("friction_stops_18_paper", PAPER_RIG, t, 18.0);
+    let t = test(200.0, 0.0, 0.005, 0.0008, 4.0, 703);
+    let stop_g4 = recorded_by(
+        friction_stop_case("friction_stops_16_position", RIG_G4, t, 16.0),
+        position(0.01),
+    );
+    let probe = linear_case("", RIG_G2, test(500.0, 1.0, 0.005, 0.002, 2.0, 704));
+    let t = test(
+        500.0,
+        10.0 * rayleigh_period_s(&probe),
+        0.005,
+        0.002,
+        2.0,
+        704,
+    );
+    let null_10 = linear_case("null_10_cycles_g2", RIG_G2, t);
+
+    // Large-amplitude softening: the frequency sweeps 10-15 % from start to end.
+    let t = test(500.0, 0.0, 0.003, 0.002, 6.0, 711);
+    let probe = linear_case("", RIG_G1, t);
+    let t = test(
+        500.0,
+        140.0 * rayleigh_period_s(&probe),
+        0.003,
+        0.002,
+        6.0,
+        711,
+    );
+    let sweep_g1 = cubic_shift_case("soft_sweep_g1_horizontal", RIG_G1, t, 0.0, -0.1);
+    let t = test(400.0, 0.0, 0.003, 0.0025, 5.0, 712);
+    let probe = linear_case("", RIG_G3, t);
+    let t = test(
+        400.0,
+        140.0 * rayleigh_period_s(&probe),
+        0.003,
+        0.0025,
+        5.0,
+        712,
+    );
+    let sweep_g3 = cubic_shift_case("soft_sweep_g3_horizontal", RIG_G3, t, 0.0, -0.105);
+
+    // A hanging weight with 110 mm of static deflection, with each effect.
+    let t = test(100.0, 40.0, 0.005, 0.002, 10.0, 721);
+    let hang_null = linear_case("hanging_null", RIG_SOFT, t);
+    let hang_friction = friction_case("hanging_friction", RIG_SOFT, t, 0.4);
+    let hang_quadratic = quadratic_case("hanging_quadratic", RIG_SOFT, t, 1.0);
+    let hang_cubic = cubic_shift_case("hanging_cubic", RIG_SOFT, t, 9.81, -0.01);
+    let hang_coupling = coupling_case("hanging_coupling", RIG_SOFT, t, 0.04);
+    vec![
+        stop_g1,
+        stop_paper,
+        stop_g4,
+        null_10,
+        sweep_g1,
+        sweep_g3,
+        hang_null,
+        hang_friction,
+        hang_quadratic,
+        hang_cubic,
+        hang_coupling,
+    ]
+}
+
+/// Names of the [`hard_cases`] in the fast (CI) subset: the shortest friction decay, the
+/// 10-cycle null decay, and the preloaded softening spring (each a few seconds).
+pub const FAST_HARD: [&str; 3] = ["friction_stops_12_g1", "null_10_cycles_g2", "hanging_cubic"];
+
 /// Names of the extended cases in the fast (CI) subset: one per kind of record the
 /// reader conditions (a quantised position sensor, a band-limited record, a hammer blow
 /// at the start, jittered time stamps), all null so that none may name a cause, and a

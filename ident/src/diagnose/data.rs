@@ -28,7 +28,14 @@
 //!    starting anywhere in its phase is not cut (the test checks it on every generated
 //!    case).
 //! 5. **Length**: at least [`MIN_CYCLES`] cycles after the cut (after an impulse, the
-//!    message says the record is all impulse).
+//!    message says the record is all impulse), at most [`MAX_CYCLES`] (a longer record
+//!    is refused with the length to cut it to). A record of more than
+//!    [`DECIMATE_ABOVE`] samples per period (a 50 kHz logger on a 5 Hz oscillation:
+//!    10 000) is **decimated** to the band the model needs: a zero-phase low-pass at
+//!    [`DECIMATED_CUTOFF`] times the oscillation's frequency, then every `q`-th sample,
+//!    keeping at least [`DECIMATED_PER_PERIOD`] per period, with a warning. The model
+//!    steps each sample at least once, so without it a 1 000 000-sample record would
+//!    cost 100 times the steps the oscillation needs.
 //! 6. **Acceleration**: a velocity or position record is differentiated by
 //!    [`coil_postproc::differentiate`] (zero-phase low-pass at 4 times the dominant
 //!    frequency, sixth-order central differences; gain and noise in its docs); the
@@ -49,12 +56,27 @@
 use crate::case::{MeasuredDecay, Quantity, StaticRecord};
 use crate::error::{Result, TuneError};
 use coil_postproc::differentiate::Differentiator;
+use coil_postproc::filter::{Band, Butterworth};
 use coil_postproc::noise::{detrend, noise_floor, NoiseFloor};
 use coil_postproc::signal::Signal;
 use serde::Serialize;
 
 /// Fewest oscillation cycles in a decay record.
-pub const MIN_CYCLES: usize = 20;
+pub const MIN_CYCLES: usize = 8;
+/// Most oscillation cycles in a decay record: each fit simulates every cycle thousands
+/// of times, so the time grows with the cycles (a longer record is refused with the
+/// length to cut it to).
+pub const MAX_CYCLES: usize = 1000;
+/// Samples per period above which a record is decimated to the band the model needs.
+pub const DECIMATE_ABOVE: f64 = 500.0;
+/// Fewest samples per period after decimation.
+pub const DECIMATED_PER_PERIOD: f64 = 100.0;
+/// The anti-alias low-pass before decimation, in multiples of the oscillation's
+/// frequency: it keeps the harmonics a cubic spring or friction put at 3, 5, 7 times it,
+/// and at 100 samples per period (Nyquist at 50 times) its fourth-order response,
+/// applied forward and backward, is down to `(20 / 50)^16 = 4e-7` at the new Nyquist
+/// frequency.
+pub const DECIMATED_CUTOFF: f64 = 20.0;
 /// Fewest distinct values in a decay record.
 pub const MIN_LEVELS: usize = 16;
 /// Largest share of samples at the record's extremes.
@@ -128,6 +150,37 @@ pub struct DecayData {
     pub cut: Option<Cut>,
     /// What the conditioning did, in words (resampling, cut, differentiation).
     pub warnings: Vec<String>,
+}
+
+/// Samples per period of the oscillation at `frequency_hz`.
+fn samples_per_period(signal: &Signal, frequency_hz: f64) -> f64 {
+    1.0 / (frequency_hz * signal.step_s())
+}
+
+/// The record decimated to the band the model needs (module docs, step 6): above
+/// [`DECIMATE_ABOVE`] samples per period, a zero-phase Butterworth low-pass at
+/// [`DECIMATED_CUTOFF`] times the oscillation's frequency, then every `q`-th sample,
+/// `q` the largest integer that keeps at least [`DECIMATED_PER_PERIOD`] samples per
+/// period. Returns the record and `q` (`None`: unchanged).
+fn decimated(signal: Signal, frequency_hz: f64) -> Result<(Signal, Option<usize>)> {
+    let per_period = samples_per_period(&signal, frequency_hz);
+    if per_period.is_nan() || per_period <= DECIMATE_ABOVE {
+        return Ok((signal, None));
+    }
+    let q = (per_period / DECIMATED_PER_PERIOD).floor() as usize;
+    let lowpass = Butterworth::new(
+        Band::Lowpass,
+        4,
+        DECIMATED_CUTOFF * frequency_hz,
+        signal.step_s(),
+    )
+    .map_err(post)?;
+    let filtered = lowpass.filtfilt(signal.values());
+    let values: Vec<f64> = filtered.iter().step_by(q).copied().collect();
+    let decimated = Signal::uniform(signal.time_s()[0], q as f64 * signal.step_s(), values)
+        .map_err(post)?
+        .named(signal.source().to_path_buf(), signal.column());
+    Ok((decimated, Some(q)))
 }
 
 /// A record that failed a check of the post-processor's signal.
@@ -277,6 +330,33 @@ fn condition(record: MeasuredDecay, uniform: Option<Signal>) -> Result<DecayData
     } else {
         0.0
     };
+    if cycles > MAX_CYCLES {
+        let keep_s = MAX_CYCLES as f64 / frequency_hz.max(f64::MIN_POSITIVE);
+        return Err(bad(
+            &signal,
+            format!(
+                "{cycles} oscillation cycles at {frequency_hz:.4} Hz ({n} samples); the diagnosis fits at most {MAX_CYCLES} cycles (each fit simulates every cycle thousands of times); cut the record to its first {keep_s:.1} s"
+            ),
+            &format!("at most {MAX_CYCLES} cycles"),
+        ));
+    }
+    let (signal, decimation) = decimated(signal, frequency_hz)?;
+    if let Some(q) = decimation {
+        warnings.push(format!(
+            "{}: {n} samples at {:.1} samples per period of the {frequency_hz:.4} Hz oscillation; decimated by {q} (zero-phase low-pass at {:.3} Hz first) to {} samples, {:.1} per period",
+            signal.source().display(),
+            q as f64 * samples_per_period(&signal, frequency_hz),
+            DECIMATED_CUTOFF * frequency_hz,
+            signal.len(),
+            samples_per_period(&signal, frequency_hz)
+        ));
+    }
+    let detrended = if decimation.is_some() {
+        detrend(signal.values())
+    } else {
+        detrended
+    };
+    let n = signal.values().len();
 
     // The acceleration.
     let derivatives = record.quantity.derivatives_to_acceleration();
@@ -789,9 +869,47 @@ mod tests {
         assert!((d.frequency_hz - 35.5).abs() < 0.5, "{}", d.frequency_hz);
     }
 
+    /// A 1 000 000-sample record (a 50 kHz logger, 20 s of a 5 Hz decay) is decimated
+    /// to the band the model needs: 1000 samples per period become 100 (q = 100), the
+    /// frequency and the cycles are those of the whole record, and the amplitude is kept
+    /// (the low-pass at 20 times the frequency passes the line with a gain of 1 to
+    /// 1e-10). A record of more than `MAX_CYCLES` cycles is refused with the length to
+    /// cut it to.
+    #[test]
+    fn a_long_fast_record_is_decimated_and_a_too_long_one_refused() {
+        let (fs, f) = (50_000.0, 5.0);
+        let n: usize = 1_000_000;
+        let mut seed = 11;
+        let values: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                (-0.1 * t).exp() * (std::f64::consts::TAU * f * t + 0.3).sin()
+                    + 0.001 * lcg(&mut seed)
+            })
+            .collect();
+        let d = check_decay(signal(values, 1.0 / fs)).unwrap();
+        assert_eq!(d.signal.len(), n.div_ceil(100));
+        assert!((d.signal.step_s() - 100.0 / fs).abs() < 1e-12);
+        assert!((d.frequency_hz - f).abs() < 1e-3 * f, "{}", d.frequency_hz);
+        assert!((99..=101).contains(&d.cycles), "{}", d.cycles);
+        let peak = d
+            .signal
+            .values()
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!((peak - 1.0).abs() < 0.01, "{peak}");
+        assert!(d.warnings.iter().any(|w| w.contains("decimated by 100")));
+
+        let long: Vec<f64> = (0..300_000)
+            .map(|i| (std::f64::consts::TAU * 1100.0 * i as f64 / 300_000.0).sin())
+            .collect();
+        let e = check_decay(signal(long, 1e-3)).unwrap_err().to_string();
+        assert!(e.contains("cut the record to its first"), "{e}");
+    }
+
     #[test]
     fn short_flat_and_clipped_records_are_refused() {
-        let short = check_decay(signal(decay(10.0, 2.0), 1e-3)).unwrap_err();
+        let short = check_decay(signal(decay(5.0, 2.0), 1e-3)).unwrap_err();
         assert!(short.to_string().contains("cycles"), "{short}");
         let flat = check_decay(signal(vec![0.5; 1000], 1e-3)).unwrap_err();
         assert!(flat.to_string().contains("flat"), "{flat}");

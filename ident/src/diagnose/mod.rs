@@ -96,9 +96,21 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
     }
 }
 
+/// Most fixed-interface modes of the reduced model. The axial frequency has converged
+/// to 1e-7 with 4 (docs/diagnose.md, section 4); each step costs about `(modes + 2)^2`,
+/// so 8 modes take about three times the default's time, and more would break the
+/// 15 s budget while changing no fitted figure.
+pub const MAX_MODES: usize = 8;
+
 /// Runs the whole diagnosis of the case at `path` (folder or case.json); writes nothing.
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
+    if settings.modes > MAX_MODES {
+        return Err(TuneError::Invalid(format!(
+            "{} fixed-interface modes; expected 0 to {MAX_MODES} (the axial frequency has converged to 1e-7 with the default 4, and the time grows with the square of the modes)",
+            settings.modes
+        )));
+    }
     let case = read_case(path)?;
     let mut decays = case.measured_decays()?;
     if decays.is_empty() {
@@ -258,6 +270,7 @@ fn compute(
         max_iterations: settings.max_iterations,
         signatures: &sigs,
         figures: &figures,
+        decrement_beta_s: baseline.full.physical.beta_s,
     };
     let ctx = select::Context {
         reference: &reference,
@@ -424,10 +437,10 @@ fn paper_calibration(
     // The paper's estimator after a zero-phase low-pass that keeps the axial mode;
     // a record whose crests carry jumps (dry friction reverses its force at every
     // crest) needs a lower cut-off before its crests are regular.
-    // A short record (the forecast's first half of a 20-30 cycle decay) has too few
-    // crests for spans of 10; spans of 5, then 3, keep the estimator's form.
+    // A short record (an 8-cycle decay, or the forecast's first half of one) has too
+    // few crests for spans of 10; spans of 5, 3, 2, then 1 keep the estimator's form.
     let mut attempt = Err(TuneError::Invalid("no decrement".into()));
-    'search: for every in [10, 5, 3] {
+    'search: for every in [10, 5, 3, 2, 1] {
         for factor in [5.0, 2.0, 1.4] {
             attempt = decay::measure(
                 &record,

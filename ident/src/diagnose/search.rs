@@ -17,6 +17,20 @@ pub const MAX_COMBINED: usize = 3;
 /// Levenberg-Marquardt iterations of each start's first-quarter fit.
 const SEED_ITERATIONS: usize = 10;
 
+/// The share of the stability limit a softening start is kept within
+/// ([`Job::inside_limit`]).
+pub const STABLE_SHARE: f64 = 0.9;
+
+/// The share of its value each effect restarts from when every start failed.
+pub const SAFER: f64 = 0.25;
+
+/// Cycles a nonlinear start's initial state is also taken from ([`Job::early_state`]).
+const EARLY_CYCLES: f64 = 3.0;
+
+/// Cycles of the short window a nonlinear start is also fitted on first, when the first
+/// quarter holds more than twice as many.
+const SHORT_CYCLES: f64 = 8.0;
+
 /// What every candidate's fit shares: the reduced models (weight guided, and free to
 /// turn for the coupling), the reference fit, the records and their noise, the static
 /// block, the signatures.
@@ -41,6 +55,8 @@ pub struct Job<'a> {
     pub signatures: &'a Signatures,
     /// The baseline's figures, for the effects' starts and checks.
     pub figures: &'a BaselineFigures,
+    /// The baseline's beta, from the paper's decrement (s).
+    pub decrement_beta_s: f64,
 }
 
 impl Job<'_> {
@@ -140,6 +156,75 @@ impl Job<'_> {
             .map(|p| Physical { beta_s: beta, ..*p })
             .collect();
         seeds.into_iter().chain(viscous).collect()
+    }
+
+    /// Every record's initial state from a linear fit on its first
+    /// [`EARLY_CYCLES`] cycles only, with the mass moved to the first measured cycle's
+    /// frequency (`m (f_axial / f_first)^2`) and fitted there: the amplitude and phase
+    /// at the start of a record whose frequency sweeps, where the whole record's linear
+    /// fit averages over the sweep. `None` without per-cycle signatures or a fit.
+    fn early_state(&self) -> Option<Vec<f64>> {
+        let sigs = self.signatures;
+        let first = sigs.per_cycle.first()?;
+        let fraction = (EARLY_CYCLES / sigs.cycles).min(select::ORIGINS[0]);
+        let mut start = self.reference.full.physical;
+        start.mass_kg *= (sigs.axial_hz / first.frequency_hz).powi(2);
+        let problem = Problem {
+            model: self.guided,
+            start,
+            knobs: vec![Knob::Mass],
+            measured: &self.joint.measured,
+            segments: &self.joint.segments,
+            fraction,
+            sigma: self.noise.max(1e-300),
+            statics: None,
+            initial_state: None,
+        };
+        fit::run(&problem, SEED_ITERATIONS)
+            .ok()
+            .map(|f| f.initial_state)
+    }
+
+    /// The seeds, and each again with the paper decrement's beta when the reference's
+    /// is more than a factor of 2 away from it: a linear model that cannot follow the
+    /// record (a frequency swept by a strong nonlinearity) walks its beta anywhere (to
+    /// zero on a 10 % sweep), and an effect started from there keeps the amplitude,
+    /// and with it the frequency, wrong from the first cycles.
+    pub fn with_decrement_seed(&self, seeds: Vec<Physical>) -> Vec<Physical> {
+        let (reference, decrement) = (self.reference.full.physical.beta_s, self.decrement_beta_s);
+        if decrement.is_nan()
+            || decrement <= 0.0
+            || (reference / decrement).ln().abs() <= std::f64::consts::LN_2
+        {
+            return seeds;
+        }
+        let again: Vec<Physical> = seeds
+            .iter()
+            .map(|p| Physical {
+                beta_s: decrement,
+                ..*p
+            })
+            .collect();
+        seeds.into_iter().chain(again).collect()
+    }
+
+    /// `seed` with a softening start (a negative signed effect, the cubic spring) inside
+    /// [`STABLE_SHARE`] of the stability limit `|k3| x^2 < k / 3` at the record's
+    /// largest compression `x`, the gravity preload plus the displacement amplitude: a
+    /// start past it cannot run the record at all.
+    pub fn inside_limit(&self, mut seed: Physical) -> Physical {
+        let x = self.figures.preload_m + self.figures.amplitude_m;
+        let k = self.guided.stiffness_n_m(&seed);
+        if !(x > 0.0 && k > 0.0) {
+            return seed;
+        }
+        let limit = STABLE_SHARE * k / (3.0 * x * x);
+        for (v, e) in seed.effects.iter_mut().zip(CATALOGUE.iter()) {
+            if e.signed() && *v < -limit {
+                *v = -limit;
+            }
+        }
+        seed
     }
 
     fn model(&self, set: &[usize]) -> &ReducedSpring {
@@ -284,34 +369,109 @@ impl Job<'_> {
             initial_state: init,
         };
         let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
-        let first = nonlinear.then_some(init);
+        // Each start also from the initial state of the first cycles
+        // ([`Job::early_state`]) when it differs from `init` by more than 5 %: a record
+        // whose frequency sweeps (a strong softening spring) leaves the whole record's
+        // linear fit with the wrong amplitude and phase at the start, and the nonlinear
+        // fit, whose frequency depends on the amplitude, loses the phase from there.
+        let early = if nonlinear {
+            self.early_state().unwrap_or_default()
+        } else {
+            Vec::new()
+        };
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let differs = early.len() == init.len() && {
+            let d: Vec<f64> = early.iter().zip(&init).map(|(a, b)| a - b).collect();
+            norm(&d) > 0.05 * norm(&init)
+        };
+        let inits: Vec<Option<Vec<f64>>> = if !nonlinear {
+            vec![None]
+        } else if differs {
+            vec![Some(init), Some(early.clone())]
+        } else {
+            vec![Some(init)]
+        };
         // Each start is fitted on the first quarter for a few iterations (a seed only:
         // they tell a good start from a bad one); the best is fitted to convergence
         // there (the first rolling origin), then on the first half (the forecast's),
         // the whole record, and the first three quarters (the last rolling origin).
-        let mut best: Option<Fitted> = None;
-        let mut last_error = String::from("no starting value");
-        for &start in seeds {
-            let seed = fit::run(
-                &problem(start, select::ORIGINS[0], first.clone()),
-                self.max_iterations.min(SEED_ITERATIONS),
-            );
-            match seed {
-                Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
-                Ok(_) => {}
-                Err(e) => {
-                    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-                        eprintln!("  {set:?}: start {start:?} failed: {e}");
+        let try_seeds = |seeds: &[Physical]| -> Result<Fitted, String> {
+            let mut best: Option<Fitted> = None;
+            let mut last_error = String::from("no starting value");
+            for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
+                let iterations = self.max_iterations.min(SEED_ITERATIONS);
+                let mut seed = fit::run(
+                    &problem(start, select::ORIGINS[0], first.clone()),
+                    iterations,
+                );
+                // A long record's first quarter may hold more cycles than a nonlinear seed
+                // keeps its phase over: the start is also fitted on the first
+                // `SHORT_CYCLES` cycles, then on the quarter, and the better quarter fit
+                // goes on.
+                let cycles = self.signatures.cycles;
+                if nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
+                    let short = fit::run(
+                        &problem(start, SHORT_CYCLES / cycles, first.clone()),
+                        iterations,
+                    )
+                    .and_then(|f| {
+                        fit::run(
+                            &problem(f.physical, select::ORIGINS[0], state(&f)),
+                            iterations,
+                        )
+                    });
+                    seed = match (seed, short) {
+                        (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
+                        (Err(_), Ok(b)) => Ok(b),
+                        (a, Err(_)) => a,
+                    };
+                }
+                match seed {
+                    Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
+                    Ok(_) => {}
+                    Err(e) => {
+                        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+                            eprintln!("  {set:?}: start {start:?} failed: {e}");
+                        }
+                        last_error = e
                     }
-                    last_error = e
                 }
             }
+            best.ok_or(last_error)
+        };
+        // A start beyond a softening spring's stability limit starts inside it; when
+        // every start fails (a factorisation, a point law that does not converge, a
+        // motion past the limit), they are tried again from a safer start, each effect
+        // at [`SAFER`] of its value; a candidate that still fails is reported as failed
+        // with the reason, and the others go on.
+        let seeds: Vec<Physical> = seeds.iter().map(|p| self.inside_limit(*p)).collect();
+        let seed = try_seeds(&seeds).or_else(|first| {
+            let safer: Vec<Physical> = seeds
+                .iter()
+                .map(|p| {
+                    let mut q = *p;
+                    q.effects.iter_mut().for_each(|v| *v *= SAFER);
+                    q
+                })
+                .collect();
+            try_seeds(&safer).map_err(|again| {
+                format!(
+                    "every start failed ({first}), and again with each effect at {SAFER} of its start ({again})"
+                )
+            })
+        })?;
+        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+            eprintln!(
+                "  {set:?}: seed rss {:.4e} {:?}",
+                seed.rss, seed.physical.effects
+            );
         }
-        let seed = best.ok_or(last_error)?;
+        let stage = |name: &'static str| move |e: String| format!("the {name} fit: {e}");
         let quarter = fit::run(
             &problem(seed.physical, select::ORIGINS[0], state(&seed)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first quarter's"))?;
         // The set nests the reference (its effects at zero): a fit that ends above the
         // reference's misfit on the same window lost the phase on the way from the
         // shorter window (a short record, a strong drift). It restarts from the
@@ -334,17 +494,20 @@ impl Job<'_> {
         let half_fit = fit::run(
             &problem(quarter.physical, 0.5, state(&quarter)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first half's"))?;
         let half_fit = rescue(half_fit, 0.5, &self.reference.half);
         let full = fit::run(
             &problem(half_fit.physical, 1.0, state(&half_fit)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("whole record's"))?;
         let full = rescue(full, 1.0, &self.reference.full);
         let three = fit::run(
             &problem(full.physical, select::ORIGINS[2], state(&full)),
             self.max_iterations,
-        )?;
+        )
+        .map_err(stage("first three quarters'"))?;
         if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
             eprintln!(
                 "  {:?}: full {} iterations {} runs, half {} iterations {} runs",
@@ -409,6 +572,7 @@ pub fn candidates(
             } else {
                 seeds
             };
+            let seeds = job.with_decrement_seed(seeds);
             let init = reference.full.initial_state.clone();
             job.candidate(vec![i], proposal.evidence, &seeds, init)
         })

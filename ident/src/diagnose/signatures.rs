@@ -62,9 +62,18 @@ pub fn compute(
     let s = &decay.signal;
     let spectrum = amplitude_spectrum(s, &SpectrumOptions::default())
         .map_err(post("spectrum of the decay record"))?;
-    let peaks = signature::spectral_peaks(s).map_err(post("spectral peaks of the decay record"))?;
-    let axial_hz = peaks.axial.frequency_hz;
-    let second_peak = peaks.side.map(|p| PeakSummary {
+    // The axial line from the spectrum; a line swept over many bins by a strong
+    // nonlinearity shows no regular peak (or a noise bump far from the oscillation), and
+    // the record's zero-crossing rate (the conditioning's count,
+    // `DecayData::frequency_hz`) is its frequency.
+    let rate = decay.frequency_hz;
+    let peaks = signature::spectral_peaks(s)
+        .ok()
+        .filter(|p| (p.axial.frequency_hz - rate).abs() <= signature::AGREEMENT * rate);
+    let axial_hz = peaks
+        .as_ref()
+        .map_or(decay.frequency_hz, |p| p.axial.frequency_hz);
+    let second_peak = peaks.and_then(|p| p.side).map(|p| PeakSummary {
         frequency_hz: p.frequency_hz,
         relative_amplitude: p.relative_amplitude,
         z_score: p.relative_amplitude / signature::SIDE_THRESHOLD,

@@ -3,7 +3,10 @@
 //!
 //! # Formulation
 //!
-//! The record (mean removed) is band-passed around its dominant spectral peak `f_0`, from
+//! The record (mean removed) is band-passed around its dominant spectral peak `f_0` (when
+//! the spectrum shows no regular peak within [`AGREEMENT`] of the zero-crossing rate, a
+//! line swept over many bins by a strong nonlinearity, `f_0` is that rate,
+//! [`crossing_frequency`]), from
 //! `(1 - b) f_0` to `(1 + b) f_0` (zero-phase Butterworth of [`crate::filter`]; `b` is
 //! [`CycleOptions::band`], default 0.5 so that a second line within 0.7-1.3 `f_0` is kept
 //! and beats with the first; `None` skips the filter). The band keeps the fundamental and
@@ -49,6 +52,11 @@ pub const DEFAULT_BAND: f64 = 0.5;
 
 /// Cycles whose amplitude is below this many standard errors are dropped.
 pub const CYCLE_NOISE_FLOOR: f64 = 5.0;
+
+/// Largest relative distance of the dominant spectral peak from the zero-crossing rate
+/// for the peak to be taken as the oscillation's frequency (a second line of a beating
+/// pair lies within 0.3 of it; a swept line's noise bump far outside).
+pub const AGREEMENT: f64 = 0.3;
 
 /// Relative tolerance of a cycle's length against the median length.
 pub const CYCLE_TOLERANCE: f64 = 0.25;
@@ -98,7 +106,7 @@ pub struct Cycle {
 /// The cycles of a record and how they were found.
 #[derive(Debug, Clone, Serialize)]
 pub struct CycleSeries {
-    /// Largest spectral peak, Hz.
+    /// Largest spectral peak (or the zero-crossing rate without one), Hz.
     pub dominant_frequency_hz: f64,
     /// Pass band applied, Hz.
     pub band_hz: Option<(f64, f64)>,
@@ -147,8 +155,20 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
     let (time_s, step_s) = (signal.time_s(), signal.step_s());
     let (y, _) = remove_offset(signal, Detrend::Mean)?;
     let (_, y) = y.into_parts();
-    let f0 = dominant_frequency(spectrum)?;
     let noise = noise_rms(&y);
+    // A line swept by a strong nonlinearity spreads over many bins and may leave no
+    // regular spectral peak (or only a noise bump as the most prominent one); the
+    // zero-crossing rate still finds the oscillation, and it decides whenever the
+    // spectral peak lies outside the band around it.
+    let f0 = match (
+        dominant_frequency(spectrum),
+        crossing_rate(&y, noise, step_s),
+    ) {
+        (Ok(f), Some(rate)) if (f - rate).abs() <= AGREEMENT * rate => f,
+        (_, Some(rate)) => rate,
+        (Ok(f), None) => f,
+        (Err(e), None) => return Err(e),
+    };
     let n = y.len();
 
     let (y, band_hz, filters, guard) = match options.band {
@@ -273,6 +293,26 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
         rejected: candidates - cycles.len(),
         cycles,
     })
+}
+
+/// The oscillation's mean frequency in the time domain, Hz: the rate of the upward zero
+/// crossings of the mean-removed record `y` (hysteresis 3 times its noise `noise`, or
+/// 1e-3 of its peak), `(n - 1) / (c_n - c_1)` over its `n` crossings. A line whose
+/// frequency sweeps by 20 % over the record (a strong softening or hardening spring)
+/// spreads over many spectral bins and may show no regular spectral peak; it is still one
+/// oscillation here, at its mean frequency. `None` with fewer than 3 crossings.
+fn crossing_rate(y: &[f64], noise: f64, step_s: f64) -> Option<f64> {
+    let largest = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let c = upward_crossings(y, (3.0 * noise).max(1e-3 * largest), 1);
+    (c.len() >= 3).then(|| (c.len() - 1) as f64 / ((c[c.len() - 1] - c[0]) * step_s))
+}
+
+/// [`crossing_rate`] of a [`Signal`] (mean removed first), Hz: the time domain's
+/// frequency of an oscillation, for records whose spectrum shows no regular peak.
+pub fn crossing_frequency(signal: &Signal) -> Option<f64> {
+    let (y, _) = remove_offset(signal, Detrend::Mean).ok()?;
+    let (_, y) = y.into_parts();
+    crossing_rate(&y, noise_rms(&y), signal.step_s())
 }
 
 /// The dominant peak of the record's default spectrum (that of the mean-removed record).

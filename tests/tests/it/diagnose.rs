@@ -7,13 +7,17 @@
 //! - **CI** ([`fast_subset`]): a few representative cases, one per kind of record the
 //!   reader conditions (quantised position at 0.1 mm, a band-limited record, a hammer
 //!   blow left at the start, jittered stamps), a friction behind a position sensor
-//!   (`truth::FAST`), and the shipped friction case.
+//!   (`truth::FAST`), and the shipped friction case; from the records of rigs outside
+//!   the catalogue (`truth::FAST_HARD`), a friction decay that stops after 12 cycles, a
+//!   10-cycle null decay and a softening spring under 130 mm of static deflection.
 //! - **Full table** ([`full_confusion_table`], `#[ignore]`d: several minutes): the 17
 //!   standard cases of issue 5 and the 33 extended ones of issue 14 (softening and
 //!   hardening alone and with each damping effect, two damping effects together,
 //!   position and velocity sensors, band-limited noise, jitter, drift, an impulse at the
 //!   start, 30 Hz short records, 150+ cycle records, null cases with each
-//!   imperfection). Run it with
+//!   imperfection), and the 11 `hard_cases` (friction decays stopping after 12-20
+//!   cycles, a 10-cycle null decay, softening sweeping the frequency by 10-15 %, a
+//!   hanging weight with 110 mm of static deflection with each effect). Run it with
 //!   `cargo test --release -p coil-tests --test it diagnose:: -- --ignored --nocapture`; the
 //!   benchmark `examples/bench_diagnose.rs` prints the same table with the whole
 //!   process's wall times.
@@ -75,6 +79,11 @@ fn fast_subset() {
         .filter(|c| c.name == "friction_g1")
         .collect();
     cases.extend(truth::fast_cases());
+    cases.extend(
+        truth::hard_cases()
+            .into_iter()
+            .filter(|c| truth::FAST_HARD.contains(&c.name.as_str())),
+    );
     let scores = run(&cases);
     // The conditioning reported what it did.
     for s in &scores {
@@ -95,6 +104,7 @@ fn fast_subset() {
 fn full_confusion_table() {
     let mut cases = truth::standard_cases();
     cases.extend(truth::extended_cases());
+    cases.extend(truth::hard_cases());
     let scores = run(&cases);
     let needs: [(&str, usize); 2] = [("none", 12), ("cubic_stiffness", 8)];
     for (truth, at_least) in needs {

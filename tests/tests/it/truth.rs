@@ -3,9 +3,9 @@
 //! generator. Each tolerance says where it comes from.
 
 use coil_tests::truth::{
-    axial_mode, backbone_shift, extended_cases, fast_cases, generate, rayleigh_period_s, simulate,
-    standard_cases, static_points, write_case, Compliance, Effect, Impulse, Recording, Sensor,
-    TruthCase, FAST, SHIPPED,
+    axial_mode, backbone_shift, extended_cases, fast_cases, generate, hard_cases,
+    rayleigh_period_s, simulate, standard_cases, static_points, write_case, Compliance, Effect,
+    Impulse, Recording, Sensor, TruthCase, FAST, SHIPPED,
 };
 use coil_tests::{Spring, STEEL_DENSITY};
 use std::f64::consts::TAU;
@@ -721,5 +721,58 @@ fn extended_cases_start_at_equilibrium() {
         let t = simulate(&c, 1, (0.5 * c.sample_rate_hz) as usize);
         let worst = t.accel.iter().fold(0.0f64, |w, a| w.max(a.abs()));
         assert!(worst < 1e-9 * 9.81, "{}: {worst:e} m/s^2", c.name);
+    }
+}
+
+/// The records from rigs outside the catalogue are what their names claim, measured on
+/// the truth's own trajectory over the record: each friction decay stops (the weight's
+/// velocity stays zero) after 12 to 20 cycles, and the null one has 10; each softening decay's frequency
+/// rises by 10 to 15 % from its first 5 cycles to its last 5; each hanging weight
+/// deflects its spring by more than 100 mm.
+#[test]
+fn hard_cases_are_what_they_claim() {
+    let cases = hard_cases();
+    let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), cases.len(), "unique names");
+    for c in &cases {
+        let t = generate(c).trajectory;
+        let samples = t.velocity.len();
+        if c.name.starts_with("friction_stops") {
+            let cycles = upward_crossings(&t.velocity).len();
+            println!("{}: {cycles} cycles before it sticks", c.name);
+            assert!((12..=20).contains(&cycles), "{}: {cycles} cycles", c.name);
+            let tail = &t.velocity[samples * 9 / 10..];
+            assert!(
+                tail.iter().all(|v| *v == 0.0),
+                "{}: it rests at the end",
+                c.name
+            );
+        } else if c.name.starts_with("null_10") {
+            let cycles = upward_crossings(&t.velocity).len();
+            println!("{}: {cycles} cycles", c.name);
+            assert!((9..=11).contains(&cycles), "{}: {cycles} cycles", c.name);
+        } else if c.name.starts_with("soft_sweep") {
+            let x = about_equilibrium(c, &t.displacement);
+            let up = upward_crossings(&x);
+            let period = |w: &[f64]| (w[w.len() - 1] - w[0]) / (w.len() - 1) as f64;
+            let sweep = period(&up[..6]) / period(&up[up.len() - 6..]) - 1.0;
+            println!(
+                "{}: {} cycles, sweep {:.2} %",
+                c.name,
+                up.len(),
+                100.0 * sweep
+            );
+            assert!(up.len() >= 125, "{}: {} cycles", c.name, up.len());
+            assert!((0.10..=0.15).contains(&sweep), "{}: sweep {sweep}", c.name);
+        } else {
+            let x0 = c.equilibrium_compression_m();
+            println!("{}: static deflection {:.1} mm", c.name, 1e3 * x0);
+            assert!(x0 > 0.1, "{}: {x0} m", c.name);
+            assert!(
+                x0 < 1e-3 * c.spring.active_coils * (c.spring.pitch_mm - c.spring.wire_diameter_mm)
+            );
+        }
     }
 }

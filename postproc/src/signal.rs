@@ -319,6 +319,12 @@ impl Source {
             coil_io::MAX_RECORD_BYTES,
             "a record (CSV)",
         )?;
+        Ok(Source::in_memory(path, bytes))
+    }
+
+    /// A file's text already in memory (a CSV dialect rewritten to this syntax, line for
+    /// line, by [`crate::record`]).
+    fn in_memory(path: &Path, bytes: Vec<u8>) -> Self {
         let record_lines = bytes
             .split(|&b| b == b'\n')
             .enumerate()
@@ -328,11 +334,11 @@ impl Source {
             })
             .map(|(index, _)| index as u64 + 1)
             .collect();
-        Ok(Source {
+        Source {
             path: path.to_path_buf(),
             bytes,
             record_lines,
-        })
+        }
     }
 
     fn reader(&self) -> csv::Reader<&[u8]> {
@@ -431,7 +437,25 @@ pub struct Fields {
 /// as [`read_csv_columns`] but no time axis: for records such as `static.csv`
 /// (`displacement_mm,force_n`). Errors name the file and line.
 pub fn read_fields(path: &Path, names: &[&str]) -> Result<Fields> {
-    let source = Source::open(path)?;
+    read_fields_of(Source::open(path)?, names)
+}
+
+/// [`read_fields`] on the text of `path` already in memory, in this module's syntax
+/// (comma-separated, decimal point, `#` comments), with the file's own line numbers.
+pub(crate) fn read_fields_in(path: &Path, bytes: Vec<u8>, names: &[&str]) -> Result<Fields> {
+    read_fields_of(Source::in_memory(path, bytes), names)
+}
+
+/// [`read_header`] on text in memory (see [`read_fields_in`]).
+pub(crate) fn read_header_in(path: &Path, bytes: Vec<u8>) -> Result<(Vec<String>, u64)> {
+    let source = Source::in_memory(path, bytes);
+    let mut reader = source.reader();
+    source.header(&mut reader)
+}
+
+fn read_fields_of(source: Source, names: &[&str]) -> Result<Fields> {
+    let path = source.path.clone();
+    let path = path.as_path();
     let mut reader = source.reader();
     let (header, header_line) = source.header(&mut reader)?;
 

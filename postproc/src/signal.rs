@@ -105,6 +105,32 @@ impl Signal {
         Ok(Signal::unnamed(time_s, step_s, values))
     }
 
+    /// [`Signal::new`] for time stamps printed on a decimal grid of `rounding_s` (their
+    /// steps may jitter by that much, see the module doc).
+    pub fn printed(time_s: Vec<f64>, values: Vec<f64>, rounding_s: f64) -> Result<Signal> {
+        if rounding_s == 0.0 {
+            return Signal::new(time_s, values);
+        }
+        let exact = Signal::new(time_s.clone(), values.clone());
+        match exact {
+            Ok(signal) => Ok(signal),
+            Err(_) if time_s.len() == values.len() && time_s.len() >= MIN_SAMPLES => {
+                check_finite(&time_s, &values)?;
+                let step_s = check_time_axis(&time_s, rounding_s).map_err(|_| {
+                    PostError::InvalidSignal {
+                        index: 0,
+                        what: format!(
+                            "time steps beyond {}% of the median plus the print rounding {rounding_s:e} s; expected uniform sampling",
+                            STEP_TOLERANCE * 100.0
+                        ),
+                    }
+                })?;
+                Ok(Signal::unnamed(time_s, step_s, values))
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// A signal sampled at `start_s + i * step_s` (exactly that grid): checks a finite
     /// start, a finite positive step, at least [`MIN_SAMPLES`] finite values.
     pub fn uniform(start_s: f64, step_s: f64, values: Vec<f64>) -> Result<Signal> {

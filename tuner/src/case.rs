@@ -17,6 +17,7 @@
 
 use crate::fields::{root, Field, FieldError, Object, Range};
 use crate::json;
+use coil_postproc::record::RecordSpec;
 use coil_postproc::signal::Signal;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -141,6 +142,37 @@ pub struct DecayInfo {
     pub mode: DecayMode,
     /// Where the sensor sat, in words (`"weight"` by default).
     pub location: String,
+    /// How to read the file: `channel`, `time`, `quantity`, `unit` of the entry
+    /// (`coil_postproc::record`); all `None` for a plain file name.
+    #[serde(skip)]
+    pub reading: Reading,
+}
+
+/// What a record entry says about reading its file (docs/measured-case.md, "Records as
+/// labs store them").
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reading {
+    /// A UFF dataset (index from 1, or `node:direction`), a `.mat` variable, a CSV column.
+    pub channel: Option<String>,
+    /// The `.mat` variable holding the time stamps (s).
+    pub time: Option<String>,
+    /// What the channel measures.
+    pub quantity: Option<Quantity>,
+    /// Its unit label.
+    pub unit: Option<String>,
+}
+
+impl Reading {
+    /// The record spec of `file` read this way.
+    pub fn spec(&self, file: &Path) -> RecordSpec {
+        RecordSpec {
+            file: file.to_path_buf(),
+            channel: self.channel.clone(),
+            time: self.time.clone(),
+            quantity: self.quantity,
+            unit: self.unit.clone(),
+        }
+    }
 }
 
 impl Default for DecayInfo {
@@ -149,17 +181,64 @@ impl Default for DecayInfo {
             mass_kg: None,
             mode: DecayMode::Axial,
             location: "weight".to_string(),
+            reading: Reading::default(),
         }
     }
 }
 
-/// Reads a `records.decay` entry: a file name, or `{file, mass_kg?, mode?, location?}`.
+/// The `channel`, `time`, `quantity` and `unit` of a record entry object.
+fn reading(o: &Object<'_>) -> Result<Reading, FieldError> {
+    let quantity = match o.get("quantity") {
+        None => None,
+        Some(q) => {
+            const EXPECTED: &str =
+                "the record's quantity: \"acceleration\", \"velocity\" or \"displacement\"";
+            let name = q.string(EXPECTED)?;
+            Some(
+                Quantity::from_name(name)
+                    .ok_or_else(|| q.error(format!("found the string \"{name}\""), EXPECTED))?,
+            )
+        }
+    };
+    let unit = o.opt_string("unit", "the channel's unit, e.g. \"m/s^2\", \"g\", \"mm\"")?;
+    if let (Some(label), Some(u)) = (&unit, o.get("unit")) {
+        if coil_postproc::record::units::parse(label).is_none() {
+            return Err(u.error(
+                format!("found the string \"{}\"", coil_io::excerpt(label)),
+                format!(
+                    "a unit of displacement, velocity or acceleration: one of {}",
+                    coil_postproc::record::units::known_labels()
+                ),
+            ));
+        }
+    }
+    const CHANNEL: &str =
+        "a UFF dataset index (from 1) or `node:direction`, a `.mat` variable or a CSV column";
+    let channel = match o.get("channel") {
+        None => None,
+        Some(c) => match &c.node.value {
+            json::Value::Number(_) => Some(c.number(Range::Positive, CHANNEL)?.to_string()),
+            _ => Some(c.string(CHANNEL)?.to_string()),
+        },
+    };
+    Ok(Reading {
+        channel,
+        time: o.opt_string("time", "the `.mat` variable holding the time stamps in s")?,
+        quantity,
+        unit,
+    })
+}
+
+/// Reads a `records.decay` entry: a file name, or `{file, channel?, time?, quantity?,
+/// unit?, mass_kg?, mode?, location?}`.
 /// Returns the field holding the file name and the entry's description.
 fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldError> {
     if !matches!(item.node.value, json::Value::Object(_)) {
         return Ok((item.clone(), DecayInfo::default()));
     }
-    let o = item.object("a decay record: a file name or {file, mass_kg, mode, location}")?;
+    let o = item.object(
+        "a decay record: a file name or {file, channel, time, quantity, unit, mass_kg, mode, location}",
+    )?;
     let file = o.require("file", "the record's file, relative to the case folder")?;
     let mass_kg = o.opt_number(
         "mass_kg",
@@ -182,12 +261,14 @@ fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldErro
     let location = o
         .opt_string("location", "where the sensor sat, in words")?
         .unwrap_or_else(|| "weight".to_string());
+    let reading = reading(&o)?;
     Ok((
         file,
         DecayInfo {
             mass_kg,
             mode,
             location,
+            reading,
         },
     ))
 }
@@ -547,78 +628,46 @@ impl MeasuredCase {
     }
 
     /// Reads every decay record as written (any of the spec's columns, time stamps as
-    /// read: [`read_decay_record`]).
+    /// read: [`read_decay`]).
     pub fn measured_decays(&self) -> Result<Vec<MeasuredDecay>, CaseError> {
-        self.decay_files
-            .iter()
-            .map(|p| read_decay_record(p))
+        Ok(self
+            .measured_decays_with_format()?
+            .into_iter()
+            .map(|(decay, _)| decay)
+            .collect())
+    }
+
+    /// [`MeasuredCase::measured_decays`] with each file's format as detected, in words
+    /// (`coil_postproc::record::Record::format`).
+    pub fn measured_decays_with_format(&self) -> Result<Vec<(MeasuredDecay, String)>, CaseError> {
+        (0..self.decay_files.len())
+            .map(|k| read_decay(&self.decay_spec(k)))
             .collect()
     }
 
-    /// Reads every decay record (`time_s,accel_m_s2`, uniform time, finite values).
+    /// The record spec of decay record `k` (its file and how its entry says to read it).
+    pub fn decay_spec(&self, k: usize) -> RecordSpec {
+        let file = &self.decay_files[k];
+        self.decay_info
+            .get(k)
+            .map_or_else(|| RecordSpec::file(file), |i| i.reading.spec(file))
+    }
+
+    /// Reads every decay record as an acceleration signal (uniform time, finite values;
+    /// a velocity or position record is an error: these commands fit accelerations).
     pub fn decay_records(&self) -> Result<Vec<Signal>, CaseError> {
-        self.decay_files
-            .iter()
-            .map(|p| Ok(coil_postproc::signal::read_signal(p, "accel_m_s2")?))
+        (0..self.decay_files.len())
+            .map(|k| {
+                let record = coil_postproc::record::read_record(&self.decay_spec(k))?;
+                Ok(coil_postproc::record::acceleration_signal(record)?)
+            })
             .collect()
     }
 }
 
-/// What a decay record measures (the spec's decay.csv columns).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// `accel_m_s2`: acceleration (m/s^2).
-    Acceleration,
-    /// `velocity_m_s`: velocity (m/s).
-    Velocity,
-    /// `displacement_mm`: position (mm in the file, m once read).
-    Displacement,
-}
-
-impl Quantity {
-    /// Every quantity, in the order of the spec's table.
-    pub const ALL: [Quantity; 3] = [
-        Quantity::Acceleration,
-        Quantity::Velocity,
-        Quantity::Displacement,
-    ];
-
-    /// The decay.csv column.
-    pub fn column(self) -> &'static str {
-        match self {
-            Quantity::Acceleration => "accel_m_s2",
-            Quantity::Velocity => "velocity_m_s",
-            Quantity::Displacement => "displacement_mm",
-        }
-    }
-
-    /// Factor from the column's unit to SI (mm -> m).
-    pub fn to_si(self) -> f64 {
-        match self {
-            Quantity::Displacement => 1e-3,
-            _ => 1.0,
-        }
-    }
-
-    /// The SI unit.
-    pub fn si_unit(self) -> &'static str {
-        match self {
-            Quantity::Acceleration => "m/s^2",
-            Quantity::Velocity => "m/s",
-            Quantity::Displacement => "m",
-        }
-    }
-
-    /// How many times the record must be differentiated to give the acceleration.
-    pub fn derivatives_to_acceleration(self) -> usize {
-        match self {
-            Quantity::Acceleration => 0,
-            Quantity::Velocity => 1,
-            Quantity::Displacement => 2,
-        }
-    }
-}
+/// What a decay record measures (the spec's decay.csv columns), shared with the record
+/// reader.
+pub use coil_postproc::record::Quantity;
 
 /// A decay record as written: its one measured column (converted to SI) and its time
 /// stamps exactly as read (increasing, finite; whether they are uniform is for the
@@ -640,91 +689,30 @@ pub struct MeasuredDecay {
     pub time_resolution_s: f64,
 }
 
-/// Reads a decay record: `time_s` and exactly one of `accel_m_s2`, `velocity_m_s`,
-/// `displacement_mm` (the spec's decay.csv). Two of them is an error naming both (which
-/// one was meant cannot be guessed); none is an error listing the header. Every cell is
-/// checked (finite number) and the time stamps must increase; their uniformity is
-/// checked by the diagnosis, which resamples small jitter.
+/// Reads a decay record named by a plain file name: [`read_decay`] with the file's own
+/// channel and units (coil's CSV: `time_s` and exactly one of `accel_m_s2`,
+/// `velocity_m_s`, `displacement_mm`; two of them is an error naming both).
 pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
-    use coil_postproc::signal::{read_fields, read_header, TIME_COLUMN};
-    let (header, header_line) = read_header(path)?;
-    let fail = |line: u64, problem: String, expected: &str| CaseError::DecayRecord {
-        path: path.to_path_buf(),
-        line: line as usize,
-        problem,
-        expected: expected.to_string(),
-    };
-    let present: Vec<Quantity> = Quantity::ALL
-        .into_iter()
-        .filter(|q| header.iter().any(|h| h == q.column()))
-        .collect();
-    let quantity = match present.as_slice() {
-        [one] => *one,
-        [] => {
-            return Err(fail(
-                header_line,
-                format!(
-                    "no measured column in the header (columns: {})",
-                    header.join(", ")
-                ),
-                "`time_s` and one of `accel_m_s2`, `velocity_m_s`, `displacement_mm`",
-            ))
-        }
-        several => {
-            let names: Vec<String> = several
-                .iter()
-                .map(|q| format!("`{}`", q.column()))
-                .collect();
-            return Err(fail(
-                header_line,
-                format!(
-                    "the header gives {} at once: which one to fit is ambiguous",
-                    names.join(" and ")
-                ),
-                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside `time_s` (write the other records to their own files)",
-            ));
-        }
-    };
-    let fields = read_fields(path, &[TIME_COLUMN, quantity.column()])?;
-    let mut columns = fields.values.into_iter();
-    let time_s = columns.next().unwrap_or_default();
-    let values: Vec<f64> = columns
-        .next()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|v| v * quantity.to_si())
-        .collect();
-    if time_s.len() < coil_postproc::signal::MIN_SAMPLES {
-        return Err(fail(
-            fields.header_line,
-            format!("{} data rows", time_s.len()),
-            "a free-decay record of many samples",
-        ));
-    }
-    for i in 1..time_s.len() {
-        if time_s[i] <= time_s[i - 1] {
-            return Err(fail(
-                fields.lines[i],
-                format!(
-                    "time_s {} does not increase (the previous row has {})",
-                    time_s[i],
-                    time_s[i - 1]
-                ),
-                "increasing time stamps",
-            ));
-        }
-    }
-    let mut resolution = fields.first_resolution;
-    resolution.sort_by(f64::total_cmp);
-    let time_resolution_s = resolution.get(resolution.len() / 2).copied().unwrap_or(0.0);
-    Ok(MeasuredDecay {
-        file: path.to_path_buf(),
-        quantity,
-        time_s,
-        values,
-        lines: fields.lines,
-        time_resolution_s,
-    })
+    Ok(read_decay(&RecordSpec::file(path))?.0)
+}
+
+/// Reads a decay record in any format `coil_postproc::record` reads (UFF 58/58b,
+/// MAT-file, CSV dialects), converted to SI, with its format in words. Every cell is
+/// checked (finite number) and the time stamps must increase; their uniformity is checked
+/// by the diagnosis, which resamples small jitter.
+pub fn read_decay(spec: &RecordSpec) -> Result<(MeasuredDecay, String), CaseError> {
+    let r = coil_postproc::record::read_record(spec)?;
+    Ok((
+        MeasuredDecay {
+            file: r.file,
+            quantity: r.quantity,
+            time_s: r.time_s,
+            values: r.values,
+            lines: r.lines,
+            time_resolution_s: r.time_resolution_s,
+        },
+        r.format,
+    ))
 }
 
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells

@@ -211,6 +211,32 @@ pub fn read_record(spec: &RecordSpec) -> Result<Record> {
     }
 }
 
+/// A record of acceleration as a checked [`crate::signal::Signal`] named by its file and
+/// channel (its time stamps uniform within the tolerance and their print rounding); a
+/// velocity or displacement record is an error naming the file.
+pub fn acceleration_signal(record: Record) -> Result<crate::signal::Signal> {
+    if record.quantity != Quantity::Acceleration {
+        return Err(fail(
+            &record.file,
+            "1",
+            format!(
+                "a {} record (channel `{}`)",
+                record.quantity.name(),
+                coil_io::excerpt(&record.channel)
+            ),
+            "an acceleration record (`accel_m_s2`) for this command",
+        ));
+    }
+    let signal =
+        crate::signal::Signal::printed(record.time_s, record.values, record.time_resolution_s)
+            .map_err(|e| PostError::Analysis {
+                path: record.file.clone(),
+                column: record.channel.clone(),
+                error: Box::new(e),
+            })?;
+    Ok(signal.named(record.file, record.channel))
+}
+
 /// The error for a `time` entry on a file that carries its own abscissa.
 pub(crate) fn no_time_variable(spec: &RecordSpec) -> Result<()> {
     match spec.time {

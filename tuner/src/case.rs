@@ -665,6 +665,81 @@ impl MeasuredCase {
     }
 }
 
+/// The format note of a record for the report: `None` for coil's own CSV (comma, decimal
+/// point), else the dialect or format detected (`coil_postproc::record`).
+pub fn format_note(file: &Path, format: &str) -> Option<String> {
+    (!format.starts_with("CSV: delimiter ',', decimal point"))
+        .then(|| format!("{}: read as {format}", file.display()))
+}
+
+impl MeasuredCase {
+    /// A warning when a decay's size is implausible for its stated unit (the classic
+    /// silent error: a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2
+    /// read as m/s^2 1000 times too large).
+    ///
+    /// The record's displacement amplitude is `A = a_peak / w^2` (w = 2 pi f, f its
+    /// crossing frequency); the weight's static deflection is `x_st = m g / k`, with k the
+    /// slope of the static record when there is one, else `m w^2` (then `x_st = g / w^2`
+    /// and the test reads `a_peak` against g). A free decay of a weight resting on its
+    /// spring stays within its static deflection (beyond it the spring unloads every
+    /// cycle) and a lab records it well above its sensor's floor: the warning is given
+    /// when `A / x_st` is above 1 or below 1e-3. A factor 9.81 inside that band is not
+    /// detectable from the record: the unit the file or the case states decides. Without
+    /// gravity (no preload) nothing is checked here (`diagnose`'s travel check still is).
+    pub fn unit_warning(&self, acceleration_m_s2: &[f64], frequency_hz: f64) -> Option<String> {
+        if self.gravity_m_s2 <= 0.0 || !(frequency_hz > 0.0) || acceleration_m_s2.is_empty() {
+            return None;
+        }
+        let n = acceleration_m_s2.len() as f64;
+        let mean = acceleration_m_s2.iter().sum::<f64>() / n;
+        let peak = acceleration_m_s2
+            .iter()
+            .fold(0.0_f64, |m, a| m.max((a - mean).abs()));
+        let w2 = (std::f64::consts::TAU * frequency_hz).powi(2);
+        let amplitude_m = peak / w2;
+        let static_k = self
+            .static_records()
+            .ok()
+            .and_then(|r| r.into_iter().next())
+            .and_then(|r| static_slope_n_m(&r));
+        let (k, source) = match static_k {
+            Some(k) => (k, "the static record's slope"),
+            None => (self.mass_kg * w2, "the record's own frequency"),
+        };
+        let static_m = self.mass_kg * self.gravity_m_s2 / k;
+        let ratio = amplitude_m / static_m;
+        let what = if ratio > 1.0 {
+            "above the static deflection: the spring would unload every cycle"
+        } else if ratio < 1e-3 {
+            "below a thousandth of the static deflection"
+        } else {
+            return None;
+        };
+        Some(format!(
+            "the decay's displacement amplitude {:.4e} m (peak {peak:.4e} m/s^2 at {frequency_hz:.3} Hz) is              {ratio:.3e} times the weight's static deflection {static_m:.4e} m (k from {source}), {what};              check the record's unit (a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2              read as m/s^2 1000 times too large): state it as the record entry's `unit`",
+            amplitude_m
+        ))
+    }
+}
+
+/// The least-squares slope of a static record's force against its compression, N/m
+/// (`None` when it is not positive).
+fn static_slope_n_m(r: &StaticRecord) -> Option<f64> {
+    let n = r.displacement_mm.len().min(r.force_n.len()) as f64;
+    if n < 2.0 {
+        return None;
+    }
+    let mx = r.displacement_mm.iter().sum::<f64>() / n;
+    let my = r.force_n.iter().sum::<f64>() / n;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (x, y) in r.displacement_mm.iter().zip(&r.force_n) {
+        sxy += (x - mx) * (y - my);
+        sxx += (x - mx) * (x - mx);
+    }
+    let k = 1e3 * sxy / sxx;
+    (k.is_finite() && k > 0.0).then_some(k)
+}
+
 /// What a decay record measures (the spec's decay.csv columns), shared with the record
 /// reader.
 pub use coil_postproc::record::Quantity;

@@ -99,7 +99,7 @@ fn progress(settings: &DiagnoseSettings, clock: &Instant, text: &str) {
 pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
     let clock = Instant::now();
     let case = read_case(path)?;
-    let mut decays = case.measured_decays()?;
+    let mut decays = case.measured_decays_with_format()?;
     if decays.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: `records.decay` is missing or empty; expected at least one decay record \
@@ -108,10 +108,17 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         )));
     }
     let mut warnings = Vec::new();
+    let decays: Vec<crate::case::MeasuredDecay> = decays
+        .drain(..)
+        .map(|(decay, format)| {
+            warnings.extend(crate::case::format_note(&decay.file, &format));
+            decay
+        })
+        .collect();
     // Every axial record is conditioned and checked; a surge record (the coil's own
     // mode) is not a decay of the weight on the spring and is left to `coil-tune damping`.
     let mut conditioned = Vec::new();
-    for (k, record) in decays.drain(..).enumerate() {
+    for (k, record) in decays.into_iter().enumerate() {
         let info = case.decay_info.get(k);
         if info.is_some_and(|i| i.mode != crate::case::DecayMode::Axial) {
             warnings.push(format!(
@@ -123,6 +130,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         }
         let data = data::condition_decay(record)?;
         data::check_amplitude(&data, &case)?;
+        warnings.extend(case.unit_warning(data.signal.values(), data.frequency_hz));
         warnings.extend(data.warnings.iter().cloned());
         let mass_delta_kg = info
             .and_then(|i| i.mass_kg)

@@ -23,7 +23,7 @@
 //!     -1
 //! ```
 //! Reals in ASCII records are written Fortran style (`-1.234567890123E+02`): the data
-//! keep 13 significant digits (relative rounding at most 5e-14), the binary form keeps
+//! keep 13 significant digits (relative rounding at most 5e-13), the binary form keeps
 //! every bit. The start and step (record 7) carry 7 significant digits when positive
 //! (`E13.6` fills the 13 columns) and 6 otherwise; a time grid in seconds at any rate whose
 //! step has at most 7 significant digits (0.01 s, 1e-4 s, 1/1024 s is not) reads back
@@ -32,6 +32,15 @@
 //! as reproduced in pyuff's `dataset_58` documentation).
 
 use std::fmt::Write as _;
+
+/// Which form of dataset 58 to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UffForm {
+    /// ASCII dataset 58 (13 significant digits).
+    Ascii,
+    /// Binary dataset 58b (every bit).
+    Binary,
+}
 
 /// One dataset 58: a real, evenly sampled time response at one node and direction.
 #[derive(Debug, Clone, PartialEq)]

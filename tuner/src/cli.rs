@@ -34,6 +34,25 @@ macro_rules! say {
     };
 }
 
+/// The form of a UFF output (`--uff`).
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum UffArg {
+    /// ASCII dataset 58.
+    Ascii,
+    /// Binary dataset 58b.
+    Binary,
+}
+
+impl UffArg {
+    /// The writer's form.
+    pub fn form(self) -> coil_io::uff::UffForm {
+        match self {
+            UffArg::Ascii => coil_io::uff::UffForm::Ascii,
+            UffArg::Binary => coil_io::uff::UffForm::Binary,
+        }
+    }
+}
+
 /// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
 /// paper's tables reproduced on coil's solver.
 #[derive(Debug, Parser)]
@@ -265,6 +284,9 @@ pub enum Command {
         /// No figures (tables and report.md only).
         #[arg(long)]
         no_plots: bool,
+        /// Also write the fits as DIR/fits.uff: UFF dataset 58, ASCII or binary (58b).
+        #[arg(long, value_enum)]
+        uff: Option<UffArg>,
         /// No progress messages.
         #[arg(long, short)]
         quiet: bool,
@@ -402,9 +424,11 @@ pub fn run(cli: Cli) -> Result<()> {
             elements_per_coil,
             modes,
             no_plots,
+            uff,
             quiet,
         } => {
             let mut settings = crate::diagnose::DiagnoseSettings::default();
+            settings.fits_uff = uff.map(UffArg::form);
             settings.fe.elements_per_coil = elements_per_coil;
             settings.modes = usize::from(modes);
             settings.plots = !no_plots;

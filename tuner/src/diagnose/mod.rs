@@ -72,6 +72,8 @@ pub struct DiagnoseSettings {
     pub plots: bool,
     /// Progress on stderr.
     pub progress: bool,
+    /// Also write the fits as `fits.uff` (UFF dataset 58, ASCII or 58b).
+    pub fits_uff: Option<coil_io::uff::UffForm>,
 }
 
 impl Default for DiagnoseSettings {
@@ -85,6 +87,7 @@ impl Default for DiagnoseSettings {
             max_iterations: 40,
             plots: true,
             progress: false,
+            fits_uff: None,
         }
     }
 }
@@ -470,11 +473,14 @@ fn paper_calibration(
 }
 
 /// Writes the outcome into `out` (locked by the caller for the whole run): figures,
-/// tables, report.md and diagnosis.json, committed as one set.
+/// tables, report.md and diagnosis.json (and `fits.uff` when asked), committed as one set.
 pub fn write(
     outcome: &Outcome,
     out: &crate::output::OutDir,
     settings: &DiagnoseSettings,
 ) -> Result<()> {
+    if let Some(form) = settings.fits_uff {
+        out.write("fits.uff", &document::fits_uff(outcome, form))?;
+    }
     document::write(outcome, out, settings.plots)
 }

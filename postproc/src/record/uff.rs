@@ -4,7 +4,9 @@
 //! # What is read
 //! - Datasets are delimited by `-1` lines; any dataset other than 58, 58b and 164 is
 //!   skipped. 58b's ID line gives the byte order (1 little, 2 big endian) and the byte
-//!   count of its binary record 12, which follows the 11 ASCII header lines directly.
+//!   count of its binary record 12, which follows the 11 ASCII header lines directly
+//!   (4 bytes a value for ordinate type 2, 8 for type 4; an uneven dataset's byte count
+//!   may be announced for its points rather than its (x, y) pairs, as pyuff writes it).
 //! - Record 6: function type (1, time response, is the only one accepted), the response
 //!   node and direction. Record 7: ordinate type (2 real single, 4 real double; complex
 //!   types are refused), number of points, abscissa spacing (1 even: `x_i = start + i
@@ -161,7 +163,12 @@ pub fn read_file(path: &Path, bytes: &[u8]) -> Result<UffFile> {
                 "`    -1` opening each dataset (Universal File Format)",
             ));
         }
-        let Some((head, head_line)) = c.next_line() else {
+        // Two delimiters in a row (an empty dataset, as pyuff writes before a 58b) are one.
+        let mut head = c.next_line();
+        while head.as_ref().is_some_and(|(l, _)| is_delimiter(l)) {
+            head = c.next_line();
+        }
+        let Some((head, head_line)) = head else {
             break;
         };
         let kind = cols(&head, 0, 6);
@@ -291,7 +298,7 @@ fn read_58(
     }
     let count = if even { n } else { 2 * n };
     let values = if binary {
-        read_binary(path, &at, c, head, count)?
+        read_binary(path, &at, c, head, ordinate_type, count)?
     } else {
         read_ascii(path, &at, c, ordinate_type, even, count)?
     };
@@ -389,22 +396,23 @@ fn read_binary(
     at: &str,
     c: &mut Cursor<'_>,
     head: &str,
+    ordinate_type: i32,
     count: usize,
 ) -> Result<Vec<f64>> {
     let little = cols(head, 7, 13) != "2";
-    let n_bytes: usize = cols(head, 31, 43).parse().unwrap_or(0);
-    let size = if n_bytes == 8 * count {
-        8
-    } else if n_bytes == 4 * count {
-        4
-    } else {
+    let announced: usize = cols(head, 31, 43).parse().unwrap_or(0);
+    let size = if ordinate_type == 4 { 8 } else { 4 };
+    // An uneven dataset holds (x, y) pairs: `count` is twice the points. Some writers
+    // (pyuff) announce the bytes of the points only; the data are the pairs all the same.
+    if announced != size * count && announced != size * count / 2 {
         return Err(fail(
             path,
             at,
-            format!("58b announces {n_bytes} bytes for {count} values"),
-            "4 or 8 bytes per value in the 58b ID line",
+            format!("58b announces {announced} bytes for {count} values of {size} bytes"),
+            "the byte count of record 12 in the 58b ID line",
         ));
-    };
+    }
+    let n_bytes = size * count;
     let end = c.pos + n_bytes;
     let Some(data) = c.bytes.get(c.pos..end) else {
         return Err(fail(

@@ -14,8 +14,8 @@
 //! by more than 1e-6 relative (the UFF copy's time grid `start + i step` may differ from
 //! the CSV's printed stamps in the last bit; everything else is the same f64).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_io::uff::{uff58_bytes, Uff58};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::path::{Path, PathBuf};
 
 fn settings() -> DiagnoseSettings {

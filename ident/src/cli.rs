@@ -103,8 +103,10 @@ pub fn run(command: Command) -> Result<()> {
             uff,
             quiet,
         } => {
-            let mut settings = crate::diagnose::DiagnoseSettings::default();
-            settings.fits_uff = uff.map(UffArg::form);
+            let mut settings = crate::diagnose::DiagnoseSettings {
+                fits_uff: uff.map(UffArg::form),
+                ..Default::default()
+            };
             settings.fe.elements_per_coil = elements_per_coil;
             settings.modes = usize::from(modes);
             settings.plots = !no_plots;

@@ -687,7 +687,11 @@ impl MeasuredCase {
     /// detectable from the record: the unit the file or the case states decides. Without
     /// gravity (no preload) nothing is checked here (`diagnose`'s travel check still is).
     pub fn unit_warning(&self, acceleration_m_s2: &[f64], frequency_hz: f64) -> Option<String> {
-        if self.gravity_m_s2 <= 0.0 || !(frequency_hz > 0.0) || acceleration_m_s2.is_empty() {
+        if self.gravity_m_s2 <= 0.0
+            || frequency_hz.is_nan()
+            || frequency_hz <= 0.0
+            || acceleration_m_s2.is_empty()
+        {
             return None;
         }
         let n = acceleration_m_s2.len() as f64;

@@ -57,7 +57,7 @@ fn is_comment(line: &str) -> bool {
     t.starts_with('#') || t.starts_with('%') || t.starts_with("//")
 }
 
-fn split<'a>(line: &'a str, delimiter: Option<char>) -> Vec<&'a str> {
+fn split(line: &str, delimiter: Option<char>) -> Vec<&str> {
     match delimiter {
         Some(c) => line.split(c).map(str::trim).collect(),
         None => line.split_whitespace().collect(),

@@ -199,14 +199,12 @@ pub fn read_record(spec: &RecordSpec) -> Result<Record> {
     match detect(&bytes) {
         Format::Uff => uff::read(spec, &bytes),
         Format::Mat => mat::read(spec, &bytes),
-        Format::MatHdf5 => {
-            return Err(fail(
-                path,
-                "1",
-                "a MATLAB v7.3 MAT-file (HDF5), which coil does not read".to_string(),
-                "a level 5 MAT-file: in MATLAB, save it again with `save(name, '-v7')`",
-            ))
-        }
+        Format::MatHdf5 => Err(fail(
+            path,
+            "1",
+            "a MATLAB v7.3 MAT-file (HDF5), which coil does not read".to_string(),
+            "a level 5 MAT-file: in MATLAB, save it again with `save(name, '-v7')`",
+        )),
         Format::Csv => dialect::read(spec, bytes),
     }
 }
@@ -331,7 +329,8 @@ pub(crate) fn resolve_unit(
 /// Checks that stamps increase; the error names the sample.
 pub(crate) fn check_increasing(path: &Path, at: &str, time_s: &[f64]) -> Result<()> {
     for i in 1..time_s.len() {
-        if !(time_s[i] > time_s[i - 1]) {
+        // NaN stamps fail too.
+        if time_s[i].partial_cmp(&time_s[i - 1]) != Some(std::cmp::Ordering::Greater) {
             return Err(fail(
                 path,
                 at,

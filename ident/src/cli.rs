@@ -30,6 +30,9 @@ pub enum Command {
         /// No figures (tables and report.md only).
         #[arg(long)]
         no_plots: bool,
+        /// Also write the fits as DIR/fits.uff: UFF dataset 58, ASCII or binary (58b).
+        #[arg(long, value_enum)]
+        uff: Option<UffArg>,
         /// No progress messages.
         #[arg(long, short)]
         quiet: bool,
@@ -89,9 +92,13 @@ pub fn run(command: Command) -> Result<()> {
             elements_per_coil,
             modes,
             no_plots,
+            uff,
             quiet,
         } => {
-            let mut settings = crate::diagnose::DiagnoseSettings::default();
+            let mut settings = crate::diagnose::DiagnoseSettings {
+                fits_uff: uff.map(UffArg::form),
+                ..Default::default()
+            };
             settings.fe.elements_per_coil = elements_per_coil;
             settings.modes = usize::from(modes);
             settings.plots = !no_plots;
@@ -103,6 +110,25 @@ pub fn run(command: Command) -> Result<()> {
             text(&crate::diagnose::summary(&outcome))?;
             say(&format!("report in {}", out.path("report.md").display()))?;
             Ok(())
+        }
+    }
+}
+
+/// The form of a UFF output (`--uff`).
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum UffArg {
+    /// ASCII dataset 58.
+    Ascii,
+    /// Binary dataset 58b.
+    Binary,
+}
+
+impl UffArg {
+    /// The writer's form.
+    pub fn form(self) -> coil_io::uff::UffForm {
+        match self {
+            UffArg::Ascii => coil_io::uff::UffForm::Ascii,
+            UffArg::Binary => coil_io::uff::UffForm::Binary,
         }
     }
 }

@@ -13,6 +13,8 @@
 //!   it and moved in as a set with a manifest last; a killed run is rolled forward or
 //!   cleaned up by the next one.
 //! - [`progress`]: progress lines for long runs, also when stderr is not a terminal.
+//! - [`uff`]: time histories as Universal File Format dataset 58 (ASCII and 58b), the
+//!   writer below both the solver's histories and the diagnosis' fits.
 //! - [`stdout`]: printing that treats a closed stdout (`| head -1`) as the end of the
 //!   reader's interest, not as an error.
 //!
@@ -24,6 +26,7 @@ pub mod confine;
 pub mod progress;
 pub mod set;
 pub mod stdout;
+pub mod uff;
 pub mod write;
 
 pub use confine::{excerpt, read_bounded, resolve_inside, ConfineError};

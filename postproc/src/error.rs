@@ -198,6 +198,20 @@ pub enum PostError {
         error: Box<PostError>,
     },
 
+    /// A record (a UFF dataset, a MAT-file variable, a CSV column) that cannot be read as
+    /// the file or the case describes it: `at` is the line, dataset or variable.
+    #[error("{}:{at}: {problem}; expected {expected}", path.display())]
+    Record {
+        /// The file.
+        path: PathBuf,
+        /// Where in it: a line number, `dataset 2 (line 14)`, `variable `acc``.
+        at: String,
+        /// What is wrong.
+        problem: String,
+        /// What was expected.
+        expected: String,
+    },
+
     /// An in-memory signal is unusable (length mismatch, non-finite value, bad time axis).
     #[error("invalid signal at sample {index}: {what}")]
     InvalidSignal {

@@ -7,6 +7,8 @@
 //! and measured accuracy; `docs/postproc.md` gathers them.
 //!
 //! - [`signal`]: CSV reading and the checked [`signal::Signal`] every analysis takes.
+//! - [`record`]: measured records as labs store them (UFF 58/58b, MAT-files, CSV
+//!   dialects, units), the one reader of every command that reads a decay record.
 //! - [`offset`]: what constant is removed before analysis ([`offset::Detrend`]).
 //! - [`stats`]: the median, the robust white-noise level, a value with its standard error.
 //! - [`peaks`]: crests to sub-sample accuracy.
@@ -39,6 +41,7 @@ pub mod offset;
 pub mod output;
 pub mod peaks;
 pub mod plot;
+pub mod record;
 pub mod report;
 pub mod signal;
 pub mod signature;

@@ -105,6 +105,32 @@ impl Signal {
         Ok(Signal::unnamed(time_s, step_s, values))
     }
 
+    /// [`Signal::new`] for time stamps printed on a decimal grid of `rounding_s` (their
+    /// steps may jitter by that much, see the module doc).
+    pub fn printed(time_s: Vec<f64>, values: Vec<f64>, rounding_s: f64) -> Result<Signal> {
+        if rounding_s == 0.0 {
+            return Signal::new(time_s, values);
+        }
+        let exact = Signal::new(time_s.clone(), values.clone());
+        match exact {
+            Ok(signal) => Ok(signal),
+            Err(_) if time_s.len() == values.len() && time_s.len() >= MIN_SAMPLES => {
+                check_finite(&time_s, &values)?;
+                let step_s = check_time_axis(&time_s, rounding_s).map_err(|_| {
+                    PostError::InvalidSignal {
+                        index: 0,
+                        what: format!(
+                            "time steps beyond {}% of the median plus the print rounding {rounding_s:e} s; expected uniform sampling",
+                            STEP_TOLERANCE * 100.0
+                        ),
+                    }
+                })?;
+                Ok(Signal::unnamed(time_s, step_s, values))
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// A signal sampled at `start_s + i * step_s` (exactly that grid): checks a finite
     /// start, a finite positive step, at least [`MIN_SAMPLES`] finite values.
     pub fn uniform(start_s: f64, step_s: f64, values: Vec<f64>) -> Result<Signal> {
@@ -319,6 +345,12 @@ impl Source {
             coil_io::MAX_RECORD_BYTES,
             "a record (CSV)",
         )?;
+        Ok(Source::in_memory(path, bytes))
+    }
+
+    /// A file's text already in memory (a CSV dialect rewritten to this syntax, line for
+    /// line, by [`crate::record`]).
+    fn in_memory(path: &Path, bytes: Vec<u8>) -> Self {
         let record_lines = bytes
             .split(|&b| b == b'\n')
             .enumerate()
@@ -328,11 +360,11 @@ impl Source {
             })
             .map(|(index, _)| index as u64 + 1)
             .collect();
-        Ok(Source {
+        Source {
             path: path.to_path_buf(),
             bytes,
             record_lines,
-        })
+        }
     }
 
     fn reader(&self) -> csv::Reader<&[u8]> {
@@ -431,7 +463,25 @@ pub struct Fields {
 /// as [`read_csv_columns`] but no time axis: for records such as `static.csv`
 /// (`displacement_mm,force_n`). Errors name the file and line.
 pub fn read_fields(path: &Path, names: &[&str]) -> Result<Fields> {
-    let source = Source::open(path)?;
+    read_fields_of(Source::open(path)?, names)
+}
+
+/// [`read_fields`] on the text of `path` already in memory, in this module's syntax
+/// (comma-separated, decimal point, `#` comments), with the file's own line numbers.
+pub(crate) fn read_fields_in(path: &Path, bytes: Vec<u8>, names: &[&str]) -> Result<Fields> {
+    read_fields_of(Source::in_memory(path, bytes), names)
+}
+
+/// [`read_header`] on text in memory (see [`read_fields_in`]).
+pub(crate) fn read_header_in(path: &Path, bytes: Vec<u8>) -> Result<(Vec<String>, u64)> {
+    let source = Source::in_memory(path, bytes);
+    let mut reader = source.reader();
+    source.header(&mut reader)
+}
+
+fn read_fields_of(source: Source, names: &[&str]) -> Result<Fields> {
+    let path = source.path.clone();
+    let path = path.as_path();
     let mut reader = source.reader();
     let (header, header_line) = source.header(&mut reader)?;
 

@@ -47,6 +47,8 @@ __all__ = [
     "check",
     "design",
     "damping",
+    "read_record",
+    "write_uff",
 ]
 
 
@@ -420,3 +422,42 @@ def damping(case, out, variants=None, elements_per_coil=24, scatter=0.03):
         _os.fspath(case), _os.fspath(out),
         None if variants is None else _os.fspath(variants), elements_per_coil, scatter,
     ))
+
+
+def read_record(path, channel=None, time=None, quantity=None, unit=None):
+    """Reads a measured record as every coil command does (docs/measured-case.md,
+    "Records as labs store them"): UFF dataset 58 or 58b, a MATLAB level 5 MAT-file, or
+    CSV in any common dialect. ``channel`` is a UFF dataset index (from 1) or
+    ``"node:direction"``, a ``.mat`` variable or a CSV column; ``time`` the ``.mat``
+    variable of the time stamps; ``quantity`` and ``unit`` what the case states.
+
+    Returns a dict: ``file``, ``format`` (the format or dialect detected), ``channel``,
+    ``quantity``, ``unit`` (as stated), and numpy arrays ``time_s`` and ``values`` (SI:
+    m, m/s or m/s^2).
+
+    >>> _ = (tmp / "decay.csv").write_text("Zeit [s];Beschl. [g]\\n0,00;1,0\\n0,01;0,5\\n0,02;-0,5\\n")
+    >>> r = coil.read_record(tmp / "decay.csv")
+    >>> r["format"].startswith("CSV: delimiter ';', decimal comma"), r["quantity"], float(r["values"][0])
+    (True, 'acceleration', 9.80665)
+    """
+    text = _coil.read_record(_os.fspath(path), channel, time, quantity, unit)
+    return _arrays(_json.loads(text))
+
+
+def write_uff(path, datasets, binary=False):
+    """Writes evenly sampled histories as UFF dataset 58 (ASCII, or 58b when ``binary``),
+    the writer behind ``coil-solve --uff`` and ``coil-tune diagnose --uff``. Each dataset
+    is a dict with ``name``, ``node``, ``direction`` (1..6), ``quantity``
+    (``"displacement"``, ``"velocity"``, ``"acceleration"``), ``unit``, ``start_s``,
+    ``step_s`` and ``values``. ASCII keeps 13 significant digits, 58b every bit.
+
+    >>> d = {"name": "x", "node": 1, "direction": 3, "quantity": "displacement", "unit": "m",
+    ...      "start_s": 0.0, "step_s": 0.01, "values": [0.001, 0.002, -0.001]}
+    >>> coil.write_uff(tmp / "x.uff", [d], binary=True)
+    >>> coil.read_record(tmp / "x.uff")["values"].tolist()
+    [0.001, 0.002, -0.001]
+    """
+    plain = [
+        {**d, "values": [float(v) for v in _np.asarray(d["values"], dtype=float)]} for d in datasets
+    ]
+    _coil.write_uff(_os.fspath(path), _json.dumps(plain), binary)

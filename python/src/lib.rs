@@ -473,6 +473,91 @@ fn damping(
     })
 }
 
+/// Reads a measured record (UFF 58/58b, MATLAB level 5 MAT-file, CSV dialects) as the
+/// commands do (`coil_postproc::record`): returns `file`, `format`, `channel`,
+/// `quantity`, `unit` (as stated), `time_s` and `values` (SI).
+#[pyfunction]
+#[pyo3(signature = (path, channel=None, time=None, quantity=None, unit=None))]
+fn read_record(
+    path: PathBuf,
+    channel: Option<String>,
+    time: Option<String>,
+    quantity: Option<String>,
+    unit: Option<String>,
+) -> PyResult<String> {
+    use coil_postproc::record::{read_record, Quantity, RecordSpec};
+    let quantity = match quantity {
+        None => None,
+        Some(q) => Some(Quantity::from_name(&q).ok_or_else(|| {
+            fail(format!(
+                "quantity `{q}`: expected acceleration, velocity or displacement"
+            ))
+        })?),
+    };
+    let r = read_record(&RecordSpec {
+        file: path,
+        channel,
+        time,
+        quantity,
+        unit,
+    })
+    .map_err(fail)?;
+    json(&serde_json::json!({
+        "file": r.file,
+        "format": r.format,
+        "channel": r.channel,
+        "quantity": r.quantity,
+        "unit": r.unit,
+        "time_s": r.time_s,
+        "values": r.values,
+    }))
+}
+
+/// Writes evenly sampled histories as UFF dataset 58 (ASCII, or 58b when `binary`),
+/// the writer of `coil-solve --uff` and `coil-tune diagnose --uff`. `datasets_json` is a
+/// list of objects with `name`, `node`, `direction`, `quantity` (`displacement`,
+/// `velocity`, `acceleration`), `unit`, `start_s`, `step_s` and `values`.
+#[pyfunction]
+#[pyo3(signature = (path, datasets_json, binary=false))]
+fn write_uff(path: PathBuf, datasets_json: &str, binary: bool) -> PyResult<()> {
+    #[derive(serde::Deserialize)]
+    struct Entry {
+        name: String,
+        node: i64,
+        direction: i32,
+        quantity: String,
+        unit: String,
+        start_s: f64,
+        step_s: f64,
+        values: Vec<f64>,
+    }
+    let entries: Vec<Entry> = serde_json::from_str(datasets_json).map_err(|e| {
+        fail(format!(
+            "datasets: {e}; expected objects with name, node, direction, quantity, unit, start_s, step_s, values"
+        ))
+    })?;
+    let datasets: Vec<coil_io::uff::Uff58> = entries
+        .into_iter()
+        .map(|e| {
+            let (ordinate_type, length_exponent) = coil_io::uff::Uff58::ordinate_kind(&e.quantity);
+            coil_io::uff::Uff58 {
+                description: format!("coil: {}", e.quantity),
+                name: e.name,
+                node: e.node,
+                direction: e.direction,
+                ordinate_type,
+                length_exponent,
+                ordinate_label: e.quantity,
+                ordinate_unit: e.unit,
+                start_s: e.start_s,
+                step_s: e.step_s,
+                values: e.values,
+            }
+        })
+        .collect();
+    coil_io::write_file(&path, &coil_io::uff::uff58_bytes(&datasets, binary)).map_err(fail)
+}
+
 #[pymodule]
 fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CoilError", m.py().get_type::<CoilError>())?;
@@ -493,5 +578,7 @@ fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(damping, m)?)?;
+    m.add_function(wrap_pyfunction!(read_record, m)?)?;
+    m.add_function(wrap_pyfunction!(write_uff, m)?)?;
     Ok(())
 }

@@ -706,6 +706,96 @@ pub fn history_file_name(first_transient: bool, case_number: usize) -> String {
     }
 }
 
+/// Stages each transient case's history as UFF datasets 58 beside its CSV
+/// (`history.uff`, `case3_history.uff`: the CSV's name with `.uff`), one dataset per
+/// column: `node{ID}_{dof}_{quantity}_{unit}` gives the response node, the direction
+/// (ux..rz as 1..6) and the data type (disp 8, vel 11, accel 12), in the column's SI
+/// unit. Returns the staged names. Call it after [`write_set`], whose CSV staging has
+/// refused any non-finite value.
+pub fn stage_history_uff(
+    set: &OutputSet,
+    cases: &[CaseResult],
+    form: coil_io::uff::UffForm,
+) -> Result<Vec<String>, Error> {
+    let mut names = Vec::new();
+    let mut first_transient = true;
+    for (index, case) in cases.iter().enumerate() {
+        let CaseSolution::Transient(t) = &case.solution else {
+            continue;
+        };
+        let csv = history_file_name(first_transient, index + 1);
+        first_transient = false;
+        let name = csv.replace(".csv", ".uff");
+        let h = &t.history;
+        let n = h.time_s.len();
+        let step_s = if n > 1 {
+            (h.time_s[n - 1] - h.time_s[0]) / (n - 1) as f64
+        } else {
+            0.0
+        };
+        let mut datasets = Vec::with_capacity(h.columns.len());
+        for c in &h.columns {
+            datasets.push(history_dataset(
+                &case.title,
+                c,
+                h.time_s.first().copied(),
+                step_s,
+            ));
+        }
+        set.write(
+            Path::new(&name),
+            &coil_io::uff::uff58_bytes(&datasets, form == coil_io::uff::UffForm::Binary),
+        )?;
+        names.push(name);
+    }
+    Ok(names)
+}
+
+/// One history column as a dataset 58 (see [`stage_history_uff`]).
+fn history_dataset(
+    title: &str,
+    c: &crate::analysis::transient::HistoryColumn,
+    start_s: Option<f64>,
+    step_s: f64,
+) -> coil_io::uff::Uff58 {
+    let mut parts = c.name.splitn(4, '_');
+    let node = parts
+        .next()
+        .and_then(|p| p.strip_prefix("node"))
+        .and_then(|id| id.parse().ok())
+        .unwrap_or(0);
+    let direction = match parts.next() {
+        Some("ux") => 1,
+        Some("uy") => 2,
+        Some("uz") => 3,
+        Some("rx") => 4,
+        Some("ry") => 5,
+        Some("rz") => 6,
+        _ => 0,
+    };
+    let quantity = parts.next().unwrap_or("");
+    let unit = parts
+        .next()
+        .unwrap_or("")
+        .replace("_s2", "/s^2")
+        .replace("_s", "/s");
+    let (ordinate_type, length_exponent) = coil_io::uff::Uff58::ordinate_kind(quantity);
+    let length_exponent = if direction > 3 { 0 } else { length_exponent };
+    coil_io::uff::Uff58 {
+        description: format!("coil-solve: {title}"),
+        name: c.name.clone(),
+        node,
+        direction,
+        ordinate_type,
+        length_exponent,
+        ordinate_label: quantity.to_string(),
+        ordinate_unit: unit,
+        start_s: start_s.unwrap_or(0.0),
+        step_s,
+        values: c.values.clone(),
+    }
+}
+
 /// Builds the `results.json` content and writes every file of a run into `dir` (created
 /// if missing) as one set: locked, staged, moved in together ([`coil_io::set`]).
 pub fn write_all(dir: &Path, model: &Model, cases: &[CaseResult]) -> Result<ResultsFile, Error> {

@@ -17,6 +17,7 @@
 
 use crate::fields::{root, Field, FieldError, Object, Range};
 use crate::json;
+use coil_postproc::record::RecordSpec;
 use coil_postproc::signal::Signal;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -141,6 +142,37 @@ pub struct DecayInfo {
     pub mode: DecayMode,
     /// Where the sensor sat, in words (`"weight"` by default).
     pub location: String,
+    /// How to read the file: `channel`, `time`, `quantity`, `unit` of the entry
+    /// (`coil_postproc::record`); all `None` for a plain file name.
+    #[serde(skip)]
+    pub reading: Reading,
+}
+
+/// What a record entry says about reading its file (docs/measured-case.md, "Records as
+/// labs store them").
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reading {
+    /// A UFF dataset (index from 1, or `node:direction`), a `.mat` variable, a CSV column.
+    pub channel: Option<String>,
+    /// The `.mat` variable holding the time stamps (s).
+    pub time: Option<String>,
+    /// What the channel measures.
+    pub quantity: Option<Quantity>,
+    /// Its unit label.
+    pub unit: Option<String>,
+}
+
+impl Reading {
+    /// The record spec of `file` read this way.
+    pub fn spec(&self, file: &Path) -> RecordSpec {
+        RecordSpec {
+            file: file.to_path_buf(),
+            channel: self.channel.clone(),
+            time: self.time.clone(),
+            quantity: self.quantity,
+            unit: self.unit.clone(),
+        }
+    }
 }
 
 impl Default for DecayInfo {
@@ -149,17 +181,64 @@ impl Default for DecayInfo {
             mass_kg: None,
             mode: DecayMode::Axial,
             location: "weight".to_string(),
+            reading: Reading::default(),
         }
     }
 }
 
-/// Reads a `records.decay` entry: a file name, or `{file, mass_kg?, mode?, location?}`.
+/// The `channel`, `time`, `quantity` and `unit` of a record entry object.
+fn reading(o: &Object<'_>) -> Result<Reading, FieldError> {
+    let quantity = match o.get("quantity") {
+        None => None,
+        Some(q) => {
+            const EXPECTED: &str =
+                "the record's quantity: \"acceleration\", \"velocity\" or \"displacement\"";
+            let name = q.string(EXPECTED)?;
+            Some(
+                Quantity::from_name(name)
+                    .ok_or_else(|| q.error(format!("found the string \"{name}\""), EXPECTED))?,
+            )
+        }
+    };
+    let unit = o.opt_string("unit", "the channel's unit, e.g. \"m/s^2\", \"g\", \"mm\"")?;
+    if let (Some(label), Some(u)) = (&unit, o.get("unit")) {
+        if coil_postproc::record::units::parse(label).is_none() {
+            return Err(u.error(
+                format!("found the string \"{}\"", coil_io::excerpt(label)),
+                format!(
+                    "a unit of displacement, velocity or acceleration: one of {}",
+                    coil_postproc::record::units::known_labels()
+                ),
+            ));
+        }
+    }
+    const CHANNEL: &str =
+        "a UFF dataset index (from 1) or `node:direction`, a `.mat` variable or a CSV column";
+    let channel = match o.get("channel") {
+        None => None,
+        Some(c) => match &c.node.value {
+            json::Value::Number(_) => Some(c.number(Range::Positive, CHANNEL)?.to_string()),
+            _ => Some(c.string(CHANNEL)?.to_string()),
+        },
+    };
+    Ok(Reading {
+        channel,
+        time: o.opt_string("time", "the `.mat` variable holding the time stamps in s")?,
+        quantity,
+        unit,
+    })
+}
+
+/// Reads a `records.decay` entry: a file name, or `{file, channel?, time?, quantity?,
+/// unit?, mass_kg?, mode?, location?}`.
 /// Returns the field holding the file name and the entry's description.
 fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldError> {
     if !matches!(item.node.value, json::Value::Object(_)) {
         return Ok((item.clone(), DecayInfo::default()));
     }
-    let o = item.object("a decay record: a file name or {file, mass_kg, mode, location}")?;
+    let o = item.object(
+        "a decay record: a file name or {file, channel, time, quantity, unit, mass_kg, mode, location}",
+    )?;
     let file = o.require("file", "the record's file, relative to the case folder")?;
     // An explicit null is not an absent key: a mass left blank is an error, not the case's.
     if let Some(m) = o
@@ -193,12 +272,14 @@ fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldErro
     let location = o
         .opt_string("location", "where the sensor sat, in words")?
         .unwrap_or_else(|| "weight".to_string());
+    let reading = reading(&o)?;
     Ok((
         file,
         DecayInfo {
             mass_kg,
             mode,
             location,
+            reading,
         },
     ))
 }
@@ -560,78 +641,125 @@ impl MeasuredCase {
     }
 
     /// Reads every decay record as written (any of the spec's columns, time stamps as
-    /// read: [`read_decay_record`]).
+    /// read: [`read_decay`]).
     pub fn measured_decays(&self) -> Result<Vec<MeasuredDecay>, CaseError> {
-        self.decay_files
-            .iter()
-            .map(|p| read_decay_record(p))
+        Ok(self
+            .measured_decays_with_format()?
+            .into_iter()
+            .map(|(decay, _)| decay)
+            .collect())
+    }
+
+    /// [`MeasuredCase::measured_decays`] with each file's format as detected, in words
+    /// (`coil_postproc::record::Record::format`).
+    pub fn measured_decays_with_format(&self) -> Result<Vec<(MeasuredDecay, String)>, CaseError> {
+        (0..self.decay_files.len())
+            .map(|k| read_decay(&self.decay_spec(k)))
             .collect()
     }
 
-    /// Reads every decay record (`time_s,accel_m_s2`, uniform time, finite values).
+    /// The record spec of decay record `k` (its file and how its entry says to read it).
+    pub fn decay_spec(&self, k: usize) -> RecordSpec {
+        let file = &self.decay_files[k];
+        self.decay_info
+            .get(k)
+            .map_or_else(|| RecordSpec::file(file), |i| i.reading.spec(file))
+    }
+
+    /// Reads every decay record as an acceleration signal (uniform time, finite values;
+    /// a velocity or position record is an error: these commands fit accelerations).
     pub fn decay_records(&self) -> Result<Vec<Signal>, CaseError> {
-        self.decay_files
-            .iter()
-            .map(|p| Ok(coil_postproc::signal::read_signal(p, "accel_m_s2")?))
+        (0..self.decay_files.len())
+            .map(|k| {
+                let record = coil_postproc::record::read_record(&self.decay_spec(k))?;
+                Ok(coil_postproc::record::acceleration_signal(record)?)
+            })
             .collect()
     }
 }
 
-/// What a decay record measures (the spec's decay.csv columns).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// `accel_m_s2`: acceleration (m/s^2).
-    Acceleration,
-    /// `velocity_m_s`: velocity (m/s).
-    Velocity,
-    /// `displacement_mm`: position (mm in the file, m once read).
-    Displacement,
+/// The format note of a record for the report: `None` for coil's own CSV (comma, decimal
+/// point), else the dialect or format detected (`coil_postproc::record`).
+pub fn format_note(file: &Path, format: &str) -> Option<String> {
+    (!format.starts_with("CSV: delimiter ',', decimal point"))
+        .then(|| format!("{}: read as {format}", file.display()))
 }
 
-impl Quantity {
-    /// Every quantity, in the order of the spec's table.
-    pub const ALL: [Quantity; 3] = [
-        Quantity::Acceleration,
-        Quantity::Velocity,
-        Quantity::Displacement,
-    ];
-
-    /// The decay.csv column.
-    pub fn column(self) -> &'static str {
-        match self {
-            Quantity::Acceleration => "accel_m_s2",
-            Quantity::Velocity => "velocity_m_s",
-            Quantity::Displacement => "displacement_mm",
+impl MeasuredCase {
+    /// A warning when a decay's size is implausible for its stated unit (the classic
+    /// silent error: a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2
+    /// read as m/s^2 1000 times too large).
+    ///
+    /// The record's displacement amplitude is `A = a_peak / w^2` (w = 2 pi f, f its
+    /// crossing frequency); the weight's static deflection is `x_st = m g / k`, with k the
+    /// slope of the static record when there is one, else `m w^2` (then `x_st = g / w^2`
+    /// and the test reads `a_peak` against g). A free decay of a weight resting on its
+    /// spring stays within its static deflection (beyond it the spring unloads every
+    /// cycle) and a lab records it well above its sensor's floor: the warning is given
+    /// when `A / x_st` is above 1 or below 1e-3. A factor 9.81 inside that band is not
+    /// detectable from the record: the unit the file or the case states decides. Without
+    /// gravity (no preload) nothing is checked here (`diagnose`'s travel check still is).
+    pub fn unit_warning(&self, acceleration_m_s2: &[f64], frequency_hz: f64) -> Option<String> {
+        if self.gravity_m_s2 <= 0.0
+            || frequency_hz.is_nan()
+            || frequency_hz <= 0.0
+            || acceleration_m_s2.is_empty()
+        {
+            return None;
         }
-    }
-
-    /// Factor from the column's unit to SI (mm -> m).
-    pub fn to_si(self) -> f64 {
-        match self {
-            Quantity::Displacement => 1e-3,
-            _ => 1.0,
-        }
-    }
-
-    /// The SI unit.
-    pub fn si_unit(self) -> &'static str {
-        match self {
-            Quantity::Acceleration => "m/s^2",
-            Quantity::Velocity => "m/s",
-            Quantity::Displacement => "m",
-        }
-    }
-
-    /// How many times the record must be differentiated to give the acceleration.
-    pub fn derivatives_to_acceleration(self) -> usize {
-        match self {
-            Quantity::Acceleration => 0,
-            Quantity::Velocity => 1,
-            Quantity::Displacement => 2,
-        }
+        let n = acceleration_m_s2.len() as f64;
+        let mean = acceleration_m_s2.iter().sum::<f64>() / n;
+        let peak = acceleration_m_s2
+            .iter()
+            .fold(0.0_f64, |m, a| m.max((a - mean).abs()));
+        let w2 = (std::f64::consts::TAU * frequency_hz).powi(2);
+        let amplitude_m = peak / w2;
+        let static_k = self
+            .static_records()
+            .ok()
+            .and_then(|r| r.into_iter().next())
+            .and_then(|r| static_slope_n_m(&r));
+        let (k, source) = match static_k {
+            Some(k) => (k, "the static record's slope"),
+            None => (self.mass_kg * w2, "the record's own frequency"),
+        };
+        let static_m = self.mass_kg * self.gravity_m_s2 / k;
+        let ratio = amplitude_m / static_m;
+        let what = if ratio > 1.0 {
+            "above the static deflection: the spring would unload every cycle"
+        } else if ratio < 1e-3 {
+            "below a thousandth of the static deflection"
+        } else {
+            return None;
+        };
+        Some(format!(
+            "the decay's displacement amplitude {:.4e} m (peak {peak:.4e} m/s^2 at {frequency_hz:.3} Hz) is              {ratio:.3e} times the weight's static deflection {static_m:.4e} m (k from {source}), {what};              check the record's unit (a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2              read as m/s^2 1000 times too large): state it as the record entry's `unit`",
+            amplitude_m
+        ))
     }
 }
+
+/// The least-squares slope of a static record's force against its compression, N/m
+/// (`None` when it is not positive).
+fn static_slope_n_m(r: &StaticRecord) -> Option<f64> {
+    let n = r.displacement_mm.len().min(r.force_n.len()) as f64;
+    if n < 2.0 {
+        return None;
+    }
+    let mx = r.displacement_mm.iter().sum::<f64>() / n;
+    let my = r.force_n.iter().sum::<f64>() / n;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (x, y) in r.displacement_mm.iter().zip(&r.force_n) {
+        sxy += (x - mx) * (y - my);
+        sxx += (x - mx) * (x - mx);
+    }
+    let k = 1e3 * sxy / sxx;
+    (k.is_finite() && k > 0.0).then_some(k)
+}
+
+/// What a decay record measures (the spec's decay.csv columns), shared with the record
+/// reader.
+pub use coil_postproc::record::Quantity;
 
 /// A decay record as written: its one measured column (converted to SI) and its time
 /// stamps exactly as read (increasing, finite; whether they are uniform is for the
@@ -653,91 +781,30 @@ pub struct MeasuredDecay {
     pub time_resolution_s: f64,
 }
 
-/// Reads a decay record: `time_s` and exactly one of `accel_m_s2`, `velocity_m_s`,
-/// `displacement_mm` (the spec's decay.csv). Two of them is an error naming both (which
-/// one was meant cannot be guessed); none is an error listing the header. Every cell is
-/// checked (finite number) and the time stamps must increase; their uniformity is
-/// checked by the diagnosis, which resamples small jitter.
+/// Reads a decay record named by a plain file name: [`read_decay`] with the file's own
+/// channel and units (coil's CSV: `time_s` and exactly one of `accel_m_s2`,
+/// `velocity_m_s`, `displacement_mm`; two of them is an error naming both).
 pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
-    use coil_postproc::signal::{read_fields, read_header, TIME_COLUMN};
-    let (header, header_line) = read_header(path)?;
-    let fail = |line: u64, problem: String, expected: &str| CaseError::DecayRecord {
-        path: path.to_path_buf(),
-        line: line as usize,
-        problem,
-        expected: expected.to_string(),
-    };
-    let present: Vec<Quantity> = Quantity::ALL
-        .into_iter()
-        .filter(|q| header.iter().any(|h| h == q.column()))
-        .collect();
-    let quantity = match present.as_slice() {
-        [one] => *one,
-        [] => {
-            return Err(fail(
-                header_line,
-                format!(
-                    "no measured column in the header (columns: {})",
-                    header.join(", ")
-                ),
-                "`time_s` and one of `accel_m_s2`, `velocity_m_s`, `displacement_mm`",
-            ))
-        }
-        several => {
-            let names: Vec<String> = several
-                .iter()
-                .map(|q| format!("`{}`", q.column()))
-                .collect();
-            return Err(fail(
-                header_line,
-                format!(
-                    "the header gives {} at once: which one to fit is ambiguous",
-                    names.join(" and ")
-                ),
-                "exactly one of `accel_m_s2`, `velocity_m_s`, `displacement_mm` beside `time_s` (write the other records to their own files)",
-            ));
-        }
-    };
-    let fields = read_fields(path, &[TIME_COLUMN, quantity.column()])?;
-    let mut columns = fields.values.into_iter();
-    let time_s = columns.next().unwrap_or_default();
-    let values: Vec<f64> = columns
-        .next()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|v| v * quantity.to_si())
-        .collect();
-    if time_s.len() < coil_postproc::signal::MIN_SAMPLES {
-        return Err(fail(
-            fields.header_line,
-            format!("{} data rows", time_s.len()),
-            "a free-decay record of many samples",
-        ));
-    }
-    for i in 1..time_s.len() {
-        if time_s[i] <= time_s[i - 1] {
-            return Err(fail(
-                fields.lines[i],
-                format!(
-                    "time_s {} does not increase (the previous row has {})",
-                    time_s[i],
-                    time_s[i - 1]
-                ),
-                "increasing time stamps",
-            ));
-        }
-    }
-    let mut resolution = fields.first_resolution;
-    resolution.sort_by(f64::total_cmp);
-    let time_resolution_s = resolution.get(resolution.len() / 2).copied().unwrap_or(0.0);
-    Ok(MeasuredDecay {
-        file: path.to_path_buf(),
-        quantity,
-        time_s,
-        values,
-        lines: fields.lines,
-        time_resolution_s,
-    })
+    Ok(read_decay(&RecordSpec::file(path))?.0)
+}
+
+/// Reads a decay record in any format `coil_postproc::record` reads (UFF 58/58b,
+/// MAT-file, CSV dialects), converted to SI, with its format in words. Every cell is
+/// checked (finite number) and the time stamps must increase; their uniformity is checked
+/// by the diagnosis, which resamples small jitter.
+pub fn read_decay(spec: &RecordSpec) -> Result<(MeasuredDecay, String), CaseError> {
+    let r = coil_postproc::record::read_record(spec)?;
+    Ok((
+        MeasuredDecay {
+            file: r.file,
+            quantity: r.quantity,
+            time_s: r.time_s,
+            values: r.values,
+            lines: r.lines,
+            time_resolution_s: r.time_resolution_s,
+        },
+        r.format,
+    ))
 }
 
 /// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells

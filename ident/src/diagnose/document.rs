@@ -630,6 +630,48 @@ fn spectrum_figure(
     Ok(())
 }
 
+/// The fits of `fits.csv` as UFF datasets 58 (`coil_io::uff`): the measured record, the
+/// baseline, the linear output-error reference and the extended model when one was
+/// chosen, each on the record's uniform grid, in SI (node 1, direction 3: the weight,
+/// axially).
+pub fn fits_uff(o: &Outcome, form: coil_io::uff::UffForm) -> Vec<u8> {
+    use coil_io::uff::{uff58_bytes, Uff58};
+    let signal = &o.decay.signal;
+    let quantity = o.diagnosis.quantity;
+    let (ordinate_type, length_exponent) = Uff58::ordinate_kind(quantity.name());
+    let chosen = o
+        .diagnosis
+        .extended
+        .as_ref()
+        .and_then(|e| o.candidates.iter().find(|c| c.label() == e.effect))
+        .and_then(|c| c.run.as_ref().ok());
+    let mut series: Vec<(&str, &[f64])> = vec![
+        ("measured", &o.decay.measured),
+        ("baseline", &o.baseline.full.simulated),
+        ("linear_output_error", &o.reference.full.simulated),
+    ];
+    if let Some(run) = chosen {
+        series.push(("extended", &run.full.simulated));
+    }
+    let datasets: Vec<Uff58> = series
+        .into_iter()
+        .map(|(name, values)| Uff58 {
+            description: format!("coil-tune diagnose: {name} {}", quantity.name()),
+            name: name.to_string(),
+            node: 1,
+            direction: 3,
+            ordinate_type,
+            length_exponent,
+            ordinate_label: quantity.name().to_string(),
+            ordinate_unit: quantity.si_unit().to_string(),
+            start_s: signal.time_s()[0],
+            step_s: signal.step_s(),
+            values: values.to_vec(),
+        })
+        .collect();
+    uff58_bytes(&datasets, form == coil_io::uff::UffForm::Binary)
+}
+
 /// Writes the outcome into `out` (created): figures and tables first, report.md, then
 /// diagnosis.json, each via a temporary file.
 pub fn write(o: &Outcome, dir: &OutDir, plots_too: bool) -> Result<()> {

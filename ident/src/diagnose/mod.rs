@@ -73,6 +73,8 @@ pub struct DiagnoseSettings {
     pub plots: bool,
     /// Progress on stderr.
     pub progress: bool,
+    /// Also write the fits as `fits.uff` (UFF dataset 58, ASCII or 58b).
+    pub fits_uff: Option<coil_io::uff::UffForm>,
 }
 
 impl Default for DiagnoseSettings {
@@ -86,6 +88,7 @@ impl Default for DiagnoseSettings {
             max_iterations: 40,
             plots: true,
             progress: false,
+            fits_uff: None,
         }
     }
 }
@@ -112,7 +115,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         )));
     }
     let case = read_case(path)?;
-    let mut decays = case.measured_decays()?;
+    let mut decays = case.measured_decays_with_format()?;
     if decays.is_empty() {
         return Err(TuneError::Invalid(format!(
             "{}: `records.decay` is missing or empty; expected at least one decay record \
@@ -121,10 +124,17 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         )));
     }
     let mut warnings = Vec::new();
+    let decays: Vec<crate::case::MeasuredDecay> = decays
+        .drain(..)
+        .map(|(decay, format)| {
+            warnings.extend(crate::case::format_note(&decay.file, &format));
+            decay
+        })
+        .collect();
     // Every axial record is conditioned and checked; a surge record (the coil's own
     // mode) is not a decay of the weight on the spring and is left to `coil-tune damping`.
     let mut conditioned = Vec::new();
-    for (k, record) in decays.drain(..).enumerate() {
+    for (k, record) in decays.into_iter().enumerate() {
         let info = case.decay_info.get(k);
         if info.is_some_and(|i| i.mode != crate::case::DecayMode::Axial) {
             warnings.push(format!(
@@ -136,6 +146,7 @@ pub fn diagnose(path: &Path, settings: &DiagnoseSettings) -> Result<Outcome> {
         }
         let data = data::condition_decay(record)?;
         data::check_amplitude(&data, &case)?;
+        warnings.extend(case.unit_warning(data.signal.values(), data.frequency_hz));
         warnings.extend(data.warnings.iter().cloned());
         let mass_delta_kg = info
             .and_then(|i| i.mass_kg)
@@ -476,11 +487,14 @@ fn paper_calibration(
 }
 
 /// Writes the outcome into `out` (locked by the caller for the whole run): figures,
-/// tables, report.md and diagnosis.json, committed as one set.
+/// tables, report.md and diagnosis.json (and `fits.uff` when asked), committed as one set.
 pub fn write(
     outcome: &Outcome,
     out: &crate::output::OutDir,
     settings: &DiagnoseSettings,
 ) -> Result<()> {
+    if let Some(form) = settings.fits_uff {
+        out.write("fits.uff", &document::fits_uff(outcome, form))?;
+    }
     document::write(outcome, out, settings.plots)
 }

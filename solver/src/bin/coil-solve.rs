@@ -47,6 +47,19 @@ struct Cli {
     /// Print nothing on success (no step counts, no progress).
     #[arg(long, short)]
     quiet: bool,
+    /// Also write each transient history as UFF dataset 58 (`history.uff` beside
+    /// `history.csv`): ASCII, or binary (58b).
+    #[arg(long, value_enum)]
+    uff: Option<UffArg>,
+}
+
+/// The form of the UFF histories.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum UffArg {
+    /// ASCII dataset 58.
+    Ascii,
+    /// Binary dataset 58b.
+    Binary,
 }
 
 fn summary(model: &Model, cases: &[CaseResult]) -> String {
@@ -186,6 +199,13 @@ fn run(cli: &Cli) -> Result<(Model, Vec<CaseResult>), Error> {
     };
     let cases = analysis::run_with(&model, &options)?;
     results::write_set(&set, &model, &cases)?;
+    if let Some(form) = cli.uff {
+        let form = match form {
+            UffArg::Ascii => coil_io::uff::UffForm::Ascii,
+            UffArg::Binary => coil_io::uff::UffForm::Binary,
+        };
+        results::stage_history_uff(&set, &cases, form)?;
+    }
     set.commit()?;
     Ok((model, cases))
 }

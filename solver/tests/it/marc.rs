@@ -112,6 +112,47 @@ fn corpus_reads_or_names_an_unsupported_feature() {
     eprintln!("{through} of {} decks read through", paths.len());
 }
 
+/// The development corpus where the repository's readme puts it, `../shared/marc-decks`
+/// beside the repository (or `$COIL_MARC_DECKS`); `None` when it is absent.
+fn shared_corpus() -> Option<PathBuf> {
+    let dir = std::env::var("COIL_MARC_DECKS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/marc-decks"));
+    dir.is_dir().then_some(dir)
+}
+
+/// Every corpus deck reads through its control cards to physics coil does not model
+/// (an element family, a user subroutine, ...): never an unknown card or a parse
+/// failure. Skipped (passes) when the corpus is not beside the repository.
+#[test]
+fn corpus_decks_stop_only_at_unsupported_physics() {
+    let Some(dir) = shared_corpus() else {
+        eprintln!("no ../shared/marc-decks: skipped");
+        return;
+    };
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "dat"))
+        .collect();
+    paths.sort();
+    for p in &paths {
+        if let Err(e) = deck::read_file(p) {
+            let s = e.to_string();
+            assert!(
+                e.line().is_some()
+                    && (s.contains("is not supported") || s.contains("user subroutine")),
+                "{}: not a stop at unsupported physics: {s}",
+                p.display()
+            );
+            eprintln!(
+                "{}: {s}",
+                p.file_name().unwrap_or_default().to_string_lossy()
+            );
+        }
+    }
+}
+
 /// The corpus deck `name` with its lines edited by `edit`, read from a temp dir.
 fn edited(name: &str, edit: impl Fn(&mut Vec<String>)) -> Option<Model> {
     let dir = corpus_dir()?;

@@ -1,7 +1,8 @@
 //! THE keyword table (the registry). Every card of the deck language is one [`Keyword`]
 //! entry, defined beside its parse function and its tests in the module of its family
 //! (`parameters`, `mesh`, `properties`, `masses`, `catenary`, `point_laws`, `loads`,
-//! `history`, `mentat`); [`KEYWORDS`] lists them in the order of the deck reference. The reader
+//! `history`, `mentat`, `control`); [`KEYWORDS`] lists them in the order of the deck
+//! reference. The reader
 //! finds cards here, the writer and docs/deck.md follow it ([`reference_markdown`];
 //! a test keeps docs/deck.md equal to it), and a test here keeps any two keywords from
 //! colliding.
@@ -11,6 +12,7 @@
 //! resolved afterwards by [`super::build`] and checked by [`crate::model::check`].
 
 pub(crate) mod catenary;
+pub(crate) mod control;
 pub(crate) mod history;
 pub(crate) mod loads;
 pub(crate) mod masses;
@@ -87,6 +89,25 @@ pub static KEYWORDS: &[Keyword] = &[
     mentat::FORCDT,
     mentat::UMOTION,
     mentat::USDATA,
+    control::ASSUMED,
+    control::CONSTANT_DIL,
+    control::CENTROID,
+    control::COMMENT,
+    control::ELSTO,
+    control::MPC_CHECK,
+    control::PRINT,
+    control::SHELL_SECT,
+    control::STATE_VARS,
+    control::AUTOMSET,
+    control::PRINT_CHOICE,
+    control::PRINT_ELEM,
+    control::PRINT_NODE,
+    control::PRINT_VMASS,
+    control::SUMMARY,
+    control::ELEMENT_SORT,
+    control::NODE_SORT,
+    control::RESTART_LAST,
+    control::POST_INCREMENT,
 ];
 
 /// The keyword a line starts with, and how many fields its words take. The longest

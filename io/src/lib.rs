@@ -12,6 +12,7 @@
 //!   command; a stale lock is taken over), its files are staged in a hidden folder inside
 //!   it and moved in as a set with a manifest last; a killed run is rolled forward or
 //!   cleaned up by the next one.
+//! - [`digest`]: SHA-256, the digest a part file of a sharded study carries.
 //! - [`progress`]: progress lines for long runs, also when stderr is not a terminal.
 //! - [`stdout`]: printing that treats a closed stdout (`| head -1`) as the end of the
 //!   reader's interest, not as an error.
@@ -21,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod confine;
+pub mod digest;
 pub mod progress;
 pub mod set;
 pub mod stdout;

@@ -302,7 +302,7 @@ fn run_tasks(py: Python<'_>, study_json: &str, tasks: Vec<usize>) -> PyResult<St
     })
 }
 
-fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
+fn cell_rows(rows_json: &str) -> PyResult<Vec<Vec<Cell>>> {
     let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(fail)?;
     Ok(rows
         .iter()
@@ -313,7 +313,6 @@ fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
                     serde_json::Value::Number(n) => n.as_f64().map_or(Cell::Missing, Cell::Number),
                     _ => Cell::Missing,
                 })
-                .map(|c| c.csv())
                 .collect()
         })
         .collect())
@@ -326,17 +325,13 @@ fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
 #[pyo3(signature = (study_json, rows_json, out, plots=true))]
 fn write_table(study_json: &str, rows_json: &str, out: PathBuf, plots: bool) -> PyResult<String> {
     let study = parse_study(study_json)?;
-    let merged = study::Merged {
-        columns: study.columns(),
-        rows: csv_rows(rows_json)?,
-        study,
-    };
+    let merged = study::Merged::of_cells(study, &cell_rows(rows_json)?);
     let out = OutDir::create(out).map_err(fail)?;
     cli::write_table(&merged, &out, plots).map_err(fail)?;
     out.commit().map_err(fail)?;
     match &merged.study {
         Study::Tolerance(t) => {
-            json(&coil_tuner::tolerance::summarize(t, &merged.rows).map_err(fail)?)
+            json(&coil_tuner::tolerance::summarize(t, merged.rows()).map_err(fail)?)
         }
         Study::Sweep(_) => Ok("null".into()),
     }

@@ -358,7 +358,7 @@ pub fn run(cli: Cli) -> Result<()> {
             say!(
                 "{} parts, {} tasks: {}",
                 files.len(),
-                merged.rows.len(),
+                merged.records.len(),
                 out.path(merged.study.table_file()).display()
             )?;
             Ok(())
@@ -523,21 +523,14 @@ fn tolerance_command(
     let clock = std::time::Instant::now();
     let rows = study.run_all()?;
     let elapsed = clock.elapsed().as_secs_f64();
-    let merged = crate::study::Merged {
-        columns: study.columns(),
-        rows: rows
-            .iter()
-            .map(|r| r.iter().map(crate::study::Cell::csv).collect())
-            .collect(),
-        study,
-    };
+    let merged = crate::study::Merged::of_cells(study, &rows);
     let summary = write_table(&merged, &out, !no_plots)?;
     out.commit()?;
     text(&summary)?;
     say!(
         "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
-        merged.rows.len(),
-        merged.rows.len() as f64 / elapsed,
+        merged.records.len(),
+        merged.records.len() as f64 / elapsed,
         out.root().display()
     )?;
     Ok(())
@@ -710,17 +703,34 @@ pub fn tolerance_study(
 /// Writes a study's table as a single run does (and, for a tolerance study, its summary,
 /// report and figure); returns the text for the terminal.
 pub fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
-    let csv = merged.csv();
     match &merged.study {
         crate::study::Study::Tolerance(t) => {
-            let summary = crate::tolerance::write(t, &csv, &merged.rows, out, plots)?;
+            let summary = crate::tolerance::write(t, merged, out, plots)?;
             Ok(summary.table())
         }
         crate::study::Study::Sweep(_) => {
-            out.write(merged.study.table_file(), csv.as_bytes())?;
+            stage_table(merged, out)?;
             Ok(String::new())
         }
     }
+}
+
+/// Stages the study's table file, streamed record by record (no second copy of the
+/// table in memory).
+pub fn stage_table(merged: &crate::study::Merged, out: &OutDir) -> Result<()> {
+    out.produce(merged.study.table_file(), |path| {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| crate::TuneError::io(path, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        merged
+            .write_csv(&mut w)
+            .and_then(|()| std::io::Write::flush(&mut w))
+            .and_then(|()| w.get_ref().sync_all())
+            .map_err(|e| crate::TuneError::io(path, e))
+    })?;
+    Ok(())
 }
 
 /// The `state` of a calibration.json.

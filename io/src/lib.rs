@@ -12,6 +12,7 @@
 //!   command; a stale lock is taken over), its files are staged in a hidden folder inside
 //!   it and moved in as a set with a manifest last; a killed run is rolled forward or
 //!   cleaned up by the next one.
+//! - [`cancel`]: a process-wide request to stop long loops (Ctrl-C from Python).
 //! - [`digest`]: SHA-256, the digest a part file of a sharded study carries.
 //! - [`progress`]: progress lines for long runs, also when stderr is not a terminal.
 //! - [`stdout`]: printing that treats a closed stdout (`| head -1`) as the end of the
@@ -21,6 +22,7 @@
 
 #![warn(missing_docs)]
 
+pub mod cancel;
 pub mod confine;
 pub mod digest;
 pub mod progress;
@@ -28,7 +30,7 @@ pub mod set;
 pub mod stdout;
 pub mod write;
 
-pub use confine::{excerpt, read_bounded, resolve_inside, ConfineError};
+pub use confine::{clean_message, excerpt, read_bounded, resolve_inside, ConfineError};
 pub use progress::Progress;
 pub use set::{OutputSet, SetError};
 pub use write::{check_replaceable, open_journal, produce_file, write_file, WriteError};

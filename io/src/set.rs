@@ -78,6 +78,12 @@ pub enum SetError {
     #[error(transparent)]
     /// A file that cannot be written.
     Write(#[from] WriteError),
+    #[error("{}: {}", root.display(), crate::cancel::INTERRUPTED)]
+    /// A stop was requested ([`crate::cancel`]): the set is not moved in.
+    Interrupted {
+        /// The folder.
+        root: PathBuf,
+    },
 }
 
 fn io(path: &Path, e: std::io::Error) -> SetError {
@@ -189,6 +195,11 @@ impl OutputSet {
     pub fn commit(&self) -> Result<Vec<PathBuf>, SetError> {
         if self.committed.load(Ordering::SeqCst) {
             return Ok(Vec::new());
+        }
+        if crate::cancel::requested() {
+            return Err(SetError::Interrupted {
+                root: self.root.clone(),
+            });
         }
         let mut files = Vec::new();
         staged_files(&self.staging, Path::new(""), &mut files)?;

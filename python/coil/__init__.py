@@ -49,6 +49,35 @@ __all__ = [
 CoilError = _coil.CoilError
 
 
+def _call(function, *args):
+    """Calls ``_coil.function``: an argument the native layer cannot take (a number out
+    of its type's range, a path that is not text, a string where a list goes) raises
+    CoilError like every other failure, not TypeError or OverflowError."""
+    try:
+        return function(*args)
+    except CoilError:
+        raise
+    except (TypeError, ValueError, OverflowError, UnicodeError) as e:
+        raise CoilError(f"{function.__name__}: {type(e).__name__}: {e}") from None
+
+
+def _path(value, what):
+    """A path argument as the native layer takes it."""
+    if isinstance(value, (str, bytes, os.PathLike)):
+        return os.fsdecode(value) if isinstance(value, bytes) else os.fspath(value)
+    raise CoilError(f"{what}: {type(value).__name__}; expected a path (str or os.PathLike)")
+
+
+def _paths(values, what):
+    """A list of paths; a single string is refused (it is not a list of its characters)."""
+    if isinstance(values, (str, bytes, os.PathLike)):
+        raise CoilError(f"{what}: a single path {os.fsdecode(values)!r}; expected a list of paths, e.g. [path]")
+    try:
+        return [_path(v, what) for v in values]
+    except TypeError:
+        raise CoilError(f"{what}: {type(values).__name__}; expected a list of paths") from None
+
+
 def _arrays(value):
     """Lists of numbers -> numpy arrays, recursively (dicts keep their names)."""
     if isinstance(value, dict):
@@ -74,14 +103,17 @@ def spring(**fields):
     Traceback (most recent call last):
     coil.CoilError: wire_diameter_mm = -3: expected a positive wire diameter smaller than the mean diameter
     """
-    return _coil.mesh(json.dumps(fields))
+    return _call(_coil.mesh, json.dumps(fields))
 
 
 def _deck(deck):
-    """(text or path, is_path)."""
-    if isinstance(deck, os.PathLike) or ("\n" not in str(deck) and os.path.exists(str(deck))):
-        return os.fspath(deck), True
-    return str(deck), False
+    """(text, path): a path-like, or a string of one line, is a file's path (a missing file
+    is an error naming it, never deck text); a string with several lines is the deck."""
+    if isinstance(deck, (os.PathLike, bytes)) or (isinstance(deck, str) and "\n" not in deck):
+        return None, _path(deck, "deck")
+    if isinstance(deck, str):
+        return deck, None
+    raise CoilError(f"deck: {type(deck).__name__}; expected a deck's text or its path")
 
 
 def read_deck(deck):
@@ -94,14 +126,16 @@ def read_deck(deck):
     Traceback (most recent call last):
     coil.CoilError: <deck text>:2:...
     """
-    return json.loads(_coil.read_deck(*_deck(deck)))
+    return json.loads(_call(_coil.read_deck, *_deck(deck)))
 
 
-def solve(deck, out=None):
+def solve(deck, out=None, allow_large=False):
     """Runs a deck's load cases as ``coil-solve`` does; results.json as a dict.
 
     ``deck`` is a path or the deck's text; ``out`` a folder for the files (results.json,
-    .vtu, histories), a temporary one when None. Each transient case carries a
+    .vtu, histories; written as one set), a temporary one when None. A transient above
+    ``coil-solve``'s limit (docs/files.md) is refused unless ``allow_large=True`` (its
+    ``--allow-large``). Ctrl-C stops the run within a second and leaves ``out`` as it was. Each transient case carries a
     ``history`` dict of numpy arrays (``time_s`` and every column by its name); numbers
     in lists become numpy arrays.
 
@@ -113,7 +147,9 @@ def solve(deck, out=None):
     >>> [case["kind"] for case in r["load_cases"]]
     ['static', 'modal']
     """
-    return _arrays(json.loads(_coil.solve(*_deck(deck), None if out is None else os.fspath(out))))
+    text, path = _deck(deck)
+    out = None if out is None else _path(out, "out")
+    return _arrays(json.loads(_call(_coil.solve, text, path, out, allow_large)))
 
 
 def decrement(time_s, values, every=10, lowpass_hz=None):
@@ -127,7 +163,7 @@ def decrement(time_s, values, every=10, lowpass_hz=None):
     >>> round(d["zeta_mean"], 5), round(d["period_s"], 4)
     (0.002, 0.23)
     """
-    return _arrays(json.loads(_coil.decrement(
+    return _arrays(json.loads(_call(_coil.decrement,
         np.asarray(time_s, dtype=float).tolist(),
         np.asarray(values, dtype=float).tolist(),
         every,
@@ -144,12 +180,13 @@ def plot_history(time_s, values, path, column="node1_uz_accel_m_s2", label=None)
     >>> (tmp / "sine.png").stat().st_size > 1000
     True
     """
-    _coil.plot_history(
+    _call(
+        _coil.plot_history,
         np.asarray(time_s, dtype=float).tolist(),
         np.asarray(values, dtype=float).tolist(),
         label or column,
         column,
-        os.fspath(path),
+        _path(path, "path"),
     )
 
 
@@ -163,7 +200,8 @@ def calibrate(case, out, elements_per_coil=24, method="modal", check=True):
     >>> round(cal["stiffness"]["iterations"][-1]["result"], 4)
     3.9275
     """
-    return json.loads(_coil.calibrate(os.fspath(case), os.fspath(out), elements_per_coil, method, check))
+    return json.loads(_call(_coil.calibrate, _path(case, "case"), _path(out, "out"),
+                            elements_per_coil, method, check))
 
 
 def sweep_study(case, variants, out, calibration=None, paper_material=False,
@@ -176,9 +214,10 @@ def sweep_study(case, variants, out, calibration=None, paper_material=False,
     >>> json.loads(s)["study"], len(json.loads(s)["variants"])
     ('sweep', 6)
     """
-    return _coil.sweep_study(
-        os.fspath(case), os.fspath(variants), os.fspath(out),
-        None if calibration is None else os.fspath(calibration),
+    return _call(
+        _coil.sweep_study,
+        _path(case, "case"), _path(variants, "variants"), _path(out, "out"),
+        None if calibration is None else _path(calibration, "calibration"),
         paper_material, elements_per_coil, method, check,
     )
 
@@ -197,17 +236,18 @@ def tolerance_study(case, variants, out, samples=100, seed=1, wire_tol=0.03, gra
     >>> json.loads(_coil.study_info(s))["tasks"]
     24
     """
-    return _coil.tolerance_study(
-        os.fspath(case), os.fspath(variants), os.fspath(out), samples, seed, wire_tol,
-        grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
-        None if calibration is None else os.fspath(calibration),
+    return _call(
+        _coil.tolerance_study,
+        _path(case, "case"), _path(variants, "variants"), _path(out, "out"), samples, seed,
+        wire_tol, grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
+        None if calibration is None else _path(calibration, "calibration"),
         paper_material, elements_per_coil, method,
     )
 
 
 def _run_chunk(study, tasks):
     """Runs some tasks of a study (on a Dask worker): [(task, row), ...]."""
-    return list(zip(tasks, json.loads(_coil.run_tasks(study, list(tasks)))))
+    return list(zip(tasks, json.loads(_call(_coil.run_tasks, study, list(tasks)))))
 
 
 def run_study(study, client=None, chunks=None):
@@ -226,10 +266,10 @@ def run_study(study, client=None, chunks=None):
     """
     import pandas as pd
 
-    info = json.loads(_coil.study_info(study))
+    info = json.loads(_call(_coil.study_info, study))
     n = info["tasks"]
     if client is None:
-        rows = json.loads(_coil.run_tasks(study, list(range(n))))
+        rows = json.loads(_call(_coil.run_tasks, study, list(range(n))))
     else:
         workers = max(1, len(client.scheduler_info()["workers"]))
         k = max(1, min(n, chunks or 4 * workers))
@@ -245,7 +285,7 @@ def run_study(study, client=None, chunks=None):
 def _write(study, table, out, plots):
     rows = json.dumps([[None if isinstance(v, float) and v != v else v for v in row]
                        for row in table.itertuples(index=False, name=None)])
-    return json.loads(_coil.write_table(study, rows, os.fspath(out), plots))
+    return json.loads(_call(_coil.write_table, study, rows, _path(out, "out"), plots))
 
 
 def sweep(case, variants, out, calibration=None, paper_material=False, elements_per_coil=24,
@@ -293,7 +333,7 @@ def run_shard(study, shard, out):
     >>> os.path.basename(coil.run_shard(s, "2/3", tmp / "parts"))
     'part-0002-of-0003.csv'
     """
-    return _coil.run_shard(study, shard, os.fspath(out))
+    return _call(_coil.run_shard, study, shard, _path(out, "out"))
 
 
 def merge(parts, out, plots=True):
@@ -311,7 +351,7 @@ def merge(parts, out, plots=True):
     >>> os.path.basename(coil.merge([tmp / "p"], tmp / "m", plots=False))
     'tolerance.csv'
     """
-    return _coil.merge([os.fspath(p) for p in parts], os.fspath(out), plots)
+    return _call(_coil.merge, _paths(parts, "parts"), _path(out, "out"), plots)
 
 
 def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
@@ -323,4 +363,5 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     >>> d["cause"], round(d["extended"]["parameters"]["friction_force_n"], 3)
     ('coulomb_friction', 0.011)
     """
-    return json.loads(_coil.diagnose(os.fspath(case), os.fspath(out), elements_per_coil, modes, plots))
+    return json.loads(_call(_coil.diagnose, _path(case, "case"), _path(out, "out"),
+                            elements_per_coil, modes, plots))

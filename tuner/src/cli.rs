@@ -230,6 +230,9 @@ pub enum Command {
         /// No figure (tolerance studies).
         #[arg(long)]
         no_plots: bool,
+        /// No progress messages (accepted by every command; merge prints none).
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// The paper's study: calibrate + sweep on cases/160ect, Tables 3 and 4 beside the
     /// paper's, report.md, report.json and the figures.
@@ -288,6 +291,9 @@ pub enum Command {
         /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
         #[arg(long, default_value_t = 0.03)]
         scatter: f64,
+        /// No progress messages (accepted by every command; damping prints none).
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
@@ -302,6 +308,10 @@ pub enum Command {
         /// Stop each grid after this many new points (the journal keeps them).
         #[arg(long)]
         max_points: Option<usize>,
+        /// No progress messages (accepted by every command; procedures print their
+        /// own lines on stdout, unchanged).
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -348,6 +358,7 @@ pub fn run(cli: Cli) -> Result<()> {
             parts,
             out,
             no_plots,
+            quiet: _,
         } => {
             let files = crate::study::part_files(&parts)?;
             let merged = crate::study::merge(&files)?;
@@ -369,6 +380,7 @@ pub fn run(cli: Cli) -> Result<()> {
             variants,
             elements_per_coil,
             scatter,
+            quiet: _,
         } => {
             if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
                 return Err(crate::TuneError::Invalid(format!(
@@ -428,6 +440,7 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             dry_run,
             max_points,
+            quiet: _,
         } => procedure_command(procedure, out, dry_run, max_points),
     }
 }

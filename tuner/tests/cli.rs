@@ -612,3 +612,57 @@ fn tampered_parts_are_refused(root: &Path) {
         std::fs::write(p, t).unwrap();
     }
 }
+
+/// `-q` is accepted by every command, so a script can pass it uniformly.
+#[test]
+fn every_command_takes_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    for command in [
+        "calibrate",
+        "sweep",
+        "tolerance",
+        "merge",
+        "paper",
+        "diagnose",
+        "damping",
+        "run",
+    ] {
+        let o = run(&[command, "--help"], dir.path());
+        let help = text(&o.stdout);
+        assert!(help.contains("-q, --quiet"), "{command}: {help}");
+    }
+}
+
+/// `--samples` below 2 (no spread) or so large that the task count overflows is refused
+/// before any work, with the number and what is expected.
+#[test]
+fn samples_are_at_least_two_and_overflow_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("variants.json"), TWO_VARIANTS).unwrap();
+    let case = case_dir();
+    for (samples, expected) in [
+        ("0", "at least 2"),
+        ("1", "at least 2"),
+        ("18446744073709551615", "at most 10000000 tasks"),
+        ("9223372036854775807", "at most 10000000 tasks"),
+    ] {
+        let o = run(
+            &[
+                "tolerance",
+                case.to_str().unwrap(),
+                "--variants",
+                "variants.json",
+                "--paper-material",
+                "--samples",
+                samples,
+                "-q",
+                "--out",
+                "t",
+            ],
+            dir.path(),
+        );
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{samples}: {err}");
+        assert!(err.contains(expected), "{samples}: {err}");
+    }
+}

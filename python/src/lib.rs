@@ -429,7 +429,11 @@ fn run_tasks(py: Python<'_>, study_json: &str, tasks: Vec<usize>) -> PyResult<St
 }
 
 fn cell_rows(rows_json: &str) -> PyResult<Vec<Vec<Cell>>> {
-    let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(fail)?;
+    let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(|e| {
+        fail(format!(
+            "rows: {e}; expected a JSON list of rows of finite numbers, strings and nulls"
+        ))
+    })?;
     Ok(rows
         .iter()
         .map(|row| {

@@ -3,8 +3,11 @@
 A thin layer over coil's Rust library crates (the native module ``coil._coil``): every
 function calls one library function and returns its result as plain dicts, numpy arrays
 and pandas tables, with the same names and units as the JSON and CSV files the ``coil-*``
-binaries write. Errors raise :class:`CoilError` with the library's message (file, line,
-field and what was expected).
+binaries write. Every failure raises :class:`CoilError` with the library's message (file,
+line, field and what was expected; under 1 KB, control characters escaped), including a
+path that does not exist, an argument out of range and a bug inside coil. The limits are
+the command line's (docs/files.md). Ctrl-C stops any call within a second and leaves its
+output folder as it was.
 
 The pipeline::
 

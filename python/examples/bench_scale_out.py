@@ -1,6 +1,6 @@
 """Benchmark: throughput of a tolerance sweep of the Table 4 springs, serial, on Dask and
 in shards of the coil-tune binary (a benchmark, not a test; run from the repository's
-root after `pip install ./python` and `cargo build --release -p coil-tuner`):
+root after `pip install ./python` and `cargo build --release -p coil-tune`):
 
     python python/examples/bench_scale_out.py [SAMPLES_PER_SPRING] [WORKERS]
 

@@ -1,6 +1,6 @@
 //! `coil._coil`: the native half of the Python package (python/coil/__init__.py is the
 //! other). A thin layer: every function parses its arguments, calls one library function
-//! of coil-mesher, coil-solver, coil-postproc or coil-tuner, and returns its result as
+//! of coil-mesher, coil-solver, coil-postproc, coil-tuner or coil-ident, and returns its result as
 //! JSON text with the names and units of the JSON files the binaries write (the Python
 //! side turns it into dicts and numpy arrays). No numerics here.
 //!
@@ -539,13 +539,13 @@ fn diagnose(
         )));
     }
     guarded(py, || {
-        let mut settings = coil_tuner::diagnose::DiagnoseSettings::default();
+        let mut settings = coil_ident::diagnose::DiagnoseSettings::default();
         settings.fe.elements_per_coil = elements_per_coil;
         settings.modes = modes;
         settings.plots = plots;
         let dir = OutDir::create(&out).map_err(fail)?;
-        let outcome = coil_tuner::diagnose::diagnose(&case, &settings).map_err(fail)?;
-        coil_tuner::diagnose::write(&outcome, &dir, &settings).map_err(fail)?;
+        let outcome = coil_ident::diagnose::diagnose(&case, &settings).map_err(fail)?;
+        coil_ident::diagnose::write(&outcome, &dir, &settings).map_err(fail)?;
         let path = out.join("diagnosis.json");
         std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
     })

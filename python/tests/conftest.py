@@ -17,5 +17,5 @@ def coil_tune():
     exe = os.environ.get("COIL_TUNE") or str(REPO / "target" / "release" / "coil-tune")
     if not os.path.exists(exe):
         exe = shutil.which("coil-tune")
-    assert exe, "coil-tune not found: build it (cargo build --release -p coil-tuner) or set COIL_TUNE"
+    assert exe, "coil-tune not found: build it (cargo build --release -p coil-tune) or set COIL_TUNE"
     return exe

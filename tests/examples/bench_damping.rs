@@ -2,7 +2,7 @@
 //! truth model (`coil_tests::truth_damping`) into a temporary folder and times the
 //! release binary on each, printing the verdict beside the hidden law.
 //!
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_damping`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_damping`
 //! (`-- --keep DIR` writes the cases into DIR and keeps them).
 
 use coil_tests::truth_damping::{DampingTruth, TruthLaw};

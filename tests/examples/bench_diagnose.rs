@@ -1,6 +1,6 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
 //! time, with the confusion table and parameter errors:
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|all] [NAME...]`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|all] [NAME...]`
 //!
 //! Every selected case (`coil_tests::truth::standard_cases()` of issue 5,
 //! `extended_cases()` of issue 14; all by default, or only the cases named) is written to a
@@ -82,7 +82,7 @@ fn main() -> ExitCode {
     let exe = binary();
     if !exe.is_file() {
         eprintln!(
-            "error: no release binary at {}\nrun `cargo build --release -p coil-tuner` first",
+            "error: no release binary at {}\nrun `cargo build --release -p coil-tune` first",
             exe.display()
         );
         return ExitCode::FAILURE;

@@ -19,7 +19,7 @@
 //! their numbers), `unexplained` when no cause is named, the half-length verdict and
 //! the wall time of each diagnosis (library call, release build).
 
-use coil_tuner::diagnose::{self, DiagnoseSettings};
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

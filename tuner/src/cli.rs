@@ -1,6 +1,6 @@
-//! The `coil-tune` command line: argument parsing and dispatch. The binary only calls
-//! `main` and maps its error to the exit code (1 for an error in the data or a run, 2 for
-//! a usage error, as clap does).
+//! The paper's commands of `coil-tune` (calibrate, sweep, tolerance, merge, paper, run):
+//! their arguments and dispatch. The binary (the `coil-tune` crate) joins them with the
+//! identification commands of `coil_ident::cli` and maps errors to the exit code.
 
 use crate::calibrate::{calibrate, CalibrateSettings, Targets};
 use crate::case::read_case;
@@ -8,7 +8,7 @@ use crate::damping::RunControl;
 use crate::decay::Method;
 use crate::error::Result;
 use crate::output::OutDir;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Subcommand};
 use coil_io::stdout::{line as stdout_line, text as stdout_text};
 use std::path::PathBuf;
 
@@ -17,9 +17,14 @@ fn stdout_error(e: std::io::Error) -> crate::TuneError {
     crate::TuneError::io("stdout", e)
 }
 
-/// Prints `s` as it is.
-fn text(s: &str) -> Result<()> {
+/// Prints `s` as it is on stdout.
+pub fn text(s: &str) -> Result<()> {
     stdout_text(s).map_err(stdout_error)
+}
+
+/// Prints `s` and a newline on stdout.
+pub fn say(s: &str) -> Result<()> {
+    stdout_line(s).map_err(stdout_error)
 }
 
 /// Prints `s` and a newline.
@@ -32,24 +37,6 @@ macro_rules! say {
     ($($arg:tt)*) => {
         stdout_line(&format!($($arg)*)).map_err(stdout_error)
     };
-}
-
-/// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
-/// paper's tables reproduced on coil's solver.
-#[derive(Debug, Parser)]
-#[command(
-    name = "coil-tune",
-    version,
-    about,
-    after_help = "Files (docs/files.md): --out is locked for the run and its files appear as a whole \
-set (a failed or killed run leaves the previous set); record paths in case.json stay inside the case \
-folder; procedure files write only inside their output folder. Records up to 64 MiB. A closed \
-stdout (| head) ends the printing, not the run."
-)]
-pub struct Cli {
-    #[command(subcommand)]
-    /// The command to run.
-    pub command: Command,
 }
 
 /// Settings shared by the commands that build and run the model.
@@ -250,51 +237,6 @@ pub enum Command {
         /// Mesh, decay and loop settings.
         model: ModelArgs,
     },
-    /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
-    /// show what it misses, name the cause, extend the model and measure the gain.
-    /// Writes DIR/diagnosis.json, report.md, figures and tables (docs/diagnose.md).
-    Diagnose {
-        /// The case folder (or its case.json).
-        case: PathBuf,
-        /// Output folder.
-        #[arg(long, default_value = "out/diagnose")]
-        out: PathBuf,
-        /// Beams per coil of the helix.
-        #[arg(long, default_value_t = 24)]
-        elements_per_coil: u32,
-        /// Fixed-interface modes kept in the reduced model (0 to 50).
-        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u16).range(0..=50))]
-        modes: u16,
-        /// No figures (tables and report.md only).
-        #[arg(long)]
-        no_plots: bool,
-        /// No progress messages.
-        #[arg(long, short)]
-        quiet: bool,
-    },
-    /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
-    /// records of a case at once (records at several masses, a surge record), chooses by
-    /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
-    /// (docs/measured-case.md) and DIR/report.md (docs/damping.md).
-    Damping {
-        /// The case folder (or its case.json).
-        case: PathBuf,
-        /// Output folder.
-        #[arg(long, default_value = "out/damping")]
-        out: PathBuf,
-        /// Table 4 variants to predict (default: table4.json beside case.json, if any).
-        #[arg(long)]
-        variants: Option<PathBuf>,
-        /// Beams per coil of the helix.
-        #[arg(long, default_value_t = 24)]
-        elements_per_coil: u32,
-        /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
-        #[arg(long, default_value_t = 0.03)]
-        scatter: f64,
-        /// No progress messages (accepted by every command; damping prints none).
-        #[arg(long, short)]
-        quiet: bool,
-    },
     /// Run a procedure file (docs/procedures.md), e.g. cases/160ect/figure6.proc.
     Run {
         /// The procedure file.
@@ -316,8 +258,8 @@ pub enum Command {
 }
 
 /// Runs the parsed command.
-pub fn run(cli: Cli) -> Result<()> {
-    match cli.command {
+pub fn run(command: Command) -> Result<()> {
+    match command {
         Command::Calibrate { case, out, model } => {
             let case = read_case(&case)?;
             let targets = Targets::of(&case)?;
@@ -372,61 +314,6 @@ pub fn run(cli: Cli) -> Result<()> {
                 merged.records.len(),
                 out.path(merged.study.table_file()).display()
             )?;
-            Ok(())
-        }
-        Command::Damping {
-            case,
-            out,
-            variants,
-            elements_per_coil,
-            scatter,
-            quiet: _,
-        } => {
-            if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
-                return Err(crate::TuneError::Invalid(format!(
-                    "--scatter {scatter}; expected a relative scatter in (0, 1), e.g. 0.03"
-                )));
-            }
-            let mut settings = crate::law::DampingSettings {
-                scatter,
-                ..Default::default()
-            };
-            settings.fe.elements_per_coil = elements_per_coil;
-            settings.variants = variants.or_else(|| {
-                let beside = crate::case::case_file(&case).with_file_name("table4.json");
-                beside.is_file().then_some(beside)
-            });
-            let out = OutDir::create(out)?;
-            let report = crate::law::identify(&case, &settings)?;
-            let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
-                .map_err(|e| crate::TuneError::Invalid(format!("damping.json: {e}")))?;
-            // One output set: damping.json and report.md appear together or not at all.
-            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
-            out.write("damping.json", json.as_bytes())?;
-            out.commit()?;
-            text(&crate::law::summary(&report))?;
-            say!("damping.json in {}", out.root().display())?;
-            Ok(())
-        }
-        Command::Diagnose {
-            case,
-            out,
-            elements_per_coil,
-            modes,
-            no_plots,
-            quiet,
-        } => {
-            let mut settings = crate::diagnose::DiagnoseSettings::default();
-            settings.fe.elements_per_coil = elements_per_coil;
-            settings.modes = usize::from(modes);
-            settings.plots = !no_plots;
-            settings.progress = !quiet;
-            // The folder is held for the whole run, not only while writing (one run per folder).
-            let out = OutDir::create(out)?;
-            let outcome = crate::diagnose::diagnose(&case, &settings)?;
-            crate::diagnose::write(&outcome, &out, &settings)?;
-            text(&crate::diagnose::summary(&outcome))?;
-            say!("report in {}", out.path("report.md").display())?;
             Ok(())
         }
         Command::Paper {

@@ -1,5 +1,8 @@
 //! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
 //!
+//! - [`band`]: the damping laws and what each predicts for a geometry (the band beside
+//!   Table 4); identification from measured records is the `coil-ident` crate above this one.
+//!
 //! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
@@ -15,13 +18,12 @@ pub mod loops;
 pub mod output;
 
 pub use error::{Result, TuneError};
+pub mod band;
 pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
-pub mod diagnose;
 pub mod grid;
-pub mod law;
 pub mod paper;
 pub mod plots;
 pub mod procedure;

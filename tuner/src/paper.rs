@@ -284,7 +284,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
 
     // The band of damping laws one decay allows (issue 10), with its figure.
     let damping_band =
-        crate::law::band(&state, &variants, &settings.fe, targets.damping_ratio, 0.03)?;
+        crate::band::band(&state, &variants, &settings.fe, targets.damping_ratio, 0.03)?;
     crate::plots::band_figure(&damping_band, &out.path("damping_band.png"))?;
 
     let mesh_start = std::time::Instant::now();

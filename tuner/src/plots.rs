@@ -68,7 +68,7 @@ fn colour(t: f64) -> RGBColor {
 }
 
 /// Short number for ticks: up to 4 decimals or 3 significant digits.
-pub(crate) fn short(x: &f64) -> String {
+pub fn short(x: &f64) -> String {
     let x = *x;
     if x.abs() < 1e-15 {
         return "0".into();
@@ -91,7 +91,8 @@ fn whole(x: &f64) -> String {
     }
 }
 
-pub(crate) fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
+/// The range of the finite `values`, padded on both sides (axis limits).
+pub fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);
@@ -869,7 +870,7 @@ pub fn valley_figure(valley: &ValleyPlot<'_>, path: &Path) -> Result<()> {
 }
 
 /// Table 4's variants' zeta under each damping law calibrated to the same decay.
-struct BandPlot<'a>(&'a crate::law::Band);
+struct BandPlot<'a>(&'a crate::band::Band);
 
 impl Figure for BandPlot<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> plot::Draw {
@@ -943,7 +944,7 @@ impl Figure for BandPlot<'_> {
 }
 
 /// The damping band figure (`damping_band.png`).
-pub fn band_figure(band: &crate::law::Band, path: &Path) -> Result<()> {
+pub fn band_figure(band: &crate::band::Band, path: &Path) -> Result<()> {
     render(path, &BandPlot(band))
 }
 

@@ -106,7 +106,7 @@ pub struct PaperReport {
     /// Variant predictions along the valley (why a variant's zeta can miss).
     pub family: Vec<FamilyMember>,
     /// Each variant's zeta under every damping law calibrated to the same decay.
-    pub damping_band: crate::law::Band,
+    pub damping_band: crate::band::Band,
     /// The mesh bias in E.
     pub mesh_study: MeshStudy,
     /// The calibration.
@@ -541,7 +541,7 @@ fn prediction_sections(s: &mut String, r: &PaperReport) {
          material damping from a constant loss factor or from a dashpot at the weight \
          (`damping_band.png`; `coil-tune damping` identifies the law from records that can).\n"
     );
-    s.push_str(&crate::law::band_markdown(&r.damping_band));
+    s.push_str(&crate::band::band_markdown(&r.damping_band));
 
     let m = &r.mesh_study;
     let _ = writeln!(s, "\n## Mesh bias in E\n");

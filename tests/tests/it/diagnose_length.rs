@@ -7,8 +7,8 @@
 //! The shared real recordings get the same test in `examples/real_recordings.rs` (they
 //! cannot be read by CI).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::path::Path;
 
 fn cause(folder: &Path) -> (String, Vec<String>) {

@@ -1044,7 +1044,7 @@ mod tests {
     /// The shared real recordings (position at 100 Hz, 0.1 mm), when the folder exists:
     /// what the conditioning does to them (no impulse to cut: they start after the
     /// release; uniform stamps; the derived acceleration's and the position's noise).
-    /// `cargo test -p coil-tuner --lib real_recordings -- --ignored --nocapture` (the
+    /// `cargo test -p coil-ident --lib real_recordings -- --ignored --nocapture` (the
     /// folder is `../shared/real` beside the repository, or `$COIL_SHARED_REAL`).
     #[test]
     #[ignore = "reads the shared real recordings when they exist"]

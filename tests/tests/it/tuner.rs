@@ -2,7 +2,7 @@
 //! whole file runs in seconds: the loops' convergence, a grid of real decay transients
 //! stopped and resumed from its journal, the valley against the modal theory, and the
 //! calibration's headline numbers. The full paper run (697 transients, both methods) is
-//! `#[ignore]`d: `cargo test -p coil-tests --test tuner -- --ignored --nocapture`.
+//! `#[ignore]`d: `cargo test -p coil-tests --test it tuner:: -- --ignored --nocapture`.
 
 use coil_tuner::calibrate::{calibrate, CalibrateSettings, Targets};
 use coil_tuner::case::read_case;

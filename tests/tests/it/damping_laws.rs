@@ -336,7 +336,7 @@ mod spring {
         let signal = coil_postproc::signal::Signal::new(t.history.time_s.clone(), a.to_vec())
             .unwrap()
             .named("direct", "accel");
-        let (_, zeta, _, _) = coil_tuner::law::fit_decay(&signal).unwrap();
+        let (_, zeta, _, _) = coil_ident::law::fit_decay(&signal).unwrap();
         println!(
             "direct, loss factor {ETA}: zeta {zeta:.7} (eta / 2 = {}, {:+.2e})",
             ETA / 2.0,

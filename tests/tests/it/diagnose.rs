@@ -14,16 +14,16 @@
 //!   position and velocity sensors, band-limited noise, jitter, drift, an impulse at the
 //!   start, 30 Hz short records, 150+ cycle records, null cases with each
 //!   imperfection). Run it with
-//!   `cargo test --release -p coil-tests --test diagnose -- --ignored --nocapture`; the
+//!   `cargo test --release -p coil-tests --test it diagnose:: -- --ignored --nocapture`; the
 //!   benchmark `examples/bench_diagnose.rs` prints the same table with the whole
 //!   process's wall times.
 //!
 //! Cases run two at a time; the confusion table and the errors are printed
 //! (`-- --nocapture`).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::sync::Mutex;
 use std::time::Instant;
 

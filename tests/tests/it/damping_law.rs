@@ -2,7 +2,7 @@
 //! (`coil_tests::truth_damping`: a lumped chain with its own eigensolver and Runge-Kutta
 //! integrator) that hides the damping law.
 //!
-//! Expected verdicts follow from the physics (tuner/src/law.rs, docs/damping.md): records
+//! Expected verdicts follow from the physics (ident/src/law.rs, docs/damping.md): records
 //! at two or more masses (ratio >= 1.5) separate the hysteretic law from the viscous
 //! ones; a surge record separates every law; axial records alone cannot separate beta, a
 //! dashpot at the weight and alpha (all give zeta proportional to m_eff^-1/2), and masses
@@ -11,10 +11,10 @@
 //! otherwise `law` must be null and `identifiable` false, never a guess.
 //!
 //! CI runs a representative subset; `--ignored` runs the full matrix
-//! (`cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture`).
+//! (`cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture`).
 
+use coil_ident::law::{identify, DampingSettings, Law};
 use coil_tests::truth_damping::{DampingTruth, TruthLaw};
-use coil_tuner::law::{identify, DampingSettings, Law};
 
 const ALPHA: f64 = 1.6;
 const BETA: f64 = 1.2e-4;
@@ -195,7 +195,7 @@ fn representative_cases_are_decided_or_refused() {
 }
 
 #[test]
-#[ignore = "full matrix: cargo test --release -p coil-tests --test damping_law -- --ignored --nocapture"]
+#[ignore = "full matrix: cargo test --release -p coil-tests --test it damping_law:: -- --ignored --nocapture"]
 fn every_generated_case() {
     let m = 5.24;
     let mut seed = 100;

@@ -108,8 +108,14 @@ fn step(command: &str, bins: &Path, b: &str) -> Step {
                         .join(format!("{example}{}", std::env::consts::EXE_SUFFIX)),
                     args,
                 }
+            } else if let Some(package) = after("-p") {
+                // A package with one binary of its own name (`cargo run -p coil-tune`).
+                Step::Run {
+                    program: exe(package),
+                    args,
+                }
             } else {
-                panic!("README: `{command}` names neither --bin nor --example")
+                panic!("README: `{command}` names neither --bin, --example nor -p")
             }
         }
         Some("cargo") => Step::Skip,
@@ -342,7 +348,7 @@ fn the_command_reader_joins_lines_and_drops_comments() {
     let bins = Path::new("/bin-dir");
     assert_eq!(
         step(
-            "cargo run --release -p coil-tuner --bin coil-tune -- paper --out out/paper",
+            "cargo run --release -p coil-tune -- paper --out out/paper",
             bins,
             ""
         ),

@@ -1,7 +1,7 @@
 //! Marc interchange: decks in Mentat's extended fixed format read, solve and match the
 //! closed forms; the public Mentat corpus (read from /work/shared/marc-decks or
 //! `COIL_MARC_DECKS`, never copied here) reads or stops at a named unsupported feature
-//! (`#[ignore]`d: run with `cargo test -p coil-solver --test marc -- --ignored`).
+//! (`#[ignore]`d: run with `cargo test -p coil-solver --test it marc:: -- --ignored`).
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};

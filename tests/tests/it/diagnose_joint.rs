@@ -17,8 +17,8 @@
 //!   alone (pooling must not lose information; it does not halve it either, because the
 //!   residual's correlation over both records inflates it by `sqrt(N / N_eff)`).
 
+use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::truth::{self, TruthCase};
-use coil_tuner::diagnose::{self, DiagnoseSettings};
 use std::path::Path;
 
 fn drag(folder: &Path) -> (String, f64, f64, f64) {

@@ -1,0 +1,8 @@
+//! The `coil-tune` binary's integration tests, one binary (each test binary links the whole
+//! dependency tree): every module runs the real binary in a temporary folder.
+
+mod boundary;
+mod cli;
+mod damping_cli;
+mod diagnose_cli;
+mod fuzz;

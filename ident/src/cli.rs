@@ -1,0 +1,120 @@
+//! The identification commands of `coil-tune`: `diagnose` (docs/diagnose.md) and
+//! `damping` (docs/damping.md). Their arguments and dispatch; the binary joins them with the
+//! paper's commands of `coil_tuner::cli`.
+
+use crate::error::{Result, TuneError};
+use crate::output::OutDir;
+use clap::Subcommand;
+use coil_tuner::cli::{say, text};
+use std::path::PathBuf;
+
+/// The identification commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Diagnose a measured case (docs/measured-case.md): fit the paper's model,
+    /// show what it misses, name the cause, extend the model and measure the gain.
+    /// Writes DIR/diagnosis.json, report.md, figures and tables (docs/diagnose.md).
+    Diagnose {
+        /// The case folder (or its case.json).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/diagnose")]
+        out: PathBuf,
+        /// Beams per coil of the helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+        /// Fixed-interface modes kept in the reduced model (0 to 50).
+        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u16).range(0..=50))]
+        modes: u16,
+        /// No figures (tables and report.md only).
+        #[arg(long)]
+        no_plots: bool,
+        /// No progress messages.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
+    /// records of a case at once (records at several masses, a surge record), chooses by
+    /// BIC and held-out prediction or says it cannot, and writes DIR/damping.json
+    /// (docs/measured-case.md) and DIR/report.md (docs/damping.md).
+    Damping {
+        /// The case folder (or its case.json).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/damping")]
+        out: PathBuf,
+        /// Table 4 variants to predict (default: table4.json beside case.json, if any).
+        #[arg(long)]
+        variants: Option<PathBuf>,
+        /// Beams per coil of the helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+        /// Repeat scatter of one test's zeta (relative): the weight of each record in the fit and the proposed test's assumption.
+        #[arg(long, default_value_t = 0.03)]
+        scatter: f64,
+        /// No progress messages (accepted by every command; damping prints none).
+        #[arg(long, short)]
+        quiet: bool,
+    },
+}
+
+/// Runs the parsed command.
+pub fn run(command: Command) -> Result<()> {
+    match command {
+        Command::Damping {
+            case,
+            out,
+            variants,
+            elements_per_coil,
+            scatter,
+            quiet: _,
+        } => {
+            if !(scatter.is_finite() && scatter > 0.0 && scatter < 1.0) {
+                return Err(TuneError::Invalid(format!(
+                    "--scatter {scatter}; expected a relative scatter in (0, 1), e.g. 0.03"
+                )));
+            }
+            let mut settings = crate::law::DampingSettings {
+                scatter,
+                ..Default::default()
+            };
+            settings.fe.elements_per_coil = elements_per_coil;
+            settings.variants = variants.or_else(|| {
+                let beside = coil_tuner::case::case_file(&case).with_file_name("table4.json");
+                beside.is_file().then_some(beside)
+            });
+            let out = OutDir::create(out)?;
+            let report = crate::law::identify(&case, &settings)?;
+            let json = serde_json::to_string_pretty(&crate::law::report_json(&report))
+                .map_err(|e| TuneError::Invalid(format!("damping.json: {e}")))?;
+            // One output set: damping.json and report.md appear together or not at all.
+            out.write("report.md", crate::law::report_markdown(&report).as_bytes())?;
+            out.write("damping.json", json.as_bytes())?;
+            out.commit()?;
+            text(&crate::law::summary(&report))?;
+            say(&format!("damping.json in {}", out.root().display()))?;
+            Ok(())
+        }
+        Command::Diagnose {
+            case,
+            out,
+            elements_per_coil,
+            modes,
+            no_plots,
+            quiet,
+        } => {
+            let mut settings = crate::diagnose::DiagnoseSettings::default();
+            settings.fe.elements_per_coil = elements_per_coil;
+            settings.modes = usize::from(modes);
+            settings.plots = !no_plots;
+            settings.progress = !quiet;
+            // The folder is held for the whole run, not only while writing (one run per folder).
+            let out = OutDir::create(out)?;
+            let outcome = crate::diagnose::diagnose(&case, &settings)?;
+            crate::diagnose::write(&outcome, &out, &settings)?;
+            text(&crate::diagnose::summary(&outcome))?;
+            say(&format!("report in {}", out.path("report.md").display()))?;
+            Ok(())
+        }
+    }
+}

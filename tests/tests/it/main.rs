@@ -1,0 +1,18 @@
+//! The end-to-end tests and the verification ladder, one test binary (each integration
+//! test binary links the whole dependency tree). A new test file is a module here.
+
+mod damping_law;
+mod damping_laws;
+mod diagnose;
+mod diagnose_joint;
+mod diagnose_length;
+mod marc_interchange;
+mod nonlinear;
+mod paper_spring;
+mod readme;
+mod reduction;
+mod results;
+mod transient;
+mod truth;
+mod tuner;
+mod verification;

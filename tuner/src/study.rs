@@ -350,7 +350,7 @@ pub fn check_name(name: &str) -> std::result::Result<(), String> {
             || ('\u{2066}'..='\u{2069}').contains(&c)
     });
     let count = name.chars().count();
-    if printable && count >= 1 && count <= MAX_NAME_CHARS && name.trim() == name {
+    if printable && (1..=MAX_NAME_CHARS).contains(&count) && name.trim() == name {
         Ok(())
     } else {
         Err(format!(

@@ -261,11 +261,11 @@ def run_study(study, client=None, chunks=None):
     (default 4 per worker), mapped over the cluster and gathered; the table is the same
     bit for bit.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> t = coil.run_study(s)
     >>> list(t.columns[:3]), len(t)
-    (['task', 'spring', 'sample'], 12)
+    (['task', 'spring', 'sample'], 18)
     """
     import pandas as pd
 
@@ -331,7 +331,7 @@ def run_shard(study, shard, out):
     """Runs shard ``"I/N"`` of a study and writes ``out/part-IIII-of-NNNN.csv`` (as
     ``coil-tune ... --shard I/N``); returns its path.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> os.path.basename(coil.run_shard(s, "2/3", tmp / "parts"))
     'part-0002-of-0003.csv'
@@ -344,7 +344,7 @@ def merge(parts, out, plots=True):
     ``coil-tune merge``); refuses missing, repeated or foreign shards. Returns the
     table's path.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> _ = coil.run_shard(s, "1/2", tmp / "p")
     >>> coil.merge([tmp / "p"], tmp / "m")  # doctest: +ELLIPSIS

@@ -41,7 +41,10 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(error) => {
             // Every message already carries its causes (file, line, field, what was expected).
-            eprintln!("coil-tune: error: {error}");
+            eprintln!(
+                "coil-tune: error: {}",
+                coil_io::clean_message(&error.to_string())
+            );
             std::process::ExitCode::FAILURE
         }
     }

@@ -59,6 +59,9 @@ pub enum Command {
         /// each record in the fit, sets how far a law may miss, and sizes the proposed test.
         #[arg(long, default_value_t = 0.03)]
         scatter: f64,
+        /// No progress messages (accepted by every command; damping prints none).
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -71,6 +74,7 @@ pub fn run(command: Command) -> Result<()> {
             variants,
             elements_per_coil,
             scatter,
+            quiet: _,
         } => {
             let mut settings = crate::law::DampingSettings {
                 scatter,

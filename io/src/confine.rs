@@ -135,6 +135,42 @@ pub fn sanitise_message(message: &str, max_chars: usize) -> String {
     excerpt_n(&out, max_chars)
 }
 
+/// The longest error message shown, bytes.
+pub const MAX_MESSAGE_BYTES: usize = 1000;
+
+/// An error message as shown to a person (stderr, a Python exception): every
+/// `` `quoted` `` span of user text cut to an [`excerpt`], control characters other than
+/// line breaks and tabs escaped (`\u{1b}`), bidirectional overrides escaped, and the whole
+/// cut below [`MAX_MESSAGE_BYTES`] with `... (cut)`.
+pub fn clean_message(message: &str) -> String {
+    let mut spans = String::new();
+    for (k, part) in message.split('`').enumerate() {
+        if k > 0 {
+            spans.push('`');
+        }
+        if k % 2 == 1 && part.chars().count() > EXCERPT_CHARS {
+            spans.extend(part.chars().take(EXCERPT_CHARS));
+            spans.push_str("...");
+        } else {
+            spans.push_str(part);
+        }
+    }
+    let mut out = String::new();
+    for c in spans.chars() {
+        let piece = if (c.is_control() && c != '\n' && c != '\t') || is_bidi_control(c) {
+            c.escape_unicode().to_string()
+        } else {
+            c.to_string()
+        };
+        if out.len() + piece.len() > MAX_MESSAGE_BYTES - 12 {
+            out.push_str("... (cut)");
+            break;
+        }
+        out.push_str(&piece);
+    }
+    out
+}
+
 /// Bidirectional overrides that reorder what a terminal shows.
 fn is_bidi_control(c: char) -> bool {
     matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
@@ -313,5 +349,18 @@ mod tests {
             read_bounded(dir.path(), 10, "a test"),
             Err(ConfineError::NotAFile { .. })
         ));
+    }
+
+    #[test]
+    fn messages_are_escaped_and_short() {
+        let header = "time_s,\u{1b}[2J\u{1b}[31maccel";
+        let m = clean_message(&format!("r.csv:1: column `{header}` unknown\nsecond line"));
+        assert!(!m.contains('\u{1b}'), "{m}");
+        assert!(m.contains("\\u{1b}[2J"), "{m}");
+        assert!(m.contains("\nsecond line"), "{m}");
+        let huge = format!("cell `{}` and {}", "x".repeat(200_000), "y".repeat(200_000));
+        let m = clean_message(&huge);
+        assert!(m.len() < 1024 && m.ends_with("... (cut)"), "{}", m.len());
+        assert!(m.contains("xxx...`"), "the cell is cut to an excerpt");
     }
 }

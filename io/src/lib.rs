@@ -12,6 +12,8 @@
 //!   command; a stale lock is taken over), its files are staged in a hidden folder inside
 //!   it and moved in as a set with a manifest last; a killed run is rolled forward or
 //!   cleaned up by the next one.
+//! - [`cancel`]: a process-wide request to stop long loops (Ctrl-C from Python).
+//! - [`digest`]: SHA-256, the digest a part file of a sharded study carries.
 //! - [`progress`]: progress lines for long runs, also when stderr is not a terminal.
 //! - [`uff`]: time histories as Universal File Format dataset 58 (ASCII and 58b), the
 //!   writer below both the solver's histories and the diagnosis' fits.
@@ -22,14 +24,16 @@
 
 #![warn(missing_docs)]
 
+pub mod cancel;
 pub mod confine;
+pub mod digest;
 pub mod progress;
 pub mod set;
 pub mod stdout;
 pub mod uff;
 pub mod write;
 
-pub use confine::{excerpt, read_bounded, resolve_inside, ConfineError};
+pub use confine::{clean_message, excerpt, read_bounded, resolve_inside, ConfineError};
 pub use progress::Progress;
 pub use set::{OutputSet, SetError};
 pub use write::{check_replaceable, open_journal, produce_file, write_file, WriteError};

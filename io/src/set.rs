@@ -6,23 +6,35 @@
 //! stale (a killed run): it is taken over. A lock from another host is never taken over
 //! (the message says to remove it by hand if that run is gone).
 //!
-//! **Staging.** Every file of the run is written into `<out>/.coil-staging-<pid>/` (same
-//! file system, so moving is a rename). [`OutputSet::commit`] then
-//! 1. writes the new manifest (the list of files) into the staging folder: the set is now
-//!    complete;
-//! 2. checks that every destination is absent or a regular file (else nothing moves);
-//! 3. renames each file into `<out>`, removes the files of the previous set that the new
-//!    one does not have, and renames the manifest to `<out>/.coil-manifest` last;
-//! 4. removes the staging folder.
+//! **Staging in a sibling folder and one swap.** Every file of the run is written into a
+//! sibling of the output folder, `<parent>/.<out>.coil-staging-<pid>/` (same file system,
+//! checked). [`OutputSet::commit`] then
+//! 1. writes the new manifest (the list of files) into the staging folder;
+//! 2. checks that every destination in `<out>` is absent or a regular file (else nothing
+//!    moves);
+//! 3. carries over into the staging folder what `<out>` holds besides the previous set
+//!    (the lock, grid journals, a person's own files) as hard links (symlinks recreated,
+//!    folders made), so nothing of it is copied or lost;
+//! 4. swaps the two folders with one `renameat2(RENAME_EXCHANGE)`: the path `<out>` names
+//!    the new folder at once, and the sibling now names the previous one;
+//! 5. removes the sibling (the previous set; the carried files live on through their
+//!    other link).
 //!
-//! A run that fails or is killed before step 1 leaves the previous set untouched; its
-//! staging folder is removed when the set is dropped or, after a kill, by the next run.
-//! A run killed during step 3 (renames only: no data is written, a full disk cannot stop
-//! it) leaves a staging folder with a manifest, and the next run into the folder completes
-//! the move first (roll forward). Until then `<out>/.coil-manifest` still lists the
-//! previous set, so a reader can tell. Journals (resumable grids) are not part of a set:
-//! they are appended in place ([`crate::write::open_journal`]) so that a killed run keeps
-//! its points.
+//! So at every instant, SIGKILL included, `<out>` as a person opens it holds either the
+//! previous set or the new one, never a mix. A sibling left by a killed run (before or
+//! after the swap: either way it is not `<out>`) is removed by the next run into `<out>`.
+//!
+//! **Fallback: staging inside the folder.** Where the swap is not possible (`<out>` is a
+//! mount point or the file system root, the parent folder is not writable, a file system
+//! without `RENAME_EXCHANGE` or hard links, a FIFO or socket to carry, not Linux), the
+//! files are staged in `<out>/.coil-staging-<pid>/` and moved in one rename each, the
+//! manifest renamed to `<out>/.coil-manifest` last. A run killed during those renames
+//! leaves a staging folder with a manifest; the next run into the folder completes the
+//! move first (roll forward), and until then `<out>/.coil-manifest` still lists the
+//! previous set, so a reader can tell. In both modes a run that fails or is killed before
+//! the swap (or the renames) leaves the previous set untouched. Journals (resumable grids)
+//! are not part of a set: they are appended in place ([`crate::write::open_journal`]) so
+//! that a killed run keeps its points.
 
 use crate::confine::{check_entry, excerpt_n, ConfineError};
 use crate::write::{check_replaceable, kind_of, produce_file, write_file, WriteError};
@@ -36,7 +48,8 @@ use std::sync::Mutex;
 pub const LOCK: &str = ".coil-lock";
 /// The manifest's name: the files of the last complete set, one relative path a line.
 pub const MANIFEST: &str = ".coil-manifest";
-/// The staging folders' prefix.
+/// The staging folders' prefix (inside the folder in the fallback mode; after
+/// `.<out>` for the sibling of the swap).
 pub const STAGING_PREFIX: &str = ".coil-staging-";
 const MANIFEST_HEADER: &str = "# coil output set: files of the last complete run";
 
@@ -65,6 +78,12 @@ pub enum SetError {
     #[error(transparent)]
     /// A file that cannot be written.
     Write(#[from] WriteError),
+    #[error("{}: {}", root.display(), crate::cancel::INTERRUPTED)]
+    /// A stop was requested ([`crate::cancel`]): the set is not moved in.
+    Interrupted {
+        /// The folder.
+        root: PathBuf,
+    },
 }
 
 fn io(path: &Path, e: std::io::Error) -> SetError {
@@ -76,6 +95,8 @@ fn io(path: &Path, e: std::io::Error) -> SetError {
 pub struct OutputSet {
     root: PathBuf,
     staging: PathBuf,
+    /// `Some(the folder's real path)`: staged in a sibling, committed by a swap.
+    swap: Option<PathBuf>,
     lock: Mutex<Lock>,
     committed: AtomicBool,
     /// The run created the folder: a failed run removes it again if it is empty.
@@ -97,11 +118,18 @@ impl OutputSet {
         }
         let lock = Lock::take(root, command)?;
         recover(root)?;
-        let staging = root.join(format!("{STAGING_PREFIX}{}", std::process::id()));
-        std::fs::create_dir(&staging).map_err(|e| io(&staging, e))?;
+        let (staging, swap) = match sibling_staging(root) {
+            Some((staging, real)) => (staging, Some(real)),
+            None => {
+                let staging = root.join(format!("{STAGING_PREFIX}{}", std::process::id()));
+                std::fs::create_dir(&staging).map_err(|e| io(&staging, e))?;
+                (staging, None)
+            }
+        };
         Ok(OutputSet {
             root: root.into(),
             staging,
+            swap,
             lock: Mutex::new(lock),
             committed: AtomicBool::new(false),
             created_root,
@@ -168,6 +196,11 @@ impl OutputSet {
         if self.committed.load(Ordering::SeqCst) {
             return Ok(Vec::new());
         }
+        if crate::cancel::requested() {
+            return Err(SetError::Interrupted {
+                root: self.root.clone(),
+            });
+        }
         let mut files = Vec::new();
         staged_files(&self.staging, Path::new(""), &mut files)?;
         files.sort();
@@ -180,7 +213,13 @@ impl OutputSet {
         for f in &files {
             check_replaceable(&self.root.join(f))?;
         }
-        finish(&self.root, &self.staging)?;
+        let swapped = match &self.swap {
+            Some(real) => swap_in(real, &self.staging)?,
+            None => false,
+        };
+        if !swapped {
+            finish(&self.root, &self.staging)?;
+        }
         self.committed.store(true, Ordering::SeqCst);
         self.lock
             .lock()
@@ -310,9 +349,25 @@ fn finish(root: &Path, staging: &Path) -> Result<(), SetError> {
     std::fs::remove_dir_all(staging).map_err(|e| io(staging, e))
 }
 
-/// What killed runs left in `root` (we hold the lock): a complete staging folder is
-/// moved in, an incomplete one removed.
+/// What killed runs left (we hold the lock): a sibling staging folder (before or after
+/// its swap it is not `root`) is removed; inside `root`, a complete staging folder of the
+/// fallback mode is moved in, an incomplete one removed.
 fn recover(root: &Path) -> Result<(), SetError> {
+    if let Some((parent, prefix)) = sibling_prefix(root) {
+        if let Ok(entries) = std::fs::read_dir(&parent) {
+            for entry in entries.flatten() {
+                let name = entry.file_name();
+                let name = name.to_string_lossy();
+                let ours = name
+                    .strip_prefix(&prefix)
+                    .is_some_and(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()));
+                if ours && entry.file_type().is_ok_and(|t| t.is_dir()) {
+                    let path = entry.path();
+                    std::fs::remove_dir_all(&path).map_err(|e| io(&path, e))?;
+                }
+            }
+        }
+    }
     let entries = std::fs::read_dir(root).map_err(|e| io(root, e))?;
     for entry in entries.flatten() {
         let name = entry.file_name();
@@ -332,6 +387,128 @@ fn recover(root: &Path) -> Result<(), SetError> {
         }
     }
     Ok(())
+}
+
+/// The real path of `root`, its parent and the sibling staging folders' prefix
+/// (`.<name>.coil-staging-`); `None` for the file system root.
+fn sibling_prefix(root: &Path) -> Option<(PathBuf, String)> {
+    let real = std::fs::canonicalize(root).ok()?;
+    let parent = real.parent()?.to_path_buf();
+    let name = real.file_name()?.to_string_lossy().into_owned();
+    Some((parent, format!(".{name}{STAGING_PREFIX}")))
+}
+
+/// Creates the sibling staging folder if the swap can work here: Linux, a parent on
+/// the same file system (not a mount point), writable. Returns it and `root`'s real path.
+fn sibling_staging(root: &Path) -> Option<(PathBuf, PathBuf)> {
+    use std::os::unix::fs::MetadataExt;
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
+    let real = std::fs::canonicalize(root).ok()?;
+    let (parent, prefix) = sibling_prefix(&real)?;
+    let same_device =
+        std::fs::metadata(&parent).ok()?.dev() == std::fs::metadata(&real).ok()?.dev();
+    if !same_device {
+        return None;
+    }
+    let staging = parent.join(format!("{prefix}{}", std::process::id()));
+    std::fs::create_dir(&staging).ok()?;
+    Some((staging, real))
+}
+
+/// Steps 3-5 of the module doc. `Ok(false)`: the swap is not possible here (nothing in
+/// `real` changed; the caller moves the files one by one instead).
+fn swap_in(real: &Path, staging: &Path) -> Result<bool, SetError> {
+    let old = manifest_files(&real.join(MANIFEST), real);
+    if !carry(real, staging, Path::new(""), &old)? {
+        return Ok(false);
+    }
+    if let Ok(meta) = std::fs::metadata(real) {
+        let _ = std::fs::set_permissions(staging, meta.permissions());
+    }
+    if !exchange(staging, real) {
+        return Ok(false);
+    }
+    // `staging` now names the previous folder. Removing it frees the previous set; a
+    // failure here leaves a hidden sibling that the next run removes.
+    let _ = std::fs::remove_dir_all(staging);
+    Ok(true)
+}
+
+/// Links into `staging` every entry of `real/rel` that is not a file of the previous
+/// set (`old`) nor already staged (the new set wins); `Ok(false)` if one cannot be
+/// carried (a FIFO, a socket, a device, or a file system without hard links).
+fn carry(
+    real: &Path,
+    staging: &Path,
+    rel: &Path,
+    old: &BTreeSet<PathBuf>,
+) -> Result<bool, SetError> {
+    let here = real.join(rel);
+    for entry in std::fs::read_dir(&here).map_err(|e| io(&here, e))? {
+        let entry = entry.map_err(|e| io(&here, e))?;
+        let name = rel.join(entry.file_name());
+        if name.as_os_str() == MANIFEST || old.contains(&name) {
+            continue;
+        }
+        let from = entry.path();
+        let to = staging.join(&name);
+        let meta = std::fs::symlink_metadata(&from).map_err(|e| io(&from, e))?;
+        let staged = std::fs::symlink_metadata(&to).ok();
+        if meta.is_dir() {
+            match staged {
+                Some(s) if s.is_dir() => {}
+                Some(_) => continue,
+                None => {
+                    std::fs::create_dir(&to).map_err(|e| io(&to, e))?;
+                    let _ = std::fs::set_permissions(&to, meta.permissions());
+                }
+            }
+            if !carry(real, staging, &name, old)? {
+                return Ok(false);
+            }
+        } else if staged.is_some() {
+            continue;
+        } else if meta.file_type().is_symlink() {
+            let target = std::fs::read_link(&from).map_err(|e| io(&from, e))?;
+            std::os::unix::fs::symlink(target, &to).map_err(|e| io(&to, e))?;
+        } else if !meta.is_file() || std::fs::hard_link(&from, &to).is_err() {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// Swaps two folders in one step (Linux `renameat2` with `RENAME_EXCHANGE`); false if
+/// the system or the file system cannot.
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> bool {
+    use std::ffi::CString;
+    use std::os::unix::ffi::OsStrExt;
+    let (Ok(a), Ok(b)) = (
+        CString::new(a.as_os_str().as_bytes()),
+        CString::new(b.as_os_str().as_bytes()),
+    ) else {
+        return false;
+    };
+    // SAFETY: two valid NUL-terminated paths; the call reads them and nothing else.
+    let status = unsafe {
+        libc::syscall(
+            libc::SYS_renameat2,
+            libc::AT_FDCWD,
+            a.as_ptr(),
+            libc::AT_FDCWD,
+            b.as_ptr(),
+            libc::RENAME_EXCHANGE,
+        )
+    };
+    status == 0
+}
+
+#[cfg(not(target_os = "linux"))]
+fn exchange(_: &Path, _: &Path) -> bool {
+    false
 }
 
 /// The held lock file.
@@ -476,15 +653,17 @@ mod tests {
         let set = OutputSet::open(&out, "test one").unwrap();
         set.write(Path::new("a.txt"), b"1").unwrap();
         set.write(Path::new("sub/b.txt"), b"1").unwrap();
+        assert_eq!(names(&out), [".coil-lock"], "staged beside, not inside");
         assert_eq!(
-            names(&out),
-            [
-                ".coil-lock",
-                &format!(".coil-staging-{}", std::process::id())
-            ]
+            names(dir.path()),
+            [&format!(".out.coil-staging-{}", std::process::id()), "out"]
         );
+        use std::os::unix::fs::MetadataExt;
+        let before = std::fs::metadata(&out).unwrap().ino();
         set.commit().unwrap();
         assert_eq!(names(&out), [".coil-manifest", "a.txt", "sub"]);
+        assert_eq!(names(dir.path()), ["out"], "the previous folder is removed");
+        assert_ne!(std::fs::metadata(&out).unwrap().ino(), before, "swapped");
 
         // A failed run leaves the previous set.
         let set = OutputSet::open(&out, "test two").unwrap();
@@ -547,6 +726,67 @@ mod tests {
         let set = OutputSet::open(dir.path(), "after").unwrap();
         assert!(!staging.exists(), "an incomplete staging folder is removed");
         drop(set);
+    }
+
+    #[test]
+    fn the_swap_carries_what_is_not_the_set() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let set = OutputSet::open(&out, "first").unwrap();
+        set.write(Path::new("old.txt"), b"1").unwrap();
+        set.write(Path::new("kept.txt"), b"1").unwrap();
+        set.commit().unwrap();
+        // A person's files, a journal appended in place, a symlink, a sub-folder.
+        std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        std::fs::create_dir(out.join("mine")).unwrap();
+        std::fs::write(out.join("mine/x.txt"), "x").unwrap();
+        std::os::unix::fs::symlink("notes.txt", out.join("link")).unwrap();
+        let set = OutputSet::open(&out, "second").unwrap();
+        let journal = set.journal_path(Path::new("j/grid.jsonl")).unwrap();
+        std::fs::write(&journal, "point\n").unwrap();
+        set.write(Path::new("kept.txt"), b"2").unwrap();
+        set.commit().unwrap();
+        assert_eq!(
+            names(&out),
+            [
+                ".coil-manifest",
+                "j",
+                "kept.txt",
+                "link",
+                "mine",
+                "notes.txt"
+            ]
+        );
+        assert_eq!(std::fs::read(out.join("kept.txt")).unwrap(), b"2");
+        assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
+        assert_eq!(std::fs::read(out.join("mine/x.txt")).unwrap(), b"x");
+        assert_eq!(std::fs::read(out.join("link")).unwrap(), b"mine");
+        assert_eq!(std::fs::read(&journal).unwrap(), b"point\n");
+        use std::os::unix::fs::MetadataExt;
+        let links = std::fs::metadata(&journal).unwrap().nlink();
+        assert_eq!(links, 1, "the previous folder's link is gone");
+        assert_eq!(names(dir.path()), ["out"]);
+    }
+
+    #[test]
+    fn a_swap_killed_before_or_after_leaves_one_whole_set() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let set = OutputSet::open(&out, "first").unwrap();
+        set.write(Path::new("a.txt"), b"old").unwrap();
+        set.commit().unwrap();
+        // Killed after carrying, before the swap: `out` is the previous set; the
+        // sibling is removed by the next run.
+        let set = OutputSet::open(&out, "killed").unwrap();
+        set.write(Path::new("a.txt"), b"new").unwrap();
+        let old = manifest_files(&out.join(MANIFEST), &out);
+        assert!(carry(&out, set.staging(), Path::new(""), &old).unwrap());
+        std::mem::forget(set);
+        assert_eq!(std::fs::read(out.join("a.txt")).unwrap(), b"old");
+        std::fs::remove_file(out.join(LOCK)).unwrap();
+        drop(OutputSet::open(&out, "next").unwrap());
+        assert_eq!(names(dir.path()), ["out"]);
+        assert_eq!(names(&out), [".coil-manifest", "a.txt"]);
     }
 
     #[test]

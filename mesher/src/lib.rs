@@ -270,6 +270,30 @@ fn check(
     }
 }
 
+/// The longest text a spec puts into a deck line (a title), characters.
+pub const MAX_TITLE_CHARS: usize = 200;
+
+/// Text that reaches a deck (a title): one printable line of at most
+/// [`MAX_TITLE_CHARS`] characters. A line break would start a new card (`END OPTION`
+/// injected through a title), a control character garbles the file and the terminal.
+pub fn check_deck_text(field: &'static str, text: &str) -> Result<(), SpecError> {
+    let printable = !text.chars().any(|c| {
+        c.is_control()
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    });
+    if printable && text.chars().count() <= MAX_TITLE_CHARS {
+        Ok(())
+    } else {
+        Err(SpecError {
+            field,
+            value: format!("`{}`", coil_io::excerpt(text)),
+            expected:
+                "one printable line of at most 200 characters (no line break or control character)",
+        })
+    }
+}
+
 impl SpringSpec {
     /// The helix geometry part of the spec.
     pub fn geometry(&self) -> closed_form::HelixGeometry {
@@ -289,6 +313,7 @@ impl SpringSpec {
     /// Checks every field; the deck reader would catch most of these later, but the
     /// message is clearer in the spec's own terms.
     pub fn validate(&self) -> Result<(), SpecError> {
+        check_deck_text("title", &self.title)?;
         self.validate_geometry()?;
         self.validate_material_and_loads()?;
         self.validate_analyses()
@@ -737,6 +762,29 @@ impl SpringSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn titles_are_one_printable_line() {
+        for bad in ["x\nEND OPTION", "a\rb", "esc \u{1b}[2J", "\u{202e}rev"] {
+            let spec = SpringSpec {
+                title: bad.into(),
+                ..Default::default()
+            };
+            let e = spec.validate().unwrap_err().to_string();
+            assert!(e.starts_with("title = "), "{e}");
+            assert!(!e.contains('\n') && !e.contains('\u{1b}'), "{e}");
+        }
+        let long = SpringSpec {
+            title: "t".repeat(201),
+            ..Default::default()
+        };
+        assert!(long.validate().is_err());
+        let fine = SpringSpec {
+            title: "spring #3, rig \"B\"".into(),
+            ..Default::default()
+        };
+        fine.validate().unwrap();
+    }
 
     #[test]
     fn every_node_lies_on_the_helix() {

@@ -79,8 +79,13 @@ pub const PROMINENCE: f64 = 2.0;
 /// Reach of the prominence test, native bins.
 pub const PROMINENCE_BINS: f64 = 3.0;
 
-/// Largest transform length accepted (2^28 points, 4 GiB of complex numbers).
-pub const MAX_FFT_LENGTH: usize = 1 << 28;
+/// Largest transform length accepted: 2^24 points (256 MiB of complex numbers, about a
+/// second of work), 8 times the longest record (64 MiB, about 2 million samples).
+pub const MAX_FFT_LENGTH: usize = 1 << 24;
+/// Largest zero-padding factor: beyond 64 the interpolated peak does not move (the
+/// parabolic interpolation on the log amplitude is already exact to a small fraction of
+/// a bin at 4).
+pub const MAX_ZERO_PAD: usize = 64;
 
 /// Options of [`amplitude_spectrum`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -136,10 +141,11 @@ pub struct SpectralPeak {
 /// Computes the amplitude spectrum of a signal (see the module doc).
 pub fn amplitude_spectrum(signal: &Signal, options: &SpectrumOptions) -> Result<Spectrum> {
     let step_s = signal.step_s();
-    if options.zero_pad == 0 {
-        return Err(PostError::InvalidOption(
-            "zero padding factor 0; expected 1 or more".to_string(),
-        ));
+    if options.zero_pad == 0 || options.zero_pad > MAX_ZERO_PAD {
+        return Err(PostError::InvalidOption(format!(
+            "zero padding factor {}; expected 1 to {MAX_ZERO_PAD} (4 is the default and enough to place a peak within a small fraction of a bin)",
+            options.zero_pad
+        )));
     }
     let (y, _) = remove_offset(signal, options.detrend)?;
     let y = y.values();
@@ -151,7 +157,7 @@ pub fn amplitude_spectrum(signal: &Signal, options: &SpectrumOptions) -> Result<
         .filter(|&length| length <= MAX_FFT_LENGTH)
         .ok_or_else(|| {
             PostError::InvalidOption(format!(
-                "zero padding {} times {n} samples exceeds the largest transform, {MAX_FFT_LENGTH}",
+                "zero padding {} times {n} samples exceeds the largest transform, {MAX_FFT_LENGTH} points (256 MiB); lower --zero-pad or cut the record",
                 options.zero_pad
             ))
         })?;
@@ -290,6 +296,30 @@ mod tests {
         let s = amplitude_spectrum(&sig(&t, &y), &SpectrumOptions::default()).unwrap();
         assert!(s.peaks(0, 0.01).is_empty());
         assert_eq!(s.peaks(1, 0.01).len(), 1);
+    }
+
+    #[test]
+    fn zero_padding_is_bounded_with_a_message() {
+        let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-3).collect();
+        let y: Vec<f64> = (0..1000).map(|i| (0.3 * i as f64).sin()).collect();
+        for zero_pad in [0, 65, 20_000, usize::MAX] {
+            let options = SpectrumOptions {
+                zero_pad,
+                ..Default::default()
+            };
+            let e = amplitude_spectrum(&sig(&t, &y), &options)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("expected 1 to 64"), "{zero_pad}: {e}");
+        }
+        // 20,000 samples x 64 -> 2^21 points: within the bound.
+        let t: Vec<f64> = (0..20_000).map(|i| i as f64 * 1e-3).collect();
+        let y: Vec<f64> = t.iter().map(|x| (7.0 * x).sin()).collect();
+        let options = SpectrumOptions {
+            zero_pad: 64,
+            ..Default::default()
+        };
+        assert!(amplitude_spectrum(&sig(&t, &y), &options).is_ok());
     }
 
     fn two_tone(rate: f64, seconds: f64) -> (Vec<f64>, Vec<f64>) {

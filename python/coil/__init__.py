@@ -3,8 +3,11 @@
 A thin layer over coil's Rust library crates (the native module ``coil._coil``): every
 function calls one library function and returns its result as plain dicts, numpy arrays
 and pandas tables, with the same names and units as the JSON and CSV files the ``coil-*``
-binaries write. Errors raise :class:`CoilError` with the library's message (file, line,
-field and what was expected).
+binaries write. Every failure raises :class:`CoilError` with the library's message (file,
+line, field and what was expected; under 1 KB, control characters escaped), including a
+path that does not exist, an argument out of range and a bug inside coil. The limits are
+the command line's (docs/files.md). Ctrl-C stops any call within a second and leaves its
+output folder as it was.
 
 The pipeline::
 
@@ -56,7 +59,37 @@ def __dir__():
     """The API (``__all__``), not the modules the package imports."""
     return sorted(__all__)
 
+
 CoilError = _coil.CoilError
+
+
+def _call(function, *args):
+    """Calls ``_coil.function``: an argument the native layer cannot take (a number out
+    of its type's range, a path that is not text, a string where a list goes) raises
+    CoilError like every other failure, not TypeError or OverflowError."""
+    try:
+        return function(*args)
+    except CoilError:
+        raise
+    except (TypeError, ValueError, OverflowError, UnicodeError) as e:
+        raise CoilError(f"{function.__name__}: {type(e).__name__}: {e}") from None
+
+
+def _path(value, what):
+    """A path argument as the native layer takes it."""
+    if isinstance(value, (str, bytes, _os.PathLike)):
+        return _os.fsdecode(value) if isinstance(value, bytes) else _os.fspath(value)
+    raise CoilError(f"{what}: {type(value).__name__}; expected a path (str or _os.PathLike)")
+
+
+def _paths(values, what):
+    """A list of paths; a single string is refused (it is not a list of its characters)."""
+    if isinstance(values, (str, bytes, _os.PathLike)):
+        raise CoilError(f"{what}: a single path {_os.fsdecode(values)!r}; expected a list of paths, e.g. [path]")
+    try:
+        return [_path(v, what) for v in values]
+    except TypeError:
+        raise CoilError(f"{what}: {type(values).__name__}; expected a list of paths") from None
 
 
 def _arrays(value):
@@ -84,14 +117,17 @@ def spring(**fields):
     Traceback (most recent call last):
     coil.CoilError: wire_diameter_mm = -3: expected a positive wire diameter smaller than the mean diameter
     """
-    return _coil.mesh(_json.dumps(fields))
+    return _call(_coil.mesh, _json.dumps(fields))
 
 
 def _deck(deck):
-    """(text or path, is_path)."""
-    if isinstance(deck, _os.PathLike) or ("\n" not in str(deck) and _os.path.exists(str(deck))):
-        return _os.fspath(deck), True
-    return str(deck), False
+    """(text, path): a path-like, or a string of one line, is a file's path (a missing file
+    is an error naming it, never deck text); a string with several lines is the deck."""
+    if isinstance(deck, (_os.PathLike, bytes)) or (isinstance(deck, str) and "\n" not in deck):
+        return None, _path(deck, "deck")
+    if isinstance(deck, str):
+        return deck, None
+    raise CoilError(f"deck: {type(deck).__name__}; expected a deck's text or its path")
 
 
 def read_deck(deck):
@@ -104,14 +140,16 @@ def read_deck(deck):
     Traceback (most recent call last):
     coil.CoilError: <deck text>:2:...
     """
-    return _json.loads(_coil.read_deck(*_deck(deck)))
+    return _json.loads(_call(_coil.read_deck, *_deck(deck)))
 
 
-def solve(deck, out=None):
+def solve(deck, out=None, allow_large=False):
     """Runs a deck's load cases as ``coil-solve`` does; results.json as a dict.
 
     ``deck`` is a path or the deck's text; ``out`` a folder for the files (results.json,
-    .vtu, histories), a temporary one when None. Each transient case carries a
+    .vtu, histories; written as one set), a temporary one when None. A transient above
+    ``coil-solve``'s limit (docs/files.md) is refused unless ``allow_large=True`` (its
+    ``--allow-large``). Ctrl-C stops the run within a second and leaves ``out`` as it was. Each transient case carries a
     ``history`` dict of numpy arrays (``time_s`` and every column by its name); numbers
     in lists become numpy arrays.
 
@@ -123,7 +161,9 @@ def solve(deck, out=None):
     >>> [case["kind"] for case in r["load_cases"]]
     ['static', 'modal']
     """
-    return _arrays(_json.loads(_coil.solve(*_deck(deck), None if out is None else _os.fspath(out))))
+    text, path = _deck(deck)
+    out = None if out is None else _path(out, "out")
+    return _arrays(_json.loads(_call(_coil.solve, text, path, out, allow_large)))
 
 
 def decrement(time_s, values, every=10, lowpass_hz=None):
@@ -137,7 +177,7 @@ def decrement(time_s, values, every=10, lowpass_hz=None):
     >>> round(d["zeta_mean"], 5), round(d["period_s"], 4)
     (0.002, 0.23)
     """
-    return _arrays(_json.loads(_coil.decrement(
+    return _arrays(_json.loads(_call(_coil.decrement,
         _np.asarray(time_s, dtype=float).tolist(),
         _np.asarray(values, dtype=float).tolist(),
         every,
@@ -154,12 +194,13 @@ def plot_history(time_s, values, path, column="node1_uz_accel_m_s2", label=None)
     >>> (tmp / "sine.png").stat().st_size > 1000
     True
     """
-    _coil.plot_history(
+    _call(
+        _coil.plot_history,
         _np.asarray(time_s, dtype=float).tolist(),
         _np.asarray(values, dtype=float).tolist(),
         label or column,
         column,
-        _os.fspath(path),
+        _path(path, "path"),
     )
 
 
@@ -173,7 +214,8 @@ def calibrate(case, out, elements_per_coil=24, method="modal", check=True):
     >>> round(cal["stiffness"]["iterations"][-1]["result"], 4)
     3.9275
     """
-    return _json.loads(_coil.calibrate(_os.fspath(case), _os.fspath(out), elements_per_coil, method, check))
+    return _json.loads(_call(_coil.calibrate, _path(case, "case"), _path(out, "out"),
+                            elements_per_coil, method, check))
 
 
 def sweep_study(case, variants, out, calibration=None, paper_material=False,
@@ -186,9 +228,10 @@ def sweep_study(case, variants, out, calibration=None, paper_material=False,
     >>> json.loads(s)["study"], len(json.loads(s)["variants"])
     ('sweep', 6)
     """
-    return _coil.sweep_study(
-        _os.fspath(case), _os.fspath(variants), _os.fspath(out),
-        None if calibration is None else _os.fspath(calibration),
+    return _call(
+        _coil.sweep_study,
+        _path(case, "case"), _path(variants, "variants"), _path(out, "out"),
+        None if calibration is None else _path(calibration, "calibration"),
         paper_material, elements_per_coil, method, check,
     )
 
@@ -207,17 +250,18 @@ def tolerance_study(case, variants, out, samples=100, seed=1, wire_tol=0.03, gra
     >>> json.loads(_coil.study_info(s))["tasks"]
     24
     """
-    return _coil.tolerance_study(
-        _os.fspath(case), _os.fspath(variants), _os.fspath(out), samples, seed, wire_tol,
-        grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
-        None if calibration is None else _os.fspath(calibration),
+    return _call(
+        _coil.tolerance_study,
+        _path(case, "case"), _path(variants, "variants"), _path(out, "out"), samples, seed,
+        wire_tol, grade, coil_diameter_tol, coils_tol, youngs_modulus_tol, mass_tol,
+        None if calibration is None else _path(calibration, "calibration"),
         paper_material, elements_per_coil, method,
     )
 
 
 def _run_chunk(study, tasks):
     """Runs some tasks of a study (on a Dask worker): [(task, row), ...]."""
-    return list(zip(tasks, _json.loads(_coil.run_tasks(study, list(tasks)))))
+    return list(zip(tasks, _json.loads(_call(_coil.run_tasks, study, list(tasks)))))
 
 
 def run_study(study, client=None, chunks=None):
@@ -228,18 +272,18 @@ def run_study(study, client=None, chunks=None):
     (default 4 per worker), mapped over the cluster and gathered; the table is the same
     bit for bit.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> t = coil.run_study(s)
     >>> list(t.columns[:3]), len(t)
-    (['task', 'spring', 'sample'], 12)
+    (['task', 'spring', 'sample'], 18)
     """
     import pandas as pd
 
-    info = _json.loads(_coil.study_info(study))
+    info = _json.loads(_call(_coil.study_info, study))
     n = info["tasks"]
     if client is None:
-        rows = _json.loads(_coil.run_tasks(study, list(range(n))))
+        rows = _json.loads(_call(_coil.run_tasks, study, list(range(n))))
     else:
         workers = max(1, len(client.scheduler_info()["workers"]))
         k = max(1, min(n, chunks or 4 * workers))
@@ -255,7 +299,7 @@ def run_study(study, client=None, chunks=None):
 def _write(study, table, out, plots):
     rows = _json.dumps([[None if isinstance(v, float) and v != v else v for v in row]
                        for row in table.itertuples(index=False, name=None)])
-    return _json.loads(_coil.write_table(study, rows, _os.fspath(out), plots))
+    return _json.loads(_call(_coil.write_table, study, rows, _path(out, "out"), plots))
 
 
 def sweep(case, variants, out, calibration=None, paper_material=False, elements_per_coil=24,
@@ -298,12 +342,12 @@ def run_shard(study, shard, out):
     """Runs shard ``"I/N"`` of a study and writes ``out/part-IIII-of-NNNN.csv`` (as
     ``coil-tune ... --shard I/N``); returns its path.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> os.path.basename(coil.run_shard(s, "2/3", tmp / "parts"))
     'part-0002-of-0003.csv'
     """
-    return _coil.run_shard(study, shard, _os.fspath(out))
+    return _call(_coil.run_shard, study, shard, _path(out, "out"))
 
 
 def merge(parts, out, plots=True):
@@ -311,7 +355,7 @@ def merge(parts, out, plots=True):
     ``coil-tune merge``); refuses missing, repeated or foreign shards. Returns the
     table's path.
 
-    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=1, paper_material=True,
+    >>> s = coil.tolerance_study(case, table4, out=tmp, samples=2, paper_material=True,
     ...                          elements_per_coil=8)
     >>> _ = coil.run_shard(s, "1/2", tmp / "p")
     >>> coil.merge([tmp / "p"], tmp / "m")  # doctest: +ELLIPSIS
@@ -321,7 +365,7 @@ def merge(parts, out, plots=True):
     >>> os.path.basename(coil.merge([tmp / "p"], tmp / "m", plots=False))
     'tolerance.csv'
     """
-    return _coil.merge([_os.fspath(p) for p in parts], _os.fspath(out), plots)
+    return _call(_coil.merge, _paths(parts, "parts"), _path(out, "out"), plots)
 
 
 def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
@@ -333,7 +377,8 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     >>> d["cause"], round(d["extended"]["parameters"]["friction_force_n"], 3)
     ('coulomb_friction', 0.011)
     """
-    return _json.loads(_coil.diagnose(_os.fspath(case), _os.fspath(out), elements_per_coil, modes, plots))
+    return _json.loads(_call(_coil.diagnose, _path(case, "case"), _path(out, "out"),
+                            elements_per_coil, modes, plots))
 
 
 def _json_file(value, folder):
@@ -365,7 +410,7 @@ def check(spring, elements_per_coil=24):
     import tempfile
 
     with tempfile.TemporaryDirectory() as folder:
-        return _json.loads(_coil.check(_json_file(spring, folder), elements_per_coil))
+        return _json.loads(_call(_coil.check, _json_file(spring, folder), elements_per_coil))
 
 
 def design(target, out, objective=None, short_list=None, plots=True):
@@ -392,8 +437,8 @@ def design(target, out, objective=None, short_list=None, plots=True):
     import pandas as pd
 
     with tempfile.TemporaryDirectory() as folder:
-        result = _json.loads(_coil.design(_json_file(target, folder), _os.fspath(out),
-                                         objective, short_list, plots))
+        result = _json.loads(_call(_coil.design, _json_file(target, folder), _path(out, "out"),
+                                          objective, short_list, plots))
     columns = ["rank", "wire_diameter_mm", "mean_diameter_mm", "active_coils", "total_coils",
                "pitch_mm", "free_length_mm", "rate_n_mm", "fe_rate_n_mm", "spring_mass_kg",
                "stress_margin", "deck"]
@@ -418,9 +463,9 @@ def damping(case, out, variants=None, elements_per_coil=24, scatter=0.03):
     >>> "surge" in d["deciding_test"]["text"]
     True
     """
-    return _json.loads(_coil.damping(
-        _os.fspath(case), _os.fspath(out),
-        None if variants is None else _os.fspath(variants), elements_per_coil, scatter,
+    return _json.loads(_call(
+        _coil.damping, _path(case, "case"), _path(out, "out"),
+        None if variants is None else _path(variants, "variants"), elements_per_coil, scatter,
     ))
 
 
@@ -440,7 +485,7 @@ def read_record(path, channel=None, time=None, quantity=None, unit=None):
     >>> r["format"].startswith("CSV: delimiter ';', decimal comma"), r["quantity"], float(r["values"][0])
     (True, 'acceleration', 9.80665)
     """
-    text = _coil.read_record(_os.fspath(path), channel, time, quantity, unit)
+    text = _call(_coil.read_record, _path(path, "path"), channel, time, quantity, unit)
     return _arrays(_json.loads(text))
 
 
@@ -460,4 +505,4 @@ def write_uff(path, datasets, binary=False):
     plain = [
         {**d, "values": [float(v) for v in _np.asarray(d["values"], dtype=float)]} for d in datasets
     ]
-    _coil.write_uff(_os.fspath(path), _json.dumps(plain), binary)
+    _call(_coil.write_uff, _path(path, "path"), _json.dumps(plain), binary)

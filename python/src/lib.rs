@@ -4,9 +4,20 @@
 //! JSON text with the names and units of the JSON files the binaries write (the Python
 //! side turns it into dicts and numpy arrays). No numerics here.
 //!
-//! Errors are `coil.CoilError` carrying the library's message unchanged (file, line,
-//! field and what was expected). Long runs release the GIL, so Dask's threads and the
-//! library's own thread pool run beside the interpreter.
+//! Every function's body runs through one guard, [`guarded`] (new functions use it too):
+//! - the work runs on a worker thread with the GIL released, so Dask's threads and the
+//!   library's own thread pool run beside the interpreter;
+//! - the calling thread wakes every [`POLL`] (50 ms) to let Python handle its signals: a
+//!   Ctrl-C (SIGINT) sets `coil_io::cancel`, which every long loop checks on its
+//!   progress path (every 64 time steps), and the output set refuses to commit, so the
+//!   call raises `KeyboardInterrupt` within a second and the output folder is as it was;
+//! - a panic inside is caught (`catch_unwind`) and raised as `CoilError` naming it as
+//!   coil's bug, never as pyo3's `PanicException` (a `BaseException`); sizes are checked
+//!   before allocating (the same limits as the command line), so an allocation failure,
+//!   which aborts the process, is not reached from these calls;
+//! - messages are `coil.CoilError` with the library's text (file, line, field and what
+//!   was expected), control characters escaped and cut below 1 KB
+//!   (`coil_io::clean_message`).
 #![warn(missing_docs)]
 
 use coil_tuner::cli::{self, MaterialArgs, ModelArgs, ToleranceArgs};
@@ -24,7 +35,71 @@ create_exception!(
 );
 
 fn fail(error: impl std::fmt::Display) -> PyErr {
-    CoilError::new_err(error.to_string())
+    CoilError::new_err(coil_io::clean_message(&error.to_string()))
+}
+
+/// How often the calling thread looks for a pending signal while the work runs.
+const POLL: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// The worker's stack: deep enough for the solver's recursion-free kernels with margin.
+const WORKER_STACK_BYTES: usize = 64 << 20;
+
+/// Runs `work` (plain Rust values only: no Python object) as the module doc says: on a
+/// worker thread without the GIL, Ctrl-C honoured within a poll and the stop of the
+/// longest loop (every 64 time steps), panics turned into `CoilError`.
+pub(crate) fn guarded<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+where
+    T: Send,
+    F: FnOnce() -> PyResult<T> + Send,
+{
+    let (done, finished) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        let worker = std::thread::Builder::new()
+            .name("coil".into())
+            .stack_size(WORKER_STACK_BYTES)
+            .spawn_scoped(scope, move || {
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work));
+                let _ = done.send(());
+                result
+            })
+            .map_err(|e| fail(format!("cannot start coil's worker thread: {e}")))?;
+        // A Mutex makes the receiver shareable with the GIL-free closure (never contended).
+        let finished = std::sync::Mutex::new(finished);
+        let mut interrupted = None;
+        loop {
+            let waited = py.detach(|| {
+                let finished = finished.lock().unwrap_or_else(|p| p.into_inner());
+                finished.recv_timeout(POLL)
+            });
+            if !matches!(waited, Err(std::sync::mpsc::RecvTimeoutError::Timeout)) {
+                break;
+            }
+            if interrupted.is_none() {
+                if let Err(signal) = py.check_signals() {
+                    coil_io::cancel::request();
+                    interrupted = Some(signal);
+                }
+            }
+        }
+        let outcome = worker.join();
+        if let Some(signal) = interrupted {
+            coil_io::cancel::clear();
+            return Err(signal);
+        }
+        match outcome {
+            Ok(Ok(result)) => result,
+            Ok(Err(panic)) | Err(panic) => {
+                let what = panic
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "a panic".into());
+                Err(fail(format!(
+                    "internal error in coil (a bug: please report it with the call that caused it): {what}"
+                )))
+            }
+        }
+    })
 }
 
 fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
@@ -33,47 +108,77 @@ fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
 
 /// The deck text of a spring spec given as JSON (the fields of `coil-mesh --spec`).
 #[pyfunction]
-fn mesh(spec_json: &str) -> PyResult<String> {
-    let spec: coil_mesher::SpringSpec = serde_json::from_str(spec_json).map_err(|e| {
-        fail(format!(
-            "spring spec: {e}; expected the fields of a spring spec (docs/mesher.md)"
-        ))
-    })?;
-    let model = spec.build().map_err(fail)?;
-    Ok(coil_solver::deck::write(&model))
+fn mesh(py: Python<'_>, spec_json: &str) -> PyResult<String> {
+    guarded(py, || {
+        let spec: coil_mesher::SpringSpec = serde_json::from_str(spec_json).map_err(|e| {
+            fail(format!(
+                "spring spec: {e}; expected the fields of a spring spec (docs/mesher.md)"
+            ))
+        })?;
+        let model = spec.build().map_err(fail)?;
+        Ok(coil_solver::deck::write(&model))
+    })
 }
 
-/// Checks a deck (file path, or text when `is_path` is false): its title and counts.
+/// Checks a deck (its text, or the path of its file): its title and counts.
 #[pyfunction]
-fn read_deck(deck: &str, is_path: bool) -> PyResult<String> {
-    let model = read_model(deck, is_path)?;
-    json(&serde_json::json!({
-        "title": model.title(),
-        "nodes": model.nodes().len(),
-        "elements": model.elements().len(),
-        "load_cases": model.load_cases().len(),
-    }))
+#[pyo3(signature = (text=None, path=None))]
+fn read_deck(py: Python<'_>, text: Option<String>, path: Option<PathBuf>) -> PyResult<String> {
+    guarded(py, || {
+        let model = read_model(text.as_deref(), path.as_deref())?;
+        json(&serde_json::json!({
+            "title": model.title(),
+            "nodes": model.nodes().len(),
+            "elements": model.elements().len(),
+            "load_cases": model.load_cases().len(),
+        }))
+    })
 }
 
-fn read_model(deck: &str, is_path: bool) -> PyResult<coil_solver::model::Model> {
-    if is_path {
-        coil_solver::deck::read_file(std::path::Path::new(deck)).map_err(fail)
-    } else {
-        coil_solver::deck::read_str(deck, "<deck text>").map_err(fail)
+/// The model of a deck's text or file: a path that does not exist is an error naming
+/// it, never read as deck text.
+fn read_model(
+    text: Option<&str>,
+    path: Option<&std::path::Path>,
+) -> PyResult<coil_solver::model::Model> {
+    match (text, path) {
+        (Some(text), None) => coil_solver::deck::read_str(text, "<deck text>").map_err(fail),
+        (None, Some(path)) => {
+            if !path.exists() {
+                return Err(fail(format!(
+                    "{}: no such deck file; expected the path of a deck (or the deck's text, which has several lines)",
+                    path.display()
+                )));
+            }
+            coil_solver::deck::read_file(path).map_err(fail)
+        }
+        _ => Err(fail("give a deck's text or its path, not both")),
     }
 }
 
 /// Runs a deck's load cases as `coil-solve` does and writes its files into `out` (a
-/// temporary folder when None). Returns results.json's content, each transient case
-/// with a `history` object: `time_s` and every column by its name.
+/// temporary folder when None) as one output set. Returns results.json's content, each
+/// transient case with a `history` object: `time_s` and every column by its name. A
+/// transient above the command line's limit is refused unless `allow_large`
+/// (`coil-solve --allow-large`).
 #[pyfunction]
-#[pyo3(signature = (deck, is_path, out=None))]
-fn solve(py: Python<'_>, deck: &str, is_path: bool, out: Option<PathBuf>) -> PyResult<String> {
-    let model = read_model(deck, is_path)?;
-    py.detach(|| {
-        let cases = coil_solver::analysis::run(&model).map_err(fail)?;
+#[pyo3(signature = (text=None, path=None, out=None, allow_large=false))]
+fn solve(
+    py: Python<'_>,
+    text: Option<String>,
+    path: Option<PathBuf>,
+    out: Option<PathBuf>,
+    allow_large: bool,
+) -> PyResult<String> {
+    guarded(py, || {
+        let model = read_model(text.as_deref(), path.as_deref())?;
+        let options = coil_solver::analysis::transient::RunOptions {
+            progress: false,
+            allow_large: Some(allow_large),
+        };
+        let cases = coil_solver::analysis::run_with(&model, &options).map_err(fail)?;
         let temp = tempfile::tempdir().map_err(fail)?;
-        let dir = out.unwrap_or_else(|| temp.path().to_path_buf());
+        let dir = out.unwrap_or_else(|| temp.path().join("out"));
         let file = coil_solver::results::write_all(&dir, &model, &cases).map_err(fail)?;
         let mut value = serde_json::to_value(&file).map_err(fail)?;
         if let Some(entries) = value["load_cases"].as_array_mut() {
@@ -96,40 +201,54 @@ fn solve(py: Python<'_>, deck: &str, is_path: bool, out: Option<PathBuf>) -> PyR
 #[pyfunction]
 #[pyo3(signature = (time_s, values, every=10, lowpass_hz=None))]
 fn decrement(
+    py: Python<'_>,
     time_s: Vec<f64>,
     values: Vec<f64>,
     every: usize,
     lowpass_hz: Option<f64>,
 ) -> PyResult<String> {
-    let options = coil_postproc::decrement::DecrementOptions {
-        every,
-        lowpass: lowpass_hz.map(|cutoff_hz| coil_postproc::decrement::Lowpass {
-            cutoff_hz,
-            order: 4,
-        }),
-        ..Default::default()
-    };
-    let signal = coil_postproc::signal::Signal::new(time_s, values).map_err(fail)?;
-    let report = coil_postproc::decrement::analyze(&signal, &options).map_err(fail)?;
-    json(&report)
+    guarded(py, || {
+        let options = coil_postproc::decrement::DecrementOptions {
+            every,
+            lowpass: lowpass_hz.map(|cutoff_hz| coil_postproc::decrement::Lowpass {
+                cutoff_hz,
+                order: 4,
+            }),
+            ..Default::default()
+        };
+        let signal = coil_postproc::signal::Signal::new(time_s, values).map_err(fail)?;
+        let report = coil_postproc::decrement::analyze(&signal, &options).map_err(fail)?;
+        json(&report)
+    })
 }
 
 /// Draws a time history into a PNG or SVG with coil-post's renderer (`coil-post plot`).
+/// The series is checked as a record is (`coil_postproc::signal::Signal`: equal
+/// lengths, finite values, time increasing); the label is one printable line.
 #[pyfunction]
 fn plot_history(
+    py: Python<'_>,
     time_s: Vec<f64>,
     values: Vec<f64>,
-    label: &str,
-    column: &str,
+    label: String,
+    column: String,
     path: PathBuf,
 ) -> PyResult<()> {
-    let trace = coil_postproc::plot::Trace {
-        label,
-        unit: coil_postproc::plot::unit_of(column),
-        time_s: &time_s,
-        values: &values,
-    };
-    coil_postproc::plot::time_histories(&[trace], false, &path).map_err(fail)
+    guarded(py, || {
+        if label.chars().any(char::is_control) || label.chars().count() > 200 {
+            return Err(fail(format!(
+                "label `{label}`; expected one printable line of at most 200 characters"
+            )));
+        }
+        let signal = coil_postproc::signal::Signal::new(time_s, values).map_err(fail)?;
+        let trace = coil_postproc::plot::Trace {
+            label: &label,
+            unit: coil_postproc::plot::unit_of(&column),
+            time_s: signal.time_s(),
+            values: signal.values(),
+        };
+        coil_postproc::plot::time_histories(&[trace], false, &path).map_err(fail)
+    })
 }
 
 fn model_args(elements_per_coil: u32, method: &str, check: bool) -> PyResult<ModelArgs> {
@@ -158,7 +277,7 @@ fn calibrate(
     check: bool,
 ) -> PyResult<String> {
     let model = model_args(elements_per_coil, method, check)?;
-    py.detach(|| {
+    guarded(py, || {
         let case = coil_tuner::case::read_case(&case).map_err(fail)?;
         let targets = coil_tuner::calibrate::Targets::of(&case).map_err(fail)?;
         let out = OutDir::create(out).map_err(fail)?;
@@ -198,7 +317,7 @@ fn sweep_study(
     check: bool,
 ) -> PyResult<String> {
     let model = model_args(elements_per_coil, method, check)?;
-    py.detach(|| {
+    guarded(py, || {
         let out = OutDir::create(out).map_err(fail)?;
         let sweep = cli::sweep_study(
             &case,
@@ -237,6 +356,11 @@ fn tolerance_study(
     method: &str,
 ) -> PyResult<String> {
     let model = model_args(elements_per_coil, method, false)?;
+    if !(1..=3).contains(&grade) {
+        return Err(fail(format!(
+            "grade {grade}; expected 1, 2 or 3 (EN 15800)"
+        )));
+    }
     let tolerance = ToleranceArgs {
         samples,
         seed,
@@ -247,7 +371,7 @@ fn tolerance_study(
         youngs_modulus_tol,
         mass_tol,
     };
-    py.detach(|| {
+    guarded(py, || {
         let out = OutDir::create(out).map_err(fail)?;
         let study = cli::tolerance_study(
             &case,
@@ -270,14 +394,16 @@ fn parse_study(study_json: &str) -> PyResult<Study> {
 
 /// The study's kind, task count and columns, as JSON.
 #[pyfunction]
-fn study_info(study_json: &str) -> PyResult<String> {
-    let study = parse_study(study_json)?;
-    json(&serde_json::json!({
-        "kind": study.kind(),
-        "tasks": study.tasks(),
-        "columns": study.columns(),
-        "table_file": study.table_file(),
-    }))
+fn study_info(py: Python<'_>, study_json: &str) -> PyResult<String> {
+    guarded(py, || {
+        let study = parse_study(study_json)?;
+        json(&serde_json::json!({
+            "kind": study.kind(),
+            "tasks": study.tasks(),
+            "columns": study.columns(),
+            "table_file": study.table_file(),
+        }))
+    })
 }
 
 fn cell_json(cell: &Cell) -> serde_json::Value {
@@ -291,8 +417,8 @@ fn cell_json(cell: &Cell) -> serde_json::Value {
 /// Runs the given tasks of a study (in this process's thread pool): their rows, as JSON.
 #[pyfunction]
 fn run_tasks(py: Python<'_>, study_json: &str, tasks: Vec<usize>) -> PyResult<String> {
-    let study = parse_study(study_json)?;
-    py.detach(|| {
+    guarded(py, || {
+        let study = parse_study(study_json)?;
         let rows = study.run_tasks(&tasks).map_err(fail)?;
         let rows: Vec<Vec<serde_json::Value>> = rows
             .iter()
@@ -302,8 +428,12 @@ fn run_tasks(py: Python<'_>, study_json: &str, tasks: Vec<usize>) -> PyResult<St
     })
 }
 
-fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
-    let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(fail)?;
+fn cell_rows(rows_json: &str) -> PyResult<Vec<Vec<Cell>>> {
+    let rows: Vec<Vec<serde_json::Value>> = serde_json::from_str(rows_json).map_err(|e| {
+        fail(format!(
+            "rows: {e}; expected a JSON list of rows of finite numbers, strings and nulls"
+        ))
+    })?;
     Ok(rows
         .iter()
         .map(|row| {
@@ -313,7 +443,6 @@ fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
                     serde_json::Value::Number(n) => n.as_f64().map_or(Cell::Missing, Cell::Number),
                     _ => Cell::Missing,
                 })
-                .map(|c| c.csv())
                 .collect()
         })
         .collect())
@@ -321,35 +450,54 @@ fn csv_rows(rows_json: &str) -> PyResult<Vec<Vec<String>>> {
 
 /// Writes a study's table (rows in task order, as JSON) into `out` as a single run of
 /// `coil-tune` does: the CSV and, for a tolerance study, the summary, report and figure.
-/// Returns the tolerance summary as JSON (null for a sweep).
+/// Every row is checked as `merge` checks a part's ([`Study::check_row`]). Returns the
+/// tolerance summary as JSON (null for a sweep).
 #[pyfunction]
 #[pyo3(signature = (study_json, rows_json, out, plots=true))]
-fn write_table(study_json: &str, rows_json: &str, out: PathBuf, plots: bool) -> PyResult<String> {
-    let study = parse_study(study_json)?;
-    let merged = study::Merged {
-        columns: study.columns(),
-        rows: csv_rows(rows_json)?,
-        study,
-    };
-    let out = OutDir::create(out).map_err(fail)?;
-    cli::write_table(&merged, &out, plots).map_err(fail)?;
-    out.commit().map_err(fail)?;
-    match &merged.study {
-        Study::Tolerance(t) => {
-            json(&coil_tuner::tolerance::summarize(t, &merged.rows).map_err(fail)?)
+fn write_table(
+    py: Python<'_>,
+    study_json: &str,
+    rows_json: &str,
+    out: PathBuf,
+    plots: bool,
+) -> PyResult<String> {
+    guarded(py, || {
+        let study = parse_study(study_json)?;
+        let rows = cell_rows(rows_json)?;
+        if rows.len() != study.tasks() {
+            return Err(fail(format!(
+                "{} rows; the study has {} tasks (one row each, in task order)",
+                rows.len(),
+                study.tasks()
+            )));
         }
-        Study::Sweep(_) => Ok("null".into()),
-    }
+        for (k, row) in rows.iter().enumerate() {
+            let cells: Vec<String> = row.iter().map(Cell::csv).collect();
+            study
+                .check_row(k, &cells)
+                .map_err(|e| fail(format!("row {k}: {e}")))?;
+        }
+        let merged = study::Merged::of_cells(study, &rows);
+        let out = OutDir::create(out).map_err(fail)?;
+        cli::write_table(&merged, &out, plots).map_err(fail)?;
+        out.commit().map_err(fail)?;
+        match &merged.study {
+            Study::Tolerance(t) => {
+                json(&coil_tuner::tolerance::summarize(t, merged.rows()).map_err(fail)?)
+            }
+            Study::Sweep(_) => Ok("null".into()),
+        }
+    })
 }
 
 /// Runs shard `shard` ("I/N") of a study and writes its part into `out`; the part's path.
 #[pyfunction]
 fn run_shard(py: Python<'_>, study_json: &str, shard: &str, out: PathBuf) -> PyResult<String> {
-    let study = parse_study(study_json)?;
-    let shard: Shard = shard
-        .parse()
-        .map_err(|e: String| fail(format!("shard {e}")))?;
-    py.detach(|| {
+    guarded(py, || {
+        let study = parse_study(study_json)?;
+        let shard: Shard = shard
+            .parse()
+            .map_err(|e: String| fail(format!("shard {e}")))?;
         let path = study::run_shard(&study, shard, &out).map_err(fail)?;
         Ok(path.display().to_string())
     })
@@ -359,17 +507,22 @@ fn run_shard(py: Python<'_>, study_json: &str, shard: &str, out: PathBuf) -> PyR
 /// merged table's path.
 #[pyfunction]
 #[pyo3(signature = (parts, out, plots=true))]
-fn merge(parts: Vec<PathBuf>, out: PathBuf, plots: bool) -> PyResult<String> {
-    let files = study::part_files(&parts).map_err(fail)?;
-    let merged = study::merge(&files).map_err(fail)?;
-    let out = OutDir::create(out).map_err(fail)?;
-    cli::write_table(&merged, &out, plots).map_err(fail)?;
-    out.commit().map_err(fail)?;
-    Ok(out.path(merged.study.table_file()).display().to_string())
+fn merge(py: Python<'_>, parts: Vec<PathBuf>, out: PathBuf, plots: bool) -> PyResult<String> {
+    guarded(py, || {
+        let files = study::part_files(&parts).map_err(fail)?;
+        let merged = study::merge(&files).map_err(fail)?;
+        let out = OutDir::create(out).map_err(fail)?;
+        cli::write_table(&merged, &out, plots).map_err(fail)?;
+        out.commit().map_err(fail)?;
+        Ok(out.path(merged.study.table_file()).display().to_string())
+    })
 }
 
+/// The most fixed-interface modes `diagnose` keeps (`coil-tune diagnose --modes`).
+const MAX_DIAGNOSE_MODES: usize = 50;
+
 /// Diagnoses a measured case (`coil-tune diagnose`), writes its files into `out` and
-/// returns diagnosis.json's content.
+/// returns diagnosis.json's content. `modes` obeys the command line's range (0 to 50).
 #[pyfunction]
 #[pyo3(signature = (case, out, elements_per_coil=24, modes=4, plots=true))]
 fn diagnose(
@@ -380,7 +533,12 @@ fn diagnose(
     modes: usize,
     plots: bool,
 ) -> PyResult<String> {
-    py.detach(|| {
+    if modes > MAX_DIAGNOSE_MODES {
+        return Err(fail(format!(
+            "modes {modes}; expected 0 to {MAX_DIAGNOSE_MODES} (as `coil-tune diagnose --modes`)"
+        )));
+    }
+    guarded(py, || {
         let mut settings = coil_ident::diagnose::DiagnoseSettings::default();
         settings.fe.elements_per_coil = elements_per_coil;
         settings.modes = modes;
@@ -398,7 +556,7 @@ fn diagnose(
 #[pyfunction]
 #[pyo3(signature = (spring, elements_per_coil=24))]
 fn check(py: Python<'_>, spring: PathBuf, elements_per_coil: u32) -> PyResult<String> {
-    py.detach(|| {
+    guarded(py, || {
         let input = coil_tuner::sheet::input::read_spring(&spring).map_err(fail)?;
         let settings = coil_tuner::fe::FeSettings {
             elements_per_coil,
@@ -432,7 +590,7 @@ fn design(
             )))
         }
     };
-    py.detach(|| {
+    guarded(py, || {
         let dir = OutDir::create(&out).map_err(fail)?;
         let target = design::target::read_target(&target).map_err(fail)?;
         let settings = design::DesignSettings {
@@ -458,7 +616,7 @@ fn damping(
     elements_per_coil: u32,
     scatter: f64,
 ) -> PyResult<String> {
-    py.detach(|| {
+    guarded(py, || {
         let mut settings = coil_ident::law::DampingSettings {
             scatter,
             ..Default::default()
@@ -479,6 +637,18 @@ fn damping(
 #[pyfunction]
 #[pyo3(signature = (path, channel=None, time=None, quantity=None, unit=None))]
 fn read_record(
+    py: Python<'_>,
+    path: PathBuf,
+    channel: Option<String>,
+    time: Option<String>,
+    quantity: Option<String>,
+    unit: Option<String>,
+) -> PyResult<String> {
+    guarded(py, || read_record_json(path, channel, time, quantity, unit))
+}
+
+/// [`read_record`]'s work, inside the boundary guard.
+fn read_record_json(
     path: PathBuf,
     channel: Option<String>,
     time: Option<String>,
@@ -519,7 +689,12 @@ fn read_record(
 /// `velocity`, `acceleration`), `unit`, `start_s`, `step_s` and `values`.
 #[pyfunction]
 #[pyo3(signature = (path, datasets_json, binary=false))]
-fn write_uff(path: PathBuf, datasets_json: &str, binary: bool) -> PyResult<()> {
+fn write_uff(py: Python<'_>, path: PathBuf, datasets_json: &str, binary: bool) -> PyResult<()> {
+    guarded(py, || write_uff_file(&path, datasets_json, binary))
+}
+
+/// [`write_uff`]'s work, inside the boundary guard.
+fn write_uff_file(path: &std::path::Path, datasets_json: &str, binary: bool) -> PyResult<()> {
     #[derive(serde::Deserialize)]
     struct Entry {
         name: String,
@@ -555,7 +730,7 @@ fn write_uff(path: PathBuf, datasets_json: &str, binary: bool) -> PyResult<()> {
             }
         })
         .collect();
-    coil_io::write_file(&path, &coil_io::uff::uff58_bytes(&datasets, binary)).map_err(fail)
+    coil_io::write_file(path, &coil_io::uff::uff58_bytes(&datasets, binary)).map_err(fail)
 }
 
 #[pymodule]

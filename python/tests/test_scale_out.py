@@ -66,7 +66,7 @@ def test_serial_shards_and_dask_give_the_same_bits(tmp_path, coil_tune):
 
 
 def test_merge_refuses_a_missing_shard(tmp_path):
-    study = coil.tolerance_study(CASE, TABLE4, out=tmp_path, samples=1, paper_material=True,
+    study = coil.tolerance_study(CASE, TABLE4, out=tmp_path, samples=2, paper_material=True,
                                  elements_per_coil=8)
     coil.run_shard(study, "1/3", tmp_path / "p")
     coil.run_shard(study, "3/3", tmp_path / "p")

@@ -950,6 +950,14 @@ pub fn read_variants(path: &Path) -> Result<VariantsFile, CaseError> {
         let o = item.object("a spring variant")?;
         let name_field = o.require("name", "the variant's name")?;
         let name = name_field.string("the variant's name")?.to_string();
+        if let Err(e) = crate::study::check_name(&name) {
+            return Err(name_field
+                .error(
+                    e,
+                    "one printable line (it reaches tables, reports and deck titles)",
+                )
+                .into());
+        }
         if variants.iter().any(|v| v.name == name) {
             return Err(name_field
                 .error(

@@ -217,6 +217,9 @@ pub enum Command {
         /// No figure (tolerance studies).
         #[arg(long)]
         no_plots: bool,
+        /// No progress messages (accepted by every command; merge prints none).
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// The paper's study: calibrate + sweep on cases/160ect, Tables 3 and 4 beside the
     /// paper's, report.md, report.json and the figures.
@@ -283,6 +286,10 @@ pub enum Command {
         /// Stop each grid after this many new points (the journal keeps them).
         #[arg(long)]
         max_points: Option<usize>,
+        /// No progress messages (accepted by every command; procedures print their
+        /// own lines on stdout, unchanged).
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -329,6 +336,7 @@ pub fn run(command: Command) -> Result<()> {
             parts,
             out,
             no_plots,
+            quiet: _,
         } => {
             let files = crate::study::part_files(&parts)?;
             let merged = crate::study::merge(&files)?;
@@ -339,7 +347,7 @@ pub fn run(command: Command) -> Result<()> {
             say!(
                 "{} parts, {} tasks: {}",
                 files.len(),
-                merged.rows.len(),
+                merged.records.len(),
                 out.path(merged.study.table_file()).display()
             )?;
             Ok(())
@@ -355,6 +363,7 @@ pub fn run(command: Command) -> Result<()> {
             out,
             dry_run,
             max_points,
+            quiet: _,
         } => procedure_command(procedure, out, dry_run, max_points),
         Command::Check {
             spring,
@@ -507,21 +516,14 @@ fn tolerance_command(
     let clock = std::time::Instant::now();
     let rows = study.run_all()?;
     let elapsed = clock.elapsed().as_secs_f64();
-    let merged = crate::study::Merged {
-        columns: study.columns(),
-        rows: rows
-            .iter()
-            .map(|r| r.iter().map(crate::study::Cell::csv).collect())
-            .collect(),
-        study,
-    };
+    let merged = crate::study::Merged::of_cells(study, &rows);
     let summary = write_table(&merged, &out, !no_plots)?;
     out.commit()?;
     text(&summary)?;
     say!(
         "{} tasks in {elapsed:.2} s ({:.2} tasks/s); files in {}",
-        merged.rows.len(),
-        merged.rows.len() as f64 / elapsed,
+        merged.records.len(),
+        merged.records.len() as f64 / elapsed,
         out.root().display()
     )?;
     Ok(())
@@ -694,17 +696,34 @@ pub fn tolerance_study(
 /// Writes a study's table as a single run does (and, for a tolerance study, its summary,
 /// report and figure); returns the text for the terminal.
 pub fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
-    let csv = merged.csv();
     match &merged.study {
         crate::study::Study::Tolerance(t) => {
-            let summary = crate::tolerance::write(t, &csv, &merged.rows, out, plots)?;
+            let summary = crate::tolerance::write(t, merged, out, plots)?;
             Ok(summary.table())
         }
         crate::study::Study::Sweep(_) => {
-            out.write(merged.study.table_file(), csv.as_bytes())?;
+            stage_table(merged, out)?;
             Ok(String::new())
         }
     }
+}
+
+/// Stages the study's table file, streamed record by record (no second copy of the
+/// table in memory).
+pub fn stage_table(merged: &crate::study::Merged, out: &OutDir) -> Result<()> {
+    out.produce(merged.study.table_file(), |path| {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| crate::TuneError::io(path, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        merged
+            .write_csv(&mut w)
+            .and_then(|()| std::io::Write::flush(&mut w))
+            .and_then(|()| w.get_ref().sync_all())
+            .map_err(|e| crate::TuneError::io(path, e))
+    })?;
+    Ok(())
 }
 
 /// The `state` of a calibration.json.

@@ -470,10 +470,19 @@ where
         .par_iter()
         .map(|&(i, j)| -> Result<GridPoint> {
             let (alpha, beta) = (spec.alpha.value(i), spec.beta.value(j));
+            // A requested stop (Ctrl-C from Python) ends the grid; the point is not
+            // journaled, so a rerun computes it.
+            let interrupted = || TuneError::Invalid(coil_io::cancel::INTERRUPTED.into());
+            if coil_io::cancel::requested() {
+                return Err(interrupted());
+            }
             let (measure, error) = match evaluate(alpha, beta) {
                 Ok(m) => (Some(m), None),
                 Err(e) => (None, Some(e.to_string())),
             };
+            if coil_io::cancel::requested() {
+                return Err(interrupted());
+            }
             let point = GridPoint {
                 i,
                 j,

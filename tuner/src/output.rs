@@ -54,6 +54,16 @@ impl OutDir {
         Ok(self.set.journal_path(&self.prefix.join(relative))?)
     }
 
+    /// Lets `produce` write the staged file for `relative` (through a temporary that is
+    /// renamed when complete); returns the final path.
+    pub fn produce(
+        &self,
+        relative: impl AsRef<Path>,
+        produce: impl FnOnce(&Path) -> Result<()>,
+    ) -> Result<PathBuf> {
+        self.set.produce(&self.prefix.join(relative), produce)
+    }
+
     /// Stages `bytes` as `relative`; returns the final path.
     pub fn write(&self, relative: impl AsRef<Path>, bytes: &[u8]) -> Result<PathBuf> {
         Ok(self.set.write(&self.prefix.join(relative), bytes)?)
@@ -76,13 +86,102 @@ impl OutDir {
     }
 }
 
-/// CSV text from a header and rows of cells (cells are numbers or plain words; nothing
-/// here needs quoting).
+/// One CSV field (RFC 4180): quoted, with its quotes doubled, when it holds a comma, a
+/// quote, a line break or a blank at either end; as it is otherwise (numbers, plain
+/// names), so the tables of plain studies are unchanged.
+pub fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    let needs = text.contains([',', '"', '\n', '\r'])
+        || text.starts_with([' ', '\t'])
+        || text.ends_with([' ', '\t']);
+    if needs {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}
+
+/// One CSV record (without its line end) from its fields, each quoted as needed.
+pub fn csv_record<S: AsRef<str>>(fields: impl IntoIterator<Item = S>) -> String {
+    let mut out = String::new();
+    for (k, f) in fields.into_iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        out.push_str(&csv_field(f.as_ref()));
+    }
+    out
+}
+
+/// The fields of one CSV record written by [`csv_record`] (one line: coil's names are
+/// single lines). An unclosed quote or text after a closing quote is an error naming
+/// the column.
+pub fn split_csv_record(line: &str) -> std::result::Result<Vec<String>, String> {
+    let mut fields = Vec::new();
+    let mut chars = line.char_indices().peekable();
+    loop {
+        let mut field = String::new();
+        match chars.peek() {
+            Some(&(start, '"')) => {
+                chars.next();
+                loop {
+                    match chars.next() {
+                        Some((_, '"')) if chars.peek().is_some_and(|&(_, c)| c == '"') => {
+                            chars.next();
+                            field.push('"');
+                        }
+                        Some((_, '"')) => break,
+                        Some((_, c)) => field.push(c),
+                        None => {
+                            return Err(format!(
+                                "column {}: a quoted field without its closing quote",
+                                start + 1
+                            ))
+                        }
+                    }
+                }
+                match chars.next() {
+                    None => {
+                        fields.push(field);
+                        return Ok(fields);
+                    }
+                    Some((_, ',')) => fields.push(field),
+                    Some((at, _)) => {
+                        return Err(format!(
+                            "column {}: text after a closing quote; expected a comma",
+                            at + 1
+                        ))
+                    }
+                }
+            }
+            _ => loop {
+                match chars.next() {
+                    None => {
+                        fields.push(field);
+                        return Ok(fields);
+                    }
+                    Some((_, ',')) => {
+                        fields.push(field);
+                        break;
+                    }
+                    Some((at, '"')) => {
+                        return Err(format!(
+                            "column {}: a quote inside an unquoted field",
+                            at + 1
+                        ))
+                    }
+                    Some((_, c)) => field.push(c),
+                }
+            },
+        }
+    }
+}
+
+/// CSV text from a header and rows of cells, each quoted as needed ([`csv_field`]).
 pub fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> String {
-    let mut out = header.join(",");
+    let mut out = csv_record(header);
     out.push('\n');
     for row in rows {
-        out.push_str(&row.join(","));
+        out.push_str(&csv_record(&row));
         out.push('\n');
     }
     out
@@ -111,7 +210,8 @@ impl From<Option<f64>> for Cell {
 }
 
 impl Cell {
-    /// The CSV text: numbers with every digit needed to read them back exactly.
+    /// The cell's text (unquoted: [`csv_record`] quotes): numbers with every digit
+    /// needed to read them back exactly.
     pub fn csv(&self) -> String {
         match self {
             Cell::Text(s) => s.clone(),
@@ -121,11 +221,33 @@ impl Cell {
     }
 }
 
-/// CSV text of a table whose cells need no quoting (numbers, names without commas).
+/// CSV text of a table of cells (text quoted as needed).
 pub fn csv_table(columns: &[&str], rows: impl IntoIterator<Item = Vec<Cell>>) -> String {
     csv(
         columns,
         rows.into_iter()
             .map(|row| row.iter().map(Cell::csv).collect()),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_fields_are_quoted_when_needed_and_read_back() {
+        for fields in [
+            vec!["A,B", "plain", "say \"hi\"", "", " lead", "1.5e-7"],
+            vec![""],
+            vec!["\"", ","],
+        ] {
+            let line = csv_record(&fields);
+            assert_eq!(split_csv_record(&line).unwrap(), fields, "{line}");
+        }
+        assert_eq!(csv_record(["1", "#1", "2.5"]), "1,#1,2.5");
+        assert_eq!(csv_record(["A,B", "x"]), "\"A,B\",x");
+        for bad in ["\"open", "\"a\"b", "a\"b"] {
+            assert!(split_csv_record(bad).is_err(), "{bad}");
+        }
+    }
 }

@@ -15,20 +15,37 @@
 //! # Shards and parts
 //! Shard `I/N` (1 <= I <= N) runs the tasks `k` with `k mod N = I - 1` (round robin: the
 //! springs of a tolerance study differ in cost, so contiguous blocks would balance worse).
-//! It writes `part-IIII-of-NNNN.csv`: two comment lines, the header and its rows,
+//! It writes `part-IIII-of-NNNN.csv`: three comment lines, the header, its rows and the
+//! rows' digest,
 //!
 //! ```text
 //! # coil-tune part 2/4 of a tolerance study: 501 of 2004 tasks
 //! # study {"study":"tolerance",...}
+//! # study-sha256 5d41...
 //! task,spring,sample,...
 //! 1,#1,1,...
+//! # rows-sha256 9f86...
 //! ```
 //!
 //! the second line carrying the whole study (material, variants, settings, tolerances,
-//! seed) as JSON. [`merge`] reads the parts and refuses, naming the shard and the file:
-//! a missing shard, a shard given twice, parts of different studies or splits, and a part
-//! whose tasks are not exactly its shard's. The merged table is the single run's, byte for
-//! byte (numbers are written with all their digits and read back exactly).
+//! seed) as JSON, the third its SHA-256, the last the SHA-256 of the study line's JSON, a
+//! line end and the table (header and rows, each with its line end). Cells are CSV fields
+//! quoted as needed (RFC 4180: a name with a comma or a quote).
+//!
+//! # What `merge` trusts
+//! Nothing it has not checked. [`merge`] reads the heads of all parts first (shard, study,
+//! the study's digest), then streams each part's rows, and refuses, naming the file and
+//! line: a missing shard, a shard given twice, parts of different studies or splits, a
+//! study or rows that do not match their digests (an edit, a truncation: the digest line
+//! is last), a study that fails [`Study::check`] (counts are bounded before anything is
+//! allocated from them), a row whose task is not the next of its shard, and a row that
+//! fails [`Study::check_row`] (every number finite and in range; what follows from the
+//! study alone equal to the last digit). A digest proves a part is the one written, not
+//! who wrote it: whoever edits a part and recomputes both digests is not stopped (the
+//! row checks still refuse a drawn value or a name that the study does not give, and a
+//! K, zeta or period out of its physical range). The merged table is the single run's,
+//! byte for byte (numbers are written with all their digits and read back exactly), and
+//! merging needs memory for the merged table only.
 
 use crate::error::{Result, TuneError};
 pub use crate::output::{csv_table, Cell};
@@ -125,15 +142,221 @@ impl Study {
         serde_json::to_string(self).unwrap_or_default()
     }
 
-    /// Reads a study written by [`Study::to_json`]; `origin` names where the text came
-    /// from in the error.
+    /// Reads a study written by [`Study::to_json`] and checks it like any input
+    /// ([`Study::check`]: counts bounded before anything is allocated from them);
+    /// `origin` names where the text came from in the error.
     pub fn from_json(text: &str, origin: &str) -> Result<Self> {
-        serde_json::from_str(text).map_err(|e| {
+        let study: Study = serde_json::from_str(text).map_err(|e| {
             TuneError::Invalid(format!(
-                "{origin}: column {}: {e}; expected a study written by coil-tune or coil",
-                e.column()
+                "{origin}: column {}: {}; expected a study written by coil-tune or coil",
+                e.column(),
+                coil_io::confine::sanitise_message(&e.to_string(), 300)
             ))
-        })
+        })?;
+        study
+            .check()
+            .map_err(|e| TuneError::Invalid(format!("{origin}: {e}")))?;
+        Ok(study)
+    }
+
+    /// Checks a study as an input: 1 to [`MAX_VARIANTS`] variants with valid names and
+    /// positive finite geometry, a physical material, and (tolerance studies) bands
+    /// within the nominal values, at least 2 samples and at most 10^7 tasks.
+    pub fn check(&self) -> Result<()> {
+        let sweep = match self {
+            Study::Sweep(s) => s,
+            Study::Tolerance(t) => &t.sweep,
+        };
+        let n = sweep.variants.len();
+        if n == 0 || n > MAX_VARIANTS {
+            return Err(TuneError::Invalid(format!(
+                "{n} variants; expected 1 to {MAX_VARIANTS}"
+            )));
+        }
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        for v in &sweep.variants {
+            check_name(&v.name).map_err(TuneError::Invalid)?;
+            let g = &v.spring;
+            if ![
+                g.active_coils,
+                g.mean_diameter_mm,
+                g.wire_diameter_mm,
+                g.pitch_mm,
+            ]
+            .into_iter()
+            .all(positive)
+            {
+                return Err(TuneError::Invalid(format!(
+                    "variant {}: geometry {g:?}; expected positive finite numbers",
+                    v.name
+                )));
+            }
+        }
+        let m = &sweep.material;
+        let material_ok = positive(m.youngs_modulus_mpa)
+            && positive(m.density_kg_m3)
+            && positive(m.mass_kg)
+            && m.poisson_ratio > -1.0
+            && m.poisson_ratio < 0.5
+            && m.alpha.is_finite()
+            && m.alpha >= 0.0
+            && m.beta.is_finite()
+            && m.beta >= 0.0;
+        if !material_ok {
+            return Err(TuneError::Invalid(format!(
+                "material {m:?}; expected positive E, density and mass, Poisson's ratio in (-1, 0.5), alpha and beta >= 0"
+            )));
+        }
+        match self {
+            Study::Sweep(_) => Ok(()),
+            Study::Tolerance(t) => t.check(),
+        }
+    }
+
+    /// Checks row `k` of the study's table as read back (`cells` in [`Study::columns`]
+    /// order): every number finite and in its physical range, and every value that
+    /// follows from the study alone (names, sample numbers, the drawn geometry, E and
+    /// mass, the paper's values and the relative errors) equal to it to the last digit.
+    /// K, zeta and the period cannot be recomputed without the solver: K must lie within
+    /// a factor 3 of the Castigliano stiffness of the row's geometry (a beam helix is
+    /// within 15 % of it from 8 elements per coil; a gross screen, the digest is what
+    /// catches a small edit), zeta in [0, 1), the period within a factor 2 of the
+    /// Rayleigh period of K and the masses.
+    pub fn check_row(&self, k: usize, cells: &[String]) -> std::result::Result<(), String> {
+        let column = |name: &str| -> std::result::Result<&str, String> {
+            self.columns()
+                .iter()
+                .position(|c| *c == name)
+                .and_then(|i| cells.get(i))
+                .map(String::as_str)
+                .ok_or_else(|| format!("no `{name}` column"))
+        };
+        let number = |name: &str| -> std::result::Result<f64, String> {
+            let text = column(name)?;
+            match text.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(format!(
+                    "{name} `{}`; expected a finite number",
+                    coil_io::excerpt(text)
+                )),
+            }
+        };
+        let same = |name: &str, value: Option<f64>| -> std::result::Result<(), String> {
+            let text = column(name)?;
+            let expected = value.map_or(String::new(), crate::output::exact);
+            if text == expected {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{name} `{}`; the study gives `{expected}` (the part was edited?)",
+                    coil_io::excerpt(text)
+                ))
+            }
+        };
+        let (variant, state) = match self {
+            Study::Sweep(s) => {
+                let v = s.variants.get(k).ok_or("no such task")?;
+                (v.clone(), s.material)
+            }
+            Study::Tolerance(t) => {
+                let (v, state, sample) = t.sampled(k).map_err(|e| e.to_string())?;
+                same("task", Some(k as f64))?;
+                same("sample", Some(sample as f64))?;
+                same("youngs_modulus_mpa", Some(state.youngs_modulus_mpa))?;
+                same("mass_kg", Some(state.mass_kg))?;
+                (v, state)
+            }
+        };
+        let name = column(match self {
+            Study::Sweep(_) => "name",
+            Study::Tolerance(_) => "spring",
+        })?;
+        if name != variant.name {
+            return Err(format!(
+                "spring `{}`; the study gives `{}`",
+                coil_io::excerpt(name),
+                variant.name
+            ));
+        }
+        let g = &variant.spring;
+        same("active_coils", Some(g.active_coils))?;
+        same("mean_diameter_mm", Some(g.mean_diameter_mm))?;
+        same("wire_diameter_mm", Some(g.wire_diameter_mm))?;
+        same("pitch_mm", Some(g.pitch_mm))?;
+        let (stiffness, zeta, period) = (
+            number("stiffness_n_mm")?,
+            number("damping_ratio")?,
+            number("period_s")?,
+        );
+        let helix = coil_mesher::closed_form::HelixGeometry {
+            coils: g.active_coils,
+            mean_diameter_mm: g.mean_diameter_mm,
+            wire_diameter_mm: g.wire_diameter_mm,
+            pitch_mm: g.pitch_mm,
+        };
+        let castigliano = coil_mesher::closed_form::HelixStiffness::new(
+            &helix,
+            state.youngs_modulus_mpa,
+            state.poisson_ratio,
+        )
+        .free(true);
+        if !(stiffness > castigliano / 3.0 && stiffness < castigliano * 3.0) {
+            return Err(format!(
+                "stiffness_n_mm {stiffness}; expected within a factor 3 of the closed form {castigliano:.4} N/mm of this spring"
+            ));
+        }
+        if !(0.0..1.0).contains(&zeta) {
+            return Err(format!("damping_ratio {zeta}; expected 0 <= zeta < 1"));
+        }
+        let rayleigh = coil_mesher::closed_form::rayleigh_period_s(
+            stiffness,
+            state.mass_kg,
+            helix.spring_mass_kg(state.density_kg_m3),
+        );
+        if !(period > rayleigh / 2.0 && period < rayleigh * 2.0) {
+            return Err(format!(
+                "period_s {period}; expected within a factor 2 of the Rayleigh period {rayleigh:.5} s of K and the masses"
+            ));
+        }
+        if let Study::Sweep(_) = self {
+            let relative = |coil: f64, paper: Option<f64>| paper.map(|p| (coil - p) / p);
+            same("paper_stiffness_n_mm", variant.paper_stiffness_n_mm)?;
+            same("paper_damping_ratio", variant.paper_damping_ratio)?;
+            same(
+                "stiffness_relative_error",
+                relative(stiffness, variant.paper_stiffness_n_mm),
+            )?;
+            same(
+                "damping_relative_error",
+                relative(zeta, variant.paper_damping_ratio),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// At most this many variants in a study.
+pub const MAX_VARIANTS: usize = 100_000;
+/// The longest variant name, characters.
+pub const MAX_NAME_CHARS: usize = 100;
+
+/// A variant's name: one printable line of 1 to [`MAX_NAME_CHARS`] characters (it
+/// reaches tables, reports, figure labels and deck titles; commas and quotes are fine,
+/// tables quote them).
+pub fn check_name(name: &str) -> std::result::Result<(), String> {
+    let printable = !name.chars().any(|c| {
+        c.is_control()
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    });
+    let count = name.chars().count();
+    if printable && (1..=MAX_NAME_CHARS).contains(&count) && name.trim() == name {
+        Ok(())
+    } else {
+        Err(format!(
+            "variant name `{}`; expected one printable line of 1 to {MAX_NAME_CHARS} characters, without blanks at its ends",
+            coil_io::excerpt(name)
+        ))
     }
 }
 
@@ -187,6 +410,8 @@ impl Shard {
 
 const PART_TAG: &str = "# coil-tune part ";
 const STUDY_TAG: &str = "# study ";
+const STUDY_DIGEST_TAG: &str = "# study-sha256 ";
+const ROWS_DIGEST_TAG: &str = "# rows-sha256 ";
 
 /// The text of shard `shard`'s part file.
 pub fn part_text(study: &Study, shard: Shard, tasks: &[usize], rows: &[Vec<Cell>]) -> String {
@@ -200,13 +425,30 @@ pub fn part_text(study: &Study, shard: Shard, tasks: &[usize], rows: &[Vec<Cell>
                 .collect()
         }),
     );
+    let json = study.to_json();
     format!(
-        "{PART_TAG}{shard} of a {} study: {} of {} tasks\n{STUDY_TAG}{}\n{body}",
+        "{PART_TAG}{shard} of a {} study: {} of {} tasks\n{STUDY_TAG}{json}\n{STUDY_DIGEST_TAG}{}\n{body}{ROWS_DIGEST_TAG}{}\n",
         study.kind(),
         tasks.len(),
         study.tasks(),
-        study.to_json()
+        coil_io::digest::sha256_hex(json.as_bytes()),
+        rows_digest(&json, body.as_bytes()),
     )
+}
+
+/// The rows' digest: of the study and the table (header and rows), so that a study
+/// edited with its own digest recomputed no longer matches its rows.
+fn rows_digest(study_json: &str, table: &[u8]) -> String {
+    let mut d = rows_digest_start(study_json);
+    d.update(table);
+    d.hex()
+}
+
+fn rows_digest_start(study_json: &str) -> coil_io::digest::Sha256 {
+    let mut d = coil_io::digest::Sha256::new();
+    d.update(study_json.as_bytes());
+    d.update(b"\n");
+    d
 }
 
 /// Runs shard `shard` of `study` and writes its part into `folder` (created); returns
@@ -222,120 +464,247 @@ pub fn run_shard(study: &Study, shard: Shard, folder: &Path) -> Result<PathBuf> 
     Ok(path)
 }
 
-/// One part file as read.
+/// A part larger than this is not one (10^6 rows of a tolerance study are 0.3 GB).
+const MAX_PART_BYTES: u64 = 1 << 30;
+/// The longest line of a part other than the study's: a row is about 250 bytes.
+const MAX_ROW_BYTES: usize = 64 << 10;
+
+fn part_error(path: &Path, line: usize, message: impl std::fmt::Display) -> TuneError {
+    TuneError::Invalid(format!("{}:{line}: {message}", path.display()))
+}
+
+/// A part file read line by line, each line bounded, the whole bounded.
+struct PartReader {
+    path: PathBuf,
+    reader: std::io::BufReader<std::io::Take<std::fs::File>>,
+    line: usize,
+    buffer: Vec<u8>,
+}
+
+impl PartReader {
+    fn open(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path).map_err(|e| TuneError::io(path, e))?;
+        let meta = file.metadata().map_err(|e| TuneError::io(path, e))?;
+        if !meta.is_file() {
+            return Err(part_error(
+                path,
+                0,
+                "not a regular file; expected a part file",
+            ));
+        }
+        if meta.len() > MAX_PART_BYTES {
+            return Err(part_error(
+                path,
+                0,
+                format!(
+                    "{} bytes; a part file holds at most {MAX_PART_BYTES} (split the study into more shards)",
+                    meta.len()
+                ),
+            ));
+        }
+        use std::io::Read;
+        Ok(PartReader {
+            path: path.to_path_buf(),
+            reader: std::io::BufReader::new(file.take(MAX_PART_BYTES + 1)),
+            line: 0,
+            buffer: Vec::new(),
+        })
+    }
+
+    /// The next line without its `\n` (None at the end), at most `limit` bytes.
+    fn next(&mut self, limit: usize) -> Result<Option<String>> {
+        use std::io::{BufRead, Read};
+        self.buffer.clear();
+        self.line += 1;
+        let n = (&mut self.reader)
+            .take(limit as u64 + 1)
+            .read_until(b'\n', &mut self.buffer)
+            .map_err(|e| TuneError::io(&self.path, e))?;
+        if n == 0 {
+            return Ok(None);
+        }
+        if self.buffer.last() != Some(&b'\n') {
+            let message = if self.buffer.len() > limit {
+                format!("a line longer than {limit} bytes; expected a part file written by `--shard I/N`")
+            } else {
+                "the last line has no line end: the part is truncated; run its shard again".into()
+            };
+            return Err(part_error(&self.path, self.line, message));
+        }
+        self.buffer.pop();
+        match std::str::from_utf8(&self.buffer) {
+            Ok(text) => Ok(Some(text.to_string())),
+            Err(_) => Err(part_error(
+                &self.path,
+                self.line,
+                "not UTF-8 text; expected a part file",
+            )),
+        }
+    }
+
+    fn error(&self, message: impl std::fmt::Display) -> TuneError {
+        part_error(&self.path, self.line, message)
+    }
+}
+
+/// A part file's head: its shard and study, their digest checked.
 #[derive(Debug, Clone)]
-pub struct Part {
+pub struct PartHead {
     /// The part file.
     pub path: PathBuf,
     /// The shard.
     pub shard: Shard,
     /// The study as JSON.
     pub study_json: String,
-    /// The study.
-    pub study: Study,
-    /// (task, the row's CSV cells without the task column).
-    pub rows: Vec<(usize, Vec<String>)>,
 }
 
-/// A part larger than this is not one (10^6 rows of a tolerance study are 0.3 GB).
-const MAX_PART_BYTES: u64 = 1 << 30;
-
-fn part_error(path: &Path, line: usize, message: impl std::fmt::Display) -> TuneError {
-    TuneError::Invalid(format!("{}:{line}: {message}", path.display()))
-}
-
-/// Reads and checks one part file.
-pub fn read_part(path: &Path) -> Result<Part> {
-    let text = coil_io::read_bounded(path, MAX_PART_BYTES, "a part file")
-        .map_err(|e| TuneError::Invalid(e.to_string()))?;
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
-    let (_, first) = lines.next().unwrap_or((1, ""));
+/// Reads a part's first three lines: the shard, the study and the study's digest.
+fn read_head(reader: &mut PartReader) -> Result<PartHead> {
+    let expected_first =
+        "not a part file; expected `# coil-tune part I/N of a ... study` (written by `--shard I/N`)";
+    let first = reader
+        .next(4096)?
+        .ok_or_else(|| reader.error("empty; expected a part file"))?;
     let shard = first
         .strip_prefix(PART_TAG)
         .and_then(|rest| rest.split_whitespace().next())
         .and_then(|s| s.parse::<Shard>().ok())
+        .ok_or_else(|| reader.error(expected_first))?;
+    let study_json = reader
+        .next(coil_io::MAX_JSON_BYTES as usize * 2)?
+        .and_then(|l| l.strip_prefix(STUDY_TAG).map(str::to_string))
+        .ok_or_else(|| reader.error("expected `# study {...}`, the study as JSON"))?;
+    let digest = reader
+        .next(4096)?
+        .and_then(|l| l.strip_prefix(STUDY_DIGEST_TAG).map(str::to_string))
         .ok_or_else(|| {
-            part_error(
-                path,
-                1,
-                "not a part file; expected `# coil-tune part I/N of a ... study` (written by `--shard I/N`)",
+            reader.error(
+                "expected `# study-sha256 ...`, the study's digest (a part written by an older coil-tune, or edited: run its shard again)",
             )
         })?;
-    let (_, second) = lines.next().unwrap_or((2, ""));
-    let study_json = second
-        .strip_prefix(STUDY_TAG)
-        .ok_or_else(|| part_error(path, 2, "expected `# study {...}`, the study as JSON"))?
-        .to_string();
-    let study = Study::from_json(&study_json, &format!("{}:2", path.display()))?;
+    if coil_io::digest::sha256_hex(study_json.as_bytes()) != digest {
+        return Err(part_error(
+            &reader.path,
+            2,
+            "the study does not match its digest on line 3: the part was edited or damaged; run its shard again",
+        ));
+    }
+    Ok(PartHead {
+        path: reader.path.clone(),
+        shard,
+        study_json,
+    })
+}
+
+/// Reads a part's rows after its head, checking the header, each row (its task, its
+/// numbers: [`Study::check_row`]) and the rows' digest; `keep(task, row)` receives
+/// each row as the single run's CSV record (without the part's task column).
+fn read_rows(
+    reader: &mut PartReader,
+    head: &PartHead,
+    study: &Study,
+    mut keep: impl FnMut(usize, String),
+) -> Result<()> {
     let mut columns = vec!["task"];
     columns.extend(study.columns());
     let header = columns.join(",");
-    match lines.next() {
-        Some((_, line)) if line == header => {}
-        Some((n, line)) => {
-            return Err(part_error(
-                path,
-                n,
-                format!("header `{line}`; expected `{header}`"),
-            ))
+    let mut digest = rows_digest_start(&head.study_json);
+    match reader.next(MAX_ROW_BYTES)? {
+        Some(line) if line == header => {
+            digest.update(line.as_bytes());
+            digest.update(b"\n");
         }
-        None => {
-            return Err(part_error(
-                path,
-                3,
-                format!("no header; expected `{header}`"),
-            ))
+        Some(line) => {
+            let line = coil_io::excerpt(&line);
+            return Err(reader.error(format!("header `{line}`; expected `{header}`")));
         }
+        None => return Err(reader.error(format!("no header; expected `{header}`"))),
     }
-    let mut rows = Vec::new();
-    for (n, line) in lines {
-        let mut cells = line.split(',');
-        let task = cells
-            .next()
-            .and_then(|t| t.parse::<usize>().ok())
-            .ok_or_else(|| part_error(path, n, "expected a task number in the first column"))?;
-        let rest: Vec<String> = cells.map(str::to_string).collect();
-        if rest.len() != columns.len() - 1 {
-            return Err(part_error(
-                path,
-                n,
-                format!(
-                    "{} cells; expected {} ({header})",
-                    rest.len() + 1,
-                    columns.len()
-                ),
+    let expected = head.shard.tasks(study.tasks());
+    let mut next = expected.iter().copied();
+    let written = loop {
+        let Some(line) = reader.next(MAX_ROW_BYTES)? else {
+            return Err(reader.error(
+                "the part ends without its `# rows-sha256` line: it is truncated; run its shard again",
             ));
+        };
+        if let Some(d) = line.strip_prefix(ROWS_DIGEST_TAG) {
+            break d.to_string();
         }
-        rows.push((task, rest));
+        let cells = crate::output::split_csv_record(&line).map_err(|e| reader.error(e))?;
+        let Some(task) = cells.first().and_then(|t| t.parse::<usize>().ok()) else {
+            return Err(reader.error("expected a task number in the first column"));
+        };
+        if cells.len() != columns.len() {
+            return Err(reader.error(format!(
+                "{} cells; expected {} ({header})",
+                cells.len(),
+                columns.len()
+            )));
+        }
+        match next.next() {
+            Some(k) if k == task => {}
+            Some(k) => {
+                return Err(reader.error(format!(
+                    "task {task}; expected task {k} (shard {} holds tasks {} to {} in steps of {}, in order)",
+                    head.shard,
+                    expected.first().copied().unwrap_or(0),
+                    expected.last().copied().unwrap_or(0),
+                    head.shard.count
+                )))
+            }
+            None => {
+                return Err(reader.error(format!(
+                    "task {task} after the shard's last task {}",
+                    expected.last().map_or("-".into(), usize::to_string)
+                )))
+            }
+        }
+        study
+            .check_row(task, &cells[1..])
+            .map_err(|e| reader.error(format!("task {task}: {e}")))?;
+        digest.update(line.as_bytes());
+        digest.update(b"\n");
+        let record = line.split_once(',').map_or("", |(_, r)| r).to_string();
+        keep(task, record);
+    };
+    if let Some(k) = next.next() {
+        return Err(reader.error(format!(
+            "shard {} ends before its task {k} ({} tasks expected): run its shard again",
+            head.shard,
+            expected.len()
+        )));
     }
-    let expected = shard.tasks(study.tasks());
-    let found: Vec<usize> = rows.iter().map(|(k, _)| *k).collect();
-    if found != expected {
-        let missing = expected.iter().find(|k| !found.contains(k));
-        let stray = found.iter().find(|k| !expected.contains(k));
-        return Err(part_error(
-            path,
-            3,
-            format!(
-                "shard {shard} has {} rows; expected its {} tasks {} to {} in order{}{}",
-                found.len(),
-                expected.len(),
-                expected.first().map_or("-".into(), usize::to_string),
-                expected.last().map_or("-".into(), usize::to_string),
-                missing.map_or(String::new(), |k| format!(" (task {k} is missing)")),
-                stray.map_or(String::new(), |k| format!(
-                    " (task {k} is not this shard's or is repeated)"
-                )),
-            ),
+    if digest.hex() != written {
+        return Err(reader.error(
+            "the rows (or the study) do not match the rows' digest: the part was edited or damaged; run its shard again",
         ));
     }
-    Ok(Part {
-        path: path.to_path_buf(),
-        shard,
-        study_json,
-        study,
-        rows,
-    })
+    if reader.next(MAX_ROW_BYTES)?.is_some() {
+        return Err(reader.error("text after the rows' digest; expected the end of the part"));
+    }
+    Ok(())
+}
+
+/// One part file as read and checked whole (its rows as the single run's records).
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// The part's head.
+    pub head: PartHead,
+    /// The study.
+    pub study: Study,
+    /// (task, the row's CSV record without the task column).
+    pub rows: Vec<(usize, String)>,
+}
+
+/// Reads and checks one part file: head, digests, every row.
+pub fn read_part(path: &Path) -> Result<Part> {
+    let mut reader = PartReader::open(path)?;
+    let head = read_head(&mut reader)?;
+    let study = Study::from_json(&head.study_json, &format!("{}:2", path.display()))?;
+    let mut rows = Vec::new();
+    read_rows(&mut reader, &head, &study, |k, r| rows.push((k, r)))?;
+    Ok(Part { head, study, rows })
 }
 
 /// The part files named by `inputs`: files as given, folders by their `part-*.csv`.
@@ -373,95 +742,138 @@ pub fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// The merged study: its table's columns and rows (CSV cells) in task order.
+/// A study's table: its columns and its rows as CSV records, in task order.
 #[derive(Debug, Clone)]
 pub struct Merged {
     /// The study.
     pub study: Study,
     /// The column names.
     pub columns: Vec<&'static str>,
-    /// The rows as CSV cells.
-    pub rows: Vec<Vec<String>>,
+    /// The rows, each one CSV record (fields quoted as needed, no line end).
+    pub records: Vec<String>,
 }
 
 impl Merged {
-    /// The table, as the single run writes it.
+    /// The table of rows of cells (a single run, or rows sent back by workers).
+    pub fn of_cells(study: Study, rows: &[Vec<Cell>]) -> Self {
+        Merged {
+            columns: study.columns(),
+            records: rows
+                .iter()
+                .map(|r| crate::output::csv_record(r.iter().map(Cell::csv)))
+                .collect(),
+            study,
+        }
+    }
+
+    /// Writes the table as the single run does: the header, then one record a line.
+    pub fn write_csv(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
+        writeln!(w, "{}", crate::output::csv_record(&self.columns))?;
+        for r in &self.records {
+            w.write_all(r.as_bytes())?;
+            w.write_all(b"\n")?;
+        }
+        Ok(())
+    }
+
+    /// The table as text (for small tables and tests; [`Merged::write_csv`] streams).
     pub fn csv(&self) -> String {
-        crate::output::csv(&self.columns, self.rows.iter().cloned())
+        let mut out = Vec::new();
+        // Writing into a Vec cannot fail.
+        let _ = self.write_csv(&mut out);
+        String::from_utf8_lossy(&out).into_owned()
+    }
+
+    /// Each row's fields.
+    pub fn rows(&self) -> impl Iterator<Item = Result<Vec<String>>> + '_ {
+        self.records.iter().enumerate().map(|(k, r)| {
+            crate::output::split_csv_record(r).map_err(|e| {
+                TuneError::Invalid(format!("{} row {}: {e}", self.study.kind(), k + 1))
+            })
+        })
     }
 }
 
-/// Joins the parts of one study; refuses missing, repeated or foreign shards.
+/// Joins the parts of one study; refuses missing, repeated or foreign shards, parts
+/// whose digests do not match, and rows that fail [`Study::check_row`]. Reads each part
+/// twice, line by line: first the heads of all (so a missing shard is found before any
+/// row is read), then the rows; memory is the merged table, not a multiple of the parts.
 pub fn merge(files: &[PathBuf]) -> Result<Merged> {
-    let parts = files
-        .iter()
-        .map(|f| read_part(f))
-        .collect::<Result<Vec<_>>>()?;
-    let first = &parts[0];
+    let mut heads = Vec::with_capacity(files.len());
+    for f in files {
+        heads.push(read_head(&mut PartReader::open(f)?)?);
+    }
+    let first = &heads[0];
+    let study = Study::from_json(&first.study_json, &format!("{}:2", first.path.display()))?;
     let count = first.shard.count;
-    let mut by_index: BTreeMap<usize, &Part> = BTreeMap::new();
-    for part in &parts {
-        if part.shard.count != count {
+    let mut by_index: BTreeMap<usize, &PartHead> = BTreeMap::new();
+    for head in &heads {
+        if head.shard.count != count {
             return Err(TuneError::Invalid(format!(
                 "{}: shard {} belongs to a split into {}; {} is a split into {count}: merge the parts of one split",
-                part.path.display(),
-                part.shard,
-                part.shard.count,
+                head.path.display(),
+                head.shard,
+                head.shard.count,
                 first.path.display()
             )));
         }
-        if part.study_json != first.study_json {
+        if head.study_json != first.study_json {
             return Err(TuneError::Invalid(format!(
-                "{}: shard {} is a part of another study than {} (their `# study` lines differ); merge the parts of one study",
-                part.path.display(),
-                part.shard,
+                "{}:2: shard {} is a part of another study than {} (their `# study` lines differ); merge the parts of one study",
+                head.path.display(),
+                head.shard,
                 first.path.display()
             )));
         }
-        if let Some(other) = by_index.insert(part.shard.index, part) {
+        if let Some(other) = by_index.insert(head.shard.index, head) {
             return Err(TuneError::Invalid(format!(
                 "shard {} is given twice: {} and {}; expected each shard once",
-                part.shard,
+                head.shard,
                 other.path.display(),
-                part.path.display()
+                head.path.display()
             )));
         }
     }
     let missing: Vec<String> = (1..=count)
         .filter(|i| !by_index.contains_key(i))
+        .take(11)
         .map(|i| format!("{i}/{count}"))
         .collect();
     if !missing.is_empty() {
+        let absent = count - by_index.len();
         let shown: Vec<&str> = missing.iter().take(10).map(String::as_str).collect();
         return Err(TuneError::Invalid(format!(
             "shard{} {}{} missing (found {} of {count} parts in {}); run {} with --shard and merge again",
-            if missing.len() > 1 { "s" } else { "" },
+            if absent > 1 { "s" } else { "" },
             shown.join(", "),
-            if missing.len() > shown.len() {
-                format!(" and {} more", missing.len() - shown.len())
+            if absent > shown.len() {
+                format!(" and {} more", absent - shown.len())
             } else {
                 String::new()
             },
-            parts.len(),
+            heads.len(),
             first
                 .path
                 .parent()
                 .map_or(".".into(), |p| p.display().to_string()),
-            first.study.kind(),
+            study.kind(),
         )));
     }
-    let total = first.study.tasks();
-    let mut rows: Vec<Option<Vec<String>>> = vec![None; total];
-    for part in by_index.values() {
-        for (k, row) in &part.rows {
-            rows[*k] = Some(row.clone());
+    // The task count is bounded by Study::from_json's check.
+    let mut records: Vec<Option<String>> = vec![None; study.tasks()];
+    for head in by_index.values() {
+        let mut reader = PartReader::open(&head.path)?;
+        let again = read_head(&mut reader)?;
+        if again.study_json != head.study_json || again.shard != head.shard {
+            return Err(reader.error("the part changed while it was merged; merge again"));
         }
+        read_rows(&mut reader, head, &study, |k, r| records[k] = Some(r))?;
     }
     Ok(Merged {
-        study: first.study.clone(),
-        columns: first.study.columns(),
-        // read_part checked each part's tasks, and every shard is present once.
-        rows: rows.into_iter().flatten().collect(),
+        columns: study.columns(),
+        // read_rows checked each part's tasks, and every shard is present once.
+        records: records.into_iter().flatten().collect(),
+        study,
     })
 }
 

@@ -299,12 +299,22 @@ impl ToleranceRow {
 const MAX_TASKS: usize = 10_000_000;
 
 impl ToleranceStudy {
-    /// Checks the study (bands of every spring, task count).
+    /// Checks the study (bands of every spring, at least 2 samples: one sample has no
+    /// spread; the task count, overflow-checked).
     pub fn check(&self) -> Result<()> {
+        if self.samples < 2 {
+            return Err(TuneError::Invalid(format!(
+                "{} samples per spring; expected at least 2 (one sample has no spread: its standard deviation is undefined)",
+                self.samples
+            )));
+        }
         for v in &self.sweep.variants {
             self.tolerances.bands(&v.name, &v.spring)?;
         }
-        let total = self.sweep.variants.len().checked_mul(self.samples + 1);
+        let total = self
+            .samples
+            .checked_add(1)
+            .and_then(|per| self.sweep.variants.len().checked_mul(per));
         if total.is_none_or(|t| t > MAX_TASKS) {
             return Err(TuneError::Invalid(format!(
                 "{} springs x {} samples: expected at most {MAX_TASKS} tasks",
@@ -315,15 +325,25 @@ impl ToleranceStudy {
         Ok(())
     }
 
-    /// Number of tasks: (samples + 1) per spring.
+    /// Number of tasks: (samples + 1) per spring (saturating: [`ToleranceStudy::check`]
+    /// refuses a study whose count overflows).
     pub fn tasks(&self) -> usize {
-        self.sweep.variants.len() * (self.samples + 1)
+        self.sweep
+            .variants
+            .len()
+            .saturating_mul(self.samples.saturating_add(1))
     }
 
-    /// Runs task `k`: the spring and sample it stands for, K and zeta.
-    pub fn run(&self, k: usize) -> Result<ToleranceRow> {
-        let per = self.samples + 1;
-        let variant = &self.sweep.variants[k / per];
+    /// Task `k`'s sampled spring (its variant with the drawn geometry), material and
+    /// sample number: a function of the study and `k` only.
+    pub fn sampled(
+        &self,
+        k: usize,
+    ) -> Result<(crate::case::Variant, crate::fe::SpringState, usize)> {
+        let per = self.samples.saturating_add(1);
+        let variant = self.sweep.variants.get(k / per).ok_or_else(|| {
+            TuneError::Invalid(format!("task {k}: the study has {} tasks", self.tasks()))
+        })?;
         let sample = k % per;
         let bands = self.tolerances.bands(&variant.name, &variant.spring)?;
         // u in [0, 1) -> nominal + half * (2u - 1); sample 0 is the nominal spring.
@@ -354,10 +374,17 @@ impl ToleranceStudy {
             paper_stiffness_n_mm: None,
             paper_damping_ratio: None,
         };
+        Ok((sampled, material, sample))
+    }
+
+    /// Runs task `k`: the spring and sample it stands for, K and zeta.
+    pub fn run(&self, k: usize) -> Result<ToleranceRow> {
+        let (sampled, material, sample) = self.sampled(k)?;
+        let spring = sampled.spring;
         let r = crate::sweep::run_variant(&material, &sampled, &self.sweep.fe, &self.sweep.decay)?;
         Ok(ToleranceRow {
             task: k,
-            spring: variant.name.clone(),
+            spring: sampled.name.clone(),
             sample,
             active_coils: spring.active_coils,
             mean_diameter_mm: spring.mean_diameter_mm,
@@ -458,41 +485,54 @@ pub struct Summary {
     pub springs: Vec<SpringSummary>,
 }
 
-/// The summary of a study's table (rows of CSV cells in [`COLUMNS`] order, as a single
-/// run or a merge gives them).
-pub fn summarize(study: &ToleranceStudy, rows: &[Vec<String>]) -> Result<Summary> {
+/// The summary of a study's table (rows of fields in [`COLUMNS`] order, as a single
+/// run or a merge gives them: [`crate::study::Merged::rows`]). One pass; memory is two
+/// numbers a row.
+pub fn summarize(
+    study: &ToleranceStudy,
+    rows: impl IntoIterator<Item = Result<Vec<String>>>,
+) -> Result<Summary> {
     let col = |name: &str| COLUMNS.iter().position(|c| *c == name).unwrap_or(0);
     let (spring_col, sample_col) = (col("spring"), col("sample"));
     let (k_col, z_col) = (col("stiffness_n_mm"), col("damping_ratio"));
     let number = |row: &Vec<String>, c: usize| {
         row.get(c)
             .and_then(|s| s.parse::<f64>().ok())
+            .filter(|x| x.is_finite())
             .ok_or_else(|| {
                 TuneError::Invalid(format!(
-                    "tolerance table: row {:?}: column `{}` is not a number",
-                    row.first(),
+                    "tolerance table: task {}: column `{}` is not a finite number",
+                    coil_io::excerpt(row.first().map_or("?", String::as_str)),
                     COLUMNS[c]
                 ))
             })
     };
-    let mut springs = Vec::new();
-    for v in &study.sweep.variants {
-        let mine: Vec<&Vec<String>> = rows
-            .iter()
-            .filter(|r| r.get(spring_col) == Some(&v.name))
-            .collect();
-        let mut nominal = None;
-        let (mut ks, mut zs) = (Vec::new(), Vec::new());
-        for row in mine {
-            let (k, z) = (number(row, k_col)?, number(row, z_col)?);
-            if number(row, sample_col)? == 0.0 {
-                nominal = Some((k, z));
-            } else {
-                ks.push(k);
-                zs.push(z);
-            }
+    let index: std::collections::HashMap<&str, usize> = study
+        .sweep
+        .variants
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.name.as_str(), i))
+        .collect();
+    let n = study.sweep.variants.len();
+    let mut nominal: Vec<Option<(f64, f64)>> = vec![None; n];
+    let (mut ks, mut zs) = (vec![Vec::new(); n], vec![Vec::new(); n]);
+    for row in rows {
+        let row = row?;
+        let Some(&i) = row.get(spring_col).and_then(|s| index.get(s.as_str())) else {
+            continue;
+        };
+        let (k, z) = (number(&row, k_col)?, number(&row, z_col)?);
+        if number(&row, sample_col)? == 0.0 {
+            nominal[i] = Some((k, z));
+        } else {
+            ks[i].push(k);
+            zs[i].push(z);
         }
-        let (k0, z0) = nominal.ok_or_else(|| {
+    }
+    let mut springs = Vec::new();
+    for (i, v) in study.sweep.variants.iter().enumerate() {
+        let (k0, z0) = nominal[i].ok_or_else(|| {
             TuneError::Invalid(format!(
                 "tolerance table: spring {} has no nominal sample (sample 0)",
                 v.name
@@ -503,9 +543,9 @@ pub fn summarize(study: &ToleranceStudy, rows: &[Vec<String>]) -> Result<Summary
             bands: study.tolerances.bands(&v.name, &v.spring)?,
             nominal_stiffness_n_mm: k0,
             nominal_damping_ratio: z0,
-            samples: ks.len(),
-            stiffness_n_mm: Distribution::of(&ks),
-            damping_ratio: Distribution::of(&zs),
+            samples: ks[i].len(),
+            stiffness_n_mm: Distribution::of(&ks[i]),
+            damping_ratio: Distribution::of(&zs[i]),
         });
     }
     Ok(Summary {
@@ -556,13 +596,12 @@ impl Summary {
 /// `tolerance_summary.json`, `tolerance.md` and `tolerance.png`. Returns the summary.
 pub fn write(
     study: &ToleranceStudy,
-    csv: &str,
-    rows: &[Vec<String>],
+    table: &crate::study::Merged,
     out: &crate::output::OutDir,
     plots: bool,
 ) -> Result<Summary> {
-    let summary = summarize(study, rows)?;
-    out.write("tolerance.csv", csv.as_bytes())?;
+    let summary = summarize(study, table.rows())?;
+    crate::cli::stage_table(table, out)?;
     out.write("tolerance_summary.json", summary.json().as_bytes())?;
     let md = format!(
         "# Tolerance study\n\nseed {}, {} samples per spring ({}), percentiles relative to the nominal spring:\n\n```\n{}```\n",

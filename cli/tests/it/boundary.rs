@@ -233,3 +233,166 @@ fn a_closed_stdout_is_not_a_panic() {
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     assert!(dir.path().join("out/procedure.json").is_file());
 }
+
+fn as_str(a: &[String]) -> Vec<&str> {
+    a.iter().map(String::as_str).collect()
+}
+
+/// The visible content of an output folder: every entry's relative path and bytes
+/// (hidden entries other than the manifest left out: the lock of a killed run).
+fn visible(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(at) = stack.pop() {
+        for e in std::fs::read_dir(&at).into_iter().flatten().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') && name != ".coil-manifest" {
+                continue;
+            }
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().display().to_string();
+                out.push((rel, std::fs::read(&p).unwrap_or_default()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// SIGKILL at every file-system step of `merge` and of `tolerance` (each `rename`,
+/// `link`, `unlink` and `mkdir` system call, in turn, injected by strace): the output
+/// folder holds the previous set or the new one, never a mix, and the next run leaves
+/// the new set and nothing beside it. Needs `strace`; run with `--ignored` (a few
+/// hundred runs, about a minute).
+#[test]
+#[ignore]
+fn a_kill_at_every_rename_leaves_a_whole_set() {
+    if Command::new("strace").arg("-V").output().is_err() {
+        eprintln!("strace not found: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    std::fs::write(
+        root.join("variants.json"),
+        r##"{"variants": [
+  { "name": "#1", "active_coils": 14.0, "mean_diameter_mm": 28.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 },
+  { "name": "#4", "active_coils": 14.0, "mean_diameter_mm": 20.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 }
+]}"##,
+    )
+    .unwrap();
+    let case = paper_case();
+    let tolerance = |seed: &str, out: &str, shard: Option<&str>| -> Vec<String> {
+        let mut args: Vec<String> = [
+            "tolerance",
+            case.to_str().unwrap(),
+            "--variants",
+            "variants.json",
+            "--paper-material",
+            "--elements-per-coil",
+            "6",
+            "--samples",
+            "2",
+            "--seed",
+            seed,
+            "-q",
+            "--out",
+            out,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        if let Some(s) = shard {
+            args.extend(["--shard".to_string(), s.to_string()]);
+        }
+        args
+    };
+    for (seed, parts) in [("7", "parts7"), ("8", "parts8")] {
+        for shard in ["1/2", "2/2"] {
+            let args = tolerance(seed, parts, Some(shard));
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            assert!(run(&args, root).status.success());
+        }
+    }
+    let merge = |parts: &str| -> Vec<String> {
+        ["merge", parts, "--out", "out", "-q"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    };
+    let commands: Vec<(&str, Vec<String>, Vec<String>)> = vec![
+        ("merge", merge("parts7"), merge("parts8")),
+        (
+            "tolerance",
+            tolerance("7", "out", None),
+            tolerance("8", "out", None),
+        ),
+    ];
+    for (name, previous_args, new_args) in commands {
+        let fresh = |args: &Vec<String>| {
+            let _ = std::fs::remove_dir_all(root.join("out"));
+            assert!(run(&as_str(args), root).status.success());
+            visible(&root.join("out"))
+        };
+        let new_set = fresh(&new_args);
+        let previous_set = fresh(&previous_args);
+        assert_ne!(previous_set, new_set);
+        let (mut kills, mut previous, mut new) = (0, 0, 0);
+        for syscall in [
+            "rename",
+            "renameat",
+            "renameat2",
+            "link",
+            "linkat",
+            "unlink",
+            "unlinkat",
+            "mkdir",
+            "mkdirat",
+            "rmdir",
+        ] {
+            for when in 1.. {
+                fresh(&previous_args);
+                let o = Command::new("strace")
+                    .args(["-f", "-qq", "-o", "/dev/null", "-e"])
+                    .arg(format!("inject={syscall}:signal=KILL:when={when}"))
+                    .arg(env!("CARGO_BIN_EXE_coil-tune"))
+                    .args(as_str(&new_args))
+                    .current_dir(root)
+                    .output()
+                    .unwrap();
+                let after = visible(&root.join("out"));
+                if o.status.success() {
+                    assert_eq!(after, new_set, "{name}: {syscall} #{when}: not killed");
+                    break;
+                }
+                kills += 1;
+                if after == previous_set {
+                    previous += 1;
+                } else if after == new_set {
+                    new += 1;
+                } else {
+                    panic!(
+                        "{name}: killed at {syscall} #{when}: a mixed folder: {:?}",
+                        after.iter().map(|(n, _)| n).collect::<Vec<_>>()
+                    );
+                }
+                // The next run cleans up and leaves the new set, nothing beside it.
+                assert!(run(&as_str(&new_args), root).status.success());
+                assert_eq!(visible(&root.join("out")), new_set);
+                let beside: Vec<String> = std::fs::read_dir(root)
+                    .unwrap()
+                    .flatten()
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.contains(".coil-staging"))
+                    .collect();
+                assert!(beside.is_empty(), "{name}: {beside:?}");
+            }
+        }
+        eprintln!(
+            "{name}: {kills} kill points: {previous} left the previous set, {new} the new set, 0 mixed"
+        );
+    }
+}

@@ -328,7 +328,7 @@ fn sweep_gives_table4_stiffness() {
 
 const TWO_VARIANTS: &str = r##"{"variants": [
   { "name": "#1", "active_coils": 14.0, "mean_diameter_mm": 28.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 },
-  { "name": "#4", "active_coils": 14.0, "mean_diameter_mm": 20.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 }
+  { "name": "#4, \"wide\"", "active_coils": 14.0, "mean_diameter_mm": 20.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 }
 ]}"##;
 
 /// A tolerance study run whole and as 4 shards merged: the same table and summary, byte
@@ -379,6 +379,10 @@ fn tolerance_shards_merge_to_the_single_run() {
     }
     let table = std::fs::read_to_string(dir.path().join("single/tolerance.csv")).unwrap();
     assert_eq!(table.lines().count(), 1 + 2 * 3, "{table}");
+    // A name with a comma and quotes is one quoted field (RFC 4180): every row has the
+    // header's 12 fields.
+    assert!(table.contains(",\"#4, \"\"wide\"\"\","), "{table}");
+    tampered_parts_are_refused(dir.path());
 
     // A missing shard.
     let part = |i: usize| format!("parts/part-{i:04}-of-0004.csv");
@@ -442,4 +446,223 @@ fn tolerance_shards_merge_to_the_single_run() {
         "{}",
         text(&o.stderr)
     );
+}
+
+/// Every edit of a part that a careless or hostile hand may make is refused with exit 1,
+/// naming the file and line, and the output folder is left without a table: an edited
+/// or non-finite K, a negative one, a truncated field or file, an edited `# study`
+/// line in every part (with or without its digest recomputed), counts that would
+/// overflow or exhaust memory (2^62 and 1e12 samples).
+fn tampered_parts_are_refused(root: &Path) {
+    let parts = root.join("parts");
+    let names: Vec<PathBuf> = (1..=4)
+        .map(|i| parts.join(format!("part-{i:04}-of-0004.csv")))
+        .collect();
+    let original: Vec<String> = names
+        .iter()
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    // task, then tolerance.csv's columns: stiffness_n_mm is the 11th.
+    const K_COLUMN: usize = 10;
+    let edit_k = |text: &str, k: &str| -> String {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let fields: Vec<String> = lines[4].split(',').map(str::to_string).collect();
+        let mut f = fields.clone();
+        f[K_COLUMN] = k.to_string();
+        lines[4] = f.join(",");
+        lines.join("\n") + "\n"
+    };
+    let study_line = |text: &str| text.lines().nth(1).unwrap().to_string();
+    let redigest = |text: &str, study: &str| -> String {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        lines[1] = study.to_string();
+        let json = study.strip_prefix("# study ").unwrap();
+        lines[2] = format!(
+            "# study-sha256 {}",
+            coil_io::digest::sha256_hex(json.as_bytes())
+        );
+        lines.join("\n") + "\n"
+    };
+    let k = original[0]
+        .lines()
+        .nth(4)
+        .unwrap()
+        .split(',')
+        .nth(K_COLUMN)
+        .unwrap()
+        .to_string();
+    let slightly: f64 = k.parse::<f64>().unwrap() * 1.001;
+    type Edit<'a> = Box<dyn Fn(usize, &str) -> String + 'a>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        (
+            "edited K",
+            Box::new(move |i, t| {
+                if i == 0 {
+                    edit_k(t, &slightly.to_string())
+                } else {
+                    t.into()
+                }
+            }),
+            "digest",
+        ),
+        (
+            "NaN K",
+            Box::new(move |i, t| if i == 0 { edit_k(t, "NaN") } else { t.into() }),
+            "finite",
+        ),
+        (
+            "inf K",
+            Box::new(move |i, t| if i == 0 { edit_k(t, "inf") } else { t.into() }),
+            "finite",
+        ),
+        (
+            "-inf K",
+            Box::new(move |i, t| if i == 0 { edit_k(t, "-inf") } else { t.into() }),
+            "finite",
+        ),
+        (
+            "1e400 K",
+            Box::new(move |i, t| if i == 0 { edit_k(t, "1e400") } else { t.into() }),
+            "finite",
+        ),
+        (
+            "negative K",
+            Box::new(move |i, t| if i == 0 { edit_k(t, "-3.9") } else { t.into() }),
+            "stiffness_n_mm",
+        ),
+        (
+            "truncated last field",
+            Box::new(|i, t: &str| {
+                if i == 3 {
+                    let body = t
+                        .lines()
+                        .take(t.lines().count() - 1)
+                        .collect::<Vec<_>>()
+                        .join("\n");
+                    body[..body.len() - 3].to_string() + "\n"
+                } else {
+                    t.into()
+                }
+            }),
+            "rows-sha256",
+        ),
+        (
+            "truncated file",
+            Box::new(|i, t: &str| {
+                if i == 1 {
+                    t[..t.len() * 2 / 3].to_string()
+                } else {
+                    t.into()
+                }
+            }),
+            "part-0002",
+        ),
+        (
+            "seed edited in every part",
+            Box::new(|_, t: &str| t.replacen("\"seed\":7", "\"seed\":9", 1)),
+            "digest",
+        ),
+        (
+            "alpha edited in every part, digests recomputed",
+            Box::new(move |_, t: &str| {
+                let s = study_line(t).replacen("\"alpha\":", "\"alpha\":1", 1);
+                redigest(t, &s)
+            }),
+            "digest",
+        ),
+        (
+            "2^62 samples",
+            Box::new(move |_, t: &str| {
+                let s =
+                    study_line(t).replacen("\"samples\":2", "\"samples\":4611686018427387904", 1);
+                redigest(t, &s)
+            }),
+            "at most 10000000 tasks",
+        ),
+        (
+            "1e12 samples",
+            Box::new(move |_, t: &str| {
+                let s = study_line(t).replacen("\"samples\":2", "\"samples\":1000000000000", 1);
+                redigest(t, &s)
+            }),
+            "at most 10000000 tasks",
+        ),
+        (
+            "1 sample",
+            Box::new(move |_, t: &str| {
+                let s = study_line(t).replacen("\"samples\":2", "\"samples\":1", 1);
+                redigest(t, &s)
+            }),
+            "at least 2",
+        ),
+    ];
+    for (label, edit, expected) in &cases {
+        for (i, p) in names.iter().enumerate() {
+            std::fs::write(p, edit(i, &original[i])).unwrap();
+        }
+        let o = run(&["merge", "parts", "--out", "tampered", "--no-plots"], root);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{label}: {err}");
+        assert!(err.contains(expected), "{label}: {err}");
+        assert!(err.contains("part-000"), "{label}: names the file: {err}");
+        assert!(err.len() < 1024, "{label}: {} bytes", err.len());
+        assert!(!root.join("tampered/tolerance.csv").exists(), "{label}");
+    }
+    for (p, t) in names.iter().zip(&original) {
+        std::fs::write(p, t).unwrap();
+    }
+}
+
+/// `-q` is accepted by every command, so a script can pass it uniformly.
+#[test]
+fn every_command_takes_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    for command in [
+        "calibrate",
+        "sweep",
+        "tolerance",
+        "merge",
+        "paper",
+        "diagnose",
+        "damping",
+        "run",
+    ] {
+        let o = run(&[command, "--help"], dir.path());
+        let help = text(&o.stdout);
+        assert!(help.contains("-q, --quiet"), "{command}: {help}");
+    }
+}
+
+/// `--samples` below 2 (no spread) or so large that the task count overflows is refused
+/// before any work, with the number and what is expected.
+#[test]
+fn samples_are_at_least_two_and_overflow_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("variants.json"), TWO_VARIANTS).unwrap();
+    let case = case_dir();
+    for (samples, expected) in [
+        ("0", "at least 2"),
+        ("1", "at least 2"),
+        ("18446744073709551615", "at most 10000000 tasks"),
+        ("9223372036854775807", "at most 10000000 tasks"),
+    ] {
+        let o = run(
+            &[
+                "tolerance",
+                case.to_str().unwrap(),
+                "--variants",
+                "variants.json",
+                "--paper-material",
+                "--samples",
+                samples,
+                "-q",
+                "--out",
+                "t",
+            ],
+            dir.path(),
+        );
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{samples}: {err}");
+        assert!(err.contains(expected), "{samples}: {err}");
+    }
 }

@@ -1,16 +1,23 @@
-//! A seeded, time-bounded fuzz test of the file boundary through the real binaries
-//! (issue 9): mutated decks (`coil-solve`), case folders with hostile record entries and
-//! mutated records (`coil-tune run`, `coil-tune calibrate`), mutated CSV records
-//! (`coil-post`) and mutated procedure files (`coil-tune run`). For every input:
-//! - no panic (exit 0, 1 or 2; no `panicked` on stderr) and no hang (killed after
-//!   [`HANG_S`] seconds);
+//! A seeded fuzz test of the file boundary through the real binaries, with a fixed
+//! budget: mutated decks, free and Mentat fixed format, with hostile long lines
+//! (`coil-solve`), case folders with hostile record entries and mutated records
+//! (`coil-tune run`, `coil-tune calibrate`), mutated CSV records (`coil-post`), mutated
+//! procedure files (`coil-tune run`) and mutated part files of a sharded study
+//! (`coil-tune merge`). For every input:
+//! - no panic (exit 0, 1 or 2; no `panicked` on stderr), no abort (no signal) and no
+//!   hang (killed after [`HANG_S`] seconds);
 //! - nothing outside the output folder touched (a snapshot of the sandbox: every path,
 //!   its size and modification time, before and after);
-//! - no half set: no lock and no staging folder left in the output folder, every file
-//!   of its manifest present, and a failed run leaves the previous manifest unchanged.
+//! - no half set: no lock and no staging folder left in or beside the output folder,
+//!   every file of its manifest present, and a failed run leaves the previous manifest
+//!   unchanged;
+//! - an error message under 1 KB without terminal control characters;
+//! - parts: a merge that succeeds gives exactly the untampered table (no silent
+//!   acceptance of a tampered part).
 //!
 //! The random generator is a fixed-seed xorshift, so each input is reproducible from its
-//! index; the number of inputs depends on the time budget ([`BUDGET_S`] per family) and is
+//! index. The default run takes a small fixed number of inputs per family (seconds); set
+//! `COIL_FUZZ_INPUTS=N` for N per family (a nightly run: e.g. 500). The counts are
 //! printed. `coil-solve` and `coil-post` are taken beside `coil-tune` (built by `cargo test
 //! --workspace`); their families are skipped with a note if absent.
 
@@ -19,8 +26,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-const BUDGET_S: f64 = 10.0;
+/// Inputs per family in the default run.
+const DEFAULT_INPUTS: usize = 20;
 const HANG_S: u64 = 60;
+
+/// Inputs per family: `COIL_FUZZ_INPUTS` or [`DEFAULT_INPUTS`].
+fn budget() -> usize {
+    std::env::var("COIL_FUZZ_INPUTS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(DEFAULT_INPUTS)
+}
 
 struct Rng(u64);
 
@@ -101,9 +117,20 @@ fn check(label: &str, mut cmd: Command, sandbox: &Path, out: &Path) -> i32 {
         .unwrap();
     let code = status
         .code()
-        .unwrap_or_else(|| panic!("{label}: killed by a signal: {err}"));
+        .unwrap_or_else(|| panic!("{label}: killed by a signal (an abort): {err}"));
     assert!(matches!(code, 0..=2), "{label}: exit {code}: {err}");
     assert!(!err.contains("panicked"), "{label}: {err}");
+    if code != 0 {
+        assert!(
+            err.len() < 1024,
+            "{label}: a message of {} bytes",
+            err.len()
+        );
+        assert!(
+            !err.contains('\u{1b}') && !err.contains('\u{0}'),
+            "{label}: control characters in {err:?}"
+        );
+    }
     let after = snapshot(sandbox, out);
     assert_eq!(
         before, after,
@@ -115,6 +142,13 @@ fn check(label: &str, mut cmd: Command, sandbox: &Path, out: &Path) -> i32 {
             assert!(
                 !name.starts_with(".coil-staging") && name != ".coil-lock",
                 "{label}: {name} left in the output folder"
+            );
+        }
+        for e in std::fs::read_dir(sandbox).unwrap().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            assert!(
+                !name.contains(".coil-staging"),
+                "{label}: {name} left beside the output folder"
             );
         }
         if let Some(m) = manifest(out) {
@@ -217,31 +251,37 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// Runs `one(i, rng, sandbox)` for each input until the family's budget is spent.
+/// Runs `one(i, rng, sandbox)` for each of the family's inputs ([`budget`]).
 fn family(name: &str, seed: u64, mut one: impl FnMut(usize, &mut Rng, &Path) -> i32) {
     let start = Instant::now();
     let mut rng = Rng(seed);
-    let (mut n, mut ok) = (0, 0);
-    while start.elapsed().as_secs_f64() < BUDGET_S {
+    let n = budget();
+    let mut ok = 0;
+    for i in 0..n {
         let sandbox = tempfile::tempdir().unwrap();
-        if one(n, &mut rng, sandbox.path()) == 0 {
+        if one(i, &mut rng, sandbox.path()) == 0 {
             ok += 1;
         }
-        n += 1;
     }
     eprintln!(
-        "fuzz {name}: {n} inputs ({ok} accepted, {} refused cleanly)",
-        n - ok
+        "fuzz {name}: {n} inputs ({ok} accepted, {} refused cleanly; 0 panics, 0 aborts, 0 hangs) in {:.1} s",
+        n - ok,
+        start.elapsed().as_secs_f64()
     );
-    assert!(n > 0);
 }
 
 #[test]
 fn hostile_inputs_through_the_real_binaries() {
-    let decks: Vec<String> = ["cantilever_marc.dat", "every_card.dat", "friction_sdof.dat"]
-        .iter()
-        .map(|f| std::fs::read_to_string(repo().join("tests/decks/good").join(f)).unwrap())
-        .collect();
+    let decks: Vec<String> = [
+        "cantilever_marc.dat",
+        "every_card.dat",
+        "friction_sdof.dat",
+        "mentat_cantilever.dat",
+        "marc_normal_fixed.dat",
+    ]
+    .iter()
+    .map(|f| std::fs::read_to_string(repo().join("tests/decks/good").join(f)).unwrap())
+    .collect();
     match bin("coil-solve") {
         Some(solve) => family("decks", 0x9e3779b97f4a7c15, |i, rng, sandbox| {
             let mut deck = mutate(&decks[rng.below(decks.len())], rng);
@@ -253,6 +293,16 @@ fn hostile_inputs_through_the_real_binaries() {
                     &format!("define, element, set, rep\n{list}\nisotropic,"),
                     1,
                 );
+            }
+            if rng.below(4) == 0 {
+                // A hostile fixed-format line: a long run of blanks (or of digits) and
+                // one character, below or above the line bound.
+                let mut lines: Vec<String> = deck.lines().map(str::to_string).collect();
+                let at = rng.below(lines.len());
+                let fill = if rng.below(2) == 0 { " " } else { "9" };
+                let length = [79, 161, 99_999, 100_001, 4_000_000][rng.below(5)];
+                lines.insert(at, format!("{}x", fill.repeat(length)));
+                deck = lines.join("\n") + "\n";
             }
             std::fs::write(sandbox.join("d.dat"), deck).unwrap();
             let out = sandbox.join("out");
@@ -423,4 +473,75 @@ fn hostile_inputs_through_the_real_binaries() {
         check(&format!("procedure {i}"), c, sandbox, &sandbox.join("out"))
     });
     assert!(!Path::new("/tmp/coil-fuzz.dat").exists() && !Path::new("/tmp/coil-fuzz").exists());
+
+    parts_family(&paper);
+}
+
+/// Mutated part files of a tolerance study (2 springs x 3 samples, 2 shards): every
+/// merge is refused cleanly or gives exactly the untampered table.
+fn parts_family(paper: &Path) {
+    let base = tempfile::tempdir().unwrap();
+    std::fs::write(
+        base.path().join("variants.json"),
+        r##"{"variants": [
+  { "name": "#1", "active_coils": 14.0, "mean_diameter_mm": 28.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 },
+  { "name": "A,B \"q\"", "active_coils": 14.0, "mean_diameter_mm": 20.0, "wire_diameter_mm": 3.0, "pitch_mm": 6.2 }
+]}"##,
+    )
+    .unwrap();
+    for shard in ["1/2", "2/2"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_coil-tune"))
+            .args([
+                "tolerance",
+                paper.to_str().unwrap(),
+                "--variants",
+                "variants.json",
+            ])
+            .args([
+                "--paper-material",
+                "--elements-per-coil",
+                "6",
+                "--samples",
+                "2",
+            ])
+            .args(["--no-plots", "-q", "--out", "parts", "--shard", shard])
+            .current_dir(base.path())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_coil-tune"))
+        .args(["merge", "parts", "--out", "good", "--no-plots", "-q"])
+        .current_dir(base.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let good = std::fs::read(base.path().join("good/tolerance.csv")).unwrap();
+    let names = ["part-0001-of-0002.csv", "part-0002-of-0002.csv"];
+    let texts: Vec<String> = names
+        .iter()
+        .map(|n| std::fs::read_to_string(base.path().join("parts").join(n)).unwrap())
+        .collect();
+    let mut silent = 0;
+    family("part files", 0xd6e8feb86659fd93, |i, rng, sandbox| {
+        std::fs::create_dir(sandbox.join("parts")).unwrap();
+        let victim = rng.below(2);
+        for (k, (name, text)) in names.iter().zip(&texts).enumerate() {
+            let text = if k == victim || rng.below(4) == 0 {
+                mutate(text, rng)
+            } else {
+                text.clone()
+            };
+            std::fs::write(sandbox.join("parts").join(name), text).unwrap();
+        }
+        let mut c = Command::new(env!("CARGO_BIN_EXE_coil-tune"));
+        c.args(["merge", "parts", "--out", "out", "--no-plots", "-q"]);
+        let code = check(&format!("parts {i}"), c, sandbox, &sandbox.join("out"));
+        if code == 0 && std::fs::read(sandbox.join("out/tolerance.csv")).ok() != Some(good.clone())
+        {
+            silent += 1;
+        }
+        code
+    });
+    assert_eq!(silent, 0, "tampered parts merged into another table");
 }

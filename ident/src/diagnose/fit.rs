@@ -226,6 +226,9 @@ impl Problem<'_> {
     /// record's initial state after them), each over its samples up to its window's end
     /// (`whole`: over all its samples), and every record's initial state.
     fn simulate(&self, p: &[f64], whole: bool) -> Result<(Vec<f64>, Vec<f64>), String> {
+        if coil_io::cancel::requested() {
+            return Err(coil_io::cancel::INTERRUPTED.into());
+        }
         let k = self.knobs.len();
         let phys = self.physical(&p[..k]);
         let mut sim = vec![0.0; self.measured.len()];

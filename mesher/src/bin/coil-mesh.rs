@@ -276,7 +276,10 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
-            eprintln!("coil-mesh: {message}");
+            eprintln!(
+                "coil-mesh: {}",
+                coil_io::clean_message(&message.to_string())
+            );
             ExitCode::from(2)
         }
     }

@@ -290,7 +290,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error}");
+            eprintln!("error: {}", coil_io::clean_message(&error.to_string()));
             ExitCode::from(1)
         }
     }

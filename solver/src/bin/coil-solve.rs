@@ -234,8 +234,11 @@ fn main() -> ExitCode {
             // DOFs and elements of the deck given on the command line. Every message
             // already includes its cause, so the source chain is not repeated.
             match &e {
-                Error::Solve(_) => eprintln!("error: {}: {e}", cli.deck.display()),
-                _ => eprintln!("error: {e}"),
+                Error::Solve(_) => eprintln!(
+                    "error: {}",
+                    coil_io::clean_message(&format!("{}: {e}", cli.deck.display()))
+                ),
+                _ => eprintln!("error: {}", coil_io::clean_message(&e.to_string())),
             }
             ExitCode::FAILURE
         }

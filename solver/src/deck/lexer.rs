@@ -100,6 +100,10 @@ impl Line {
     }
 }
 
+/// The longest deck line, bytes: far above any card's (a list is continued on the next
+/// line), low enough that a hostile line costs milliseconds.
+pub(crate) const MAX_LINE_BYTES: usize = 100_000;
+
 /// A problem found while splitting text into lines: where and what.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct LexError {
@@ -131,6 +135,15 @@ pub(crate) fn lex(text: &str) -> Result<Vec<Line>, LexError> {
     let mut lines = Vec::new();
     for (i, raw) in raws.iter().copied().enumerate() {
         let no = i + 1;
+        if raw.len() > MAX_LINE_BYTES {
+            return Err(LexError {
+                loc: Loc::new(no, MAX_LINE_BYTES + 1),
+                message: format!(
+                    "a line of {} bytes; deck lines hold at most {MAX_LINE_BYTES} (Marc's fixed format uses 80 columns, extended 160; continue a long list on the next line with `c`)",
+                    raw.len()
+                ),
+            });
+        }
         for (c, ch) in raw.chars().enumerate() {
             if ch.is_control() && ch != '\t' {
                 return Err(LexError {
@@ -243,8 +256,11 @@ fn cut_fixed(no: usize, raw: &str, w: Widths) -> Cut {
         p = end;
     }
     let mut error = None;
+    // One past the last non-blank character: the tests below are O(1), so cutting a
+    // line is linear in its length (a blank run is not rescanned field by field).
+    let text_end = chars.iter().rposition(|&c| !blank(c)).map_or(0, |i| i + 1);
     while p < n {
-        if chars[p..].iter().all(|&c| blank(c)) {
+        if p >= text_end {
             break;
         }
         // A field's text is one token within its columns; a token may touch the
@@ -290,7 +306,7 @@ fn cut_fixed(no: usize, raw: &str, w: Widths) -> Cut {
             continue;
         }
         if i.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
-            let end = if chars[(p + w.word).min(n)..].iter().all(|&c| blank(c)) {
+            let end = if (p + w.word).min(n) >= text_end {
                 n
             } else {
                 (p + w.word).min(n)
@@ -774,6 +790,21 @@ mod tests {
         assert_eq!(lines[0].fixed, Some(NORMAL));
         let lines = lex("ELEMENTS, 98\n1 2\n").unwrap();
         assert_eq!(lines[1].fixed, None);
+    }
+
+    #[test]
+    fn long_lines_are_cut_in_linear_time_and_bounded() {
+        // 90,000 blanks and one character: 18,000 blank fields, cut at once.
+        let line = format!("{}7\n", " ".repeat(90_000));
+        let start = std::time::Instant::now();
+        let lines = lex(&format!("title x\n{line}")).unwrap();
+        assert!(start.elapsed().as_secs_f64() < 2.0, "{:?}", start.elapsed());
+        assert_eq!(lines[1].fields.last().unwrap().text, "7");
+        // Four million blanks: refused at once, naming the line.
+        let huge = format!("title x\n{}x\n", " ".repeat(4_000_000));
+        let e = lex(&huge).unwrap_err();
+        assert_eq!(e.loc.line, 2);
+        assert!(e.message.contains("at most 100000"), "{}", e.message);
     }
 
     #[test]

@@ -7,6 +7,13 @@
 /// constraint elimination); times are in the operator's unit (s in coil).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum IntegrateError {
+    /// A stop was requested (`coil_io::cancel`: Ctrl-C from Python).
+    #[error("interrupted (Ctrl-C) at step {step}")]
+    Interrupted {
+        /// The step reached.
+        step: usize,
+    },
+
     /// The time step is zero, negative or not finite.
     #[error("time step dt = {dt} must be finite and > 0")]
     InvalidTimeStep {

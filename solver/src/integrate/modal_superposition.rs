@@ -439,6 +439,9 @@ pub fn integrate_modal(
 
     emit(0, t0, &x, &p_n, &mut qdd)?;
     for k in 1..=n_steps {
+        if k % 64 == 0 && coil_io::cancel::requested() {
+            return Err(IntegrateError::Interrupted { step: k });
+        }
         let t = t0 + k as f64 * dt;
         p_next.fill(0.0);
         modal_load(t, &mut p_next);

@@ -580,6 +580,9 @@ impl Stepper {
         force(t0, &mut f_n);
         observer(0, state);
         for k in 1..=n_steps {
+            if k % 64 == 0 && coil_io::cancel::requested() {
+                return Err(IntegrateError::Interrupted { step: k });
+            }
             let t = t0 + k as f64 * self.dt;
             f_next.fill(0.0);
             force(t, &mut f_next);

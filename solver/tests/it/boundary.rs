@@ -295,7 +295,11 @@ fn a_killed_run_leaves_the_previous_set_and_the_next_run_cleans_up() {
         .spawn()
         .unwrap();
     let start = std::time::Instant::now();
-    while !names(&out).iter().any(|n| n.starts_with(".coil-staging")) {
+    // The run stages its files in a hidden sibling of the output folder.
+    while !names(out.parent().unwrap())
+        .iter()
+        .any(|n| n.contains(".coil-staging"))
+    {
         assert!(
             child.try_wait().unwrap().is_none(),
             "finished before the kill"

@@ -124,6 +124,9 @@ pub(super) fn run_direct(
             recorder.record_free(state.t, &state.u, &state.v, &state.a);
         }
         for k in 1..=steps {
+            if k % 64 == 0 && coil_io::cancel::requested() {
+                return Err(fail(crate::error::IntegrateError::Interrupted { step: k }));
+            }
             let t = k as f64 * dt;
             f_next.fill(0.0);
             force(t, &mut f_next);

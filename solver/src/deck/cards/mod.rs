@@ -139,10 +139,14 @@ pub(crate) fn nearest(words: &[&str], k: usize) -> Vec<&'static str> {
         .collect()
 }
 
-/// Levenshtein distance.
+/// Optimal string alignment distance: Levenshtein's insertions, deletions and
+/// substitutions plus the swap of two adjacent characters as one edit, the commonest typo
+/// (`LAOD` is one edit from `LOAD`, as `POINT` is from `PRINT`).
 fn edit_distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
+    // Three rows: i - 2 (for the swap), i - 1 and i.
+    let mut before: Vec<usize> = vec![0; b.len() + 1];
     let mut prev: Vec<usize> = (0..=b.len()).collect();
     let mut cur = vec![0; b.len() + 1];
     for i in 1..=a.len() {
@@ -150,7 +154,11 @@ fn edit_distance(a: &str, b: &str) -> usize {
         for j in 1..=b.len() {
             let subst = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
             cur[j] = subst.min(prev[j] + 1).min(cur[j - 1] + 1);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                cur[j] = cur[j].min(before[j - 2] + 1);
+            }
         }
+        std::mem::swap(&mut before, &mut prev);
         std::mem::swap(&mut prev, &mut cur);
     }
     prev[b.len()]
@@ -294,6 +302,10 @@ mod tests {
         assert_eq!(nearest(&["isotropik"], 1), ["ISOTROPIC"]);
         assert_eq!(nearest(&["ENDOPTION"], 1), ["END OPTION"]);
         assert_eq!(nearest(&["POINT", "LAOD", "1"], 1), ["POINT LOAD"]);
+        assert_eq!(edit_distance("LAOD", "LOAD"), 1);
+        assert_eq!(edit_distance("POINT", "PRINT"), 1);
+        assert_eq!(edit_distance("KITTEN", "SITTING"), 3);
+        assert_eq!(edit_distance("CA", "ABC"), 3);
         assert!(!nearest(&["x"], 3).is_empty());
         assert!(nearest(&["x"], 3).len() <= 3);
     }

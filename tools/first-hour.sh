@@ -21,9 +21,11 @@ for run in $(seq "$runs"); do
   cd "$work/coil"
   load0=$(cut -d' ' -f1 /proc/loadavg)
   t0=$(date +%s.%N)
-  cargo run --release -p coil-tune -- paper --out out/paper > "$work/main.log" 2>&1
+  cargo run --release -p coil-tune -- paper --out out/paper > "$work/main.log" 2>&1 ||
+    { tail -30 "$work/main.log"; echo "the main job failed"; exit 1; }
   t1=$(date +%s.%N)
-  cargo test --release --workspace --locked > "$work/test.log" 2>&1
+  cargo test --release --workspace --locked > "$work/test.log" 2>&1 ||
+    { grep -E 'FAILED|panicked' "$work/test.log" | head -30; echo "the test command failed"; exit 1; }
   t2=$(date +%s.%N)
   load1=$(cut -d' ' -f1 /proc/loadavg)
   main=$(awk -v a="$t0" -v b="$t1" 'BEGIN {print b - a}')

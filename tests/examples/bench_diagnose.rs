@@ -2,9 +2,9 @@
 //! time, with the confusion table and parameter errors:
 //! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|all] [NAME...]`
 //!
-//! Every selected case (`coil_tests::truth::standard_cases()` of issue 5,
-//! `extended_cases()` (the columns and artefacts labs record), `hard_cases()`: short, strongly nonlinear and heavily
-//! preloaded records; all by default, or only the cases named) is written to a
+//! Every selected case (`coil_tests::truth::standard_cases()`, one effect each;
+//! `extended_cases()`, the columns and artefacts labs record; `hard_cases()`: short,
+//! strongly nonlinear and heavily preloaded records; all by default, or only the cases named) is written to a
 //! temporary folder, then the release binary runs
 //! `coil-tune diagnose <case> --out <tmp>/out/<name> -q` (process start, FE reduction,
 //! fits, figures, report) and is timed with `std::time::Instant`. Its `diagnosis.json`

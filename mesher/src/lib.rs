@@ -37,6 +37,7 @@
 
 #![warn(missing_docs)]
 
+pub mod catenary;
 pub mod closed_form;
 
 use coil_solver::model::{

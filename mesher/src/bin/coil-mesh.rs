@@ -2,6 +2,8 @@
 //!
 //! Settings come from an optional JSON spec file (the fields of
 //! `coil_mesher::SpringSpec`), then from flags, which override the file.
+//! `coil-mesh catenary SPEC.json -o DECK` meshes a pantograph-catenary model instead
+//! (`coil_mesher::catenary`, docs/catenary.md).
 
 use clap::{Parser, ValueEnum};
 use coil_mesher::{AnalysisKind, SpringSpec, Top, TransientScheme, VelocityField};
@@ -36,22 +38,44 @@ enum MethodArg {
     Modal,
 }
 
+/// Other models than a spring.
+#[derive(Debug, clap::Subcommand)]
+enum Mesh {
+    /// Mesh a pantograph-catenary model (docs/catenary.md, "The catenary spec"): the
+    /// static state (dropper lengths for the presag) is solved first; the deck's STATIC
+    /// case is that state with the head pressed on the wire, its transient the run.
+    Catenary {
+        /// JSON spec: `catenary`, `pantograph`, `run`.
+        spec: PathBuf,
+        /// Output deck.
+        #[arg(short = 'o', long = "output", value_name = "DECK")]
+        output: PathBuf,
+        /// Also write the static state (dropper forces and lengths, presag miss) as JSON.
+        #[arg(long, value_name = "JSON")]
+        state: Option<PathBuf>,
+    },
+}
+
 /// Mesh a helical spring into a coil input deck (mm, N, t, s).
 #[derive(Debug, Parser)]
 #[command(
     name = "coil-mesh",
     version,
     about,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true,
     after_help = "Geometry refused (docs/files.md): fewer than 1 coil, a pitch at or below the wire \
 diameter (coils through each other), D/d outside [3, 100] (EN 13906-1 recommends 4 to 20 for manufacture). \
 The deck is written as a regular file; an existing symlink, device or FIFO at -o is refused."
 )]
 struct Args {
+    #[command(subcommand)]
+    mesh: Option<Mesh>,
     /// JSON spec file (fields of SpringSpec); flags override it.
     spec: Option<PathBuf>,
     /// Output deck.
-    #[arg(short = 'o', long = "output", value_name = "DECK")]
-    output: PathBuf,
+    #[arg(short = 'o', long = "output", value_name = "DECK", required = true)]
+    output: Option<PathBuf>,
     /// Deck format: coil's free format, or Marc's extended fixed format as Mentat
     /// writes it (reads back to the same model; see docs/deck.md).
     #[arg(long = "format", value_enum, default_value_t = DeckFormat::Free)]
@@ -250,7 +274,35 @@ enum DeckFormat {
     Mentat,
 }
 
+fn catenary(
+    spec: &std::path::Path,
+    output: &std::path::Path,
+    state: Option<&std::path::Path>,
+) -> Result<(), String> {
+    let spec: coil_mesher::catenary::CatenaryDeckSpec =
+        coil_mesher::catenary::read_json(spec).map_err(|e| e.to_string())?;
+    let built = coil_mesher::catenary::build(&spec).map_err(|e| e.to_string())?;
+    let deck = coil_solver::deck::write(&built.model);
+    coil_io::write_file(output, deck.as_bytes()).map_err(|e| e.to_string())?;
+    if let Some(path) = state {
+        let json = serde_json::to_string_pretty(&built.state).map_err(|e| e.to_string())?;
+        coil_io::write_file(path, json.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
 fn run(args: &Args) -> Result<(), String> {
+    if let Some(Mesh::Catenary {
+        spec,
+        output,
+        state,
+    }) = &args.mesh
+    {
+        return catenary(spec, output, state.as_deref());
+    }
+    let Some(output) = &args.output else {
+        return Err("the output deck is missing: expected -o DECK".into());
+    };
     let base = match &args.spec {
         Some(path) => coil_mesher::read_spec(path).map_err(|e| e.to_string())?,
         None => SpringSpec::default(),
@@ -263,7 +315,7 @@ fn run(args: &Args) -> Result<(), String> {
         DeckFormat::Free => coil_solver::deck::write(&model),
         DeckFormat::Mentat => coil_solver::deck::write_mentat(&model),
     };
-    coil_io::write_file(&args.output, deck.as_bytes()).map_err(|e| e.to_string())?;
+    coil_io::write_file(output, deck.as_bytes()).map_err(|e| e.to_string())?;
     if let Some(path) = &args.write_spec {
         let json = serde_json::to_string_pretty(&spec).map_err(|e| e.to_string())?;
         coil_io::write_file(path, json.as_bytes()).map_err(|e| e.to_string())?;

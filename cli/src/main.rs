@@ -1,5 +1,6 @@
-//! `coil-tune`: the paper's commands (`coil_tuner::cli`) and the identification commands
-//! (`coil_ident::cli`) on one command line. It parses the arguments, runs the command and
+//! `coil-tune`: the paper's commands (`coil_tuner::cli`), the identification commands
+//! (`coil_ident::cli`) and the pantograph-catenary command (`coil_catenary::cli`) on one
+//! command line. It parses the arguments, runs the command and
 //! maps errors to the exit code: 1 for an error in the data or a run (the message on
 //! stderr), 2 for a usage error (as clap does).
 
@@ -7,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 /// coil-tune: the paper's Figure 6 calibration, procedure files, variant sweeps and the
 /// paper's tables reproduced on coil's solver; diagnosis of measured records and the damping
-/// law they support.
+/// law they support; pantograph-catenary runs with EN 50318's statistics.
 #[derive(Debug, Parser)]
 #[command(
     name = "coil-tune",
@@ -30,12 +31,15 @@ enum Command {
     Paper(coil_tuner::cli::Command),
     #[command(flatten)]
     Ident(coil_ident::cli::Command),
+    #[command(flatten)]
+    Catenary(coil_catenary::cli::Command),
 }
 
 fn main() -> std::process::ExitCode {
     let result = match Cli::parse().command {
         Command::Paper(command) => coil_tuner::cli::run(command),
         Command::Ident(command) => coil_ident::cli::run(command),
+        Command::Catenary(command) => coil_catenary::cli::run(command),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

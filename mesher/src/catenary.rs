@@ -276,8 +276,10 @@ pub struct CatenaryModel {
     pub support_x_m: Vec<f64>,
     /// Contact-wire node at each interior support (their u_z is recorded).
     pub support_nodes: Vec<NodeId>,
-    /// The head's node.
+    /// The head's node (the pantograph's lower masses follow it).
     pub head: NodeId,
+    /// The pantograph.
+    pub pantograph: PantographSpec,
     /// Where the head starts (m).
     pub start_m: f64,
     /// Speed (m/s).
@@ -1277,15 +1279,23 @@ pub fn build_parts(
     });
     let interior: Vec<usize> = grid.supports[1..grid.supports.len() - 1].to_vec();
     let support_nodes: Vec<NodeId> = interior.iter().map(|&i| CONTACT_BASE + i as u32).collect();
-    let mut recorded = support_nodes.clone();
-    recorded.push(head);
-    recorded.sort_unstable();
-    let outputs = vec![OutputRequest {
-        nodes: recorded,
+    let mut outputs = vec![OutputRequest {
+        nodes: (PANTOGRAPH_BASE..ground).collect(),
         dofs: vec![3],
-        quantities: vec![Quantity::Displacement],
+        quantities: vec![Quantity::Displacement, Quantity::Velocity],
         every: run_spec.output_every,
     }];
+    if !support_nodes.is_empty() {
+        outputs.insert(
+            0,
+            OutputRequest {
+                nodes: support_nodes.clone(),
+                dofs: vec![3],
+                quantities: vec![Quantity::Displacement],
+                every: run_spec.output_every,
+            },
+        );
+    }
     let speed_mm_s = run_spec.speed_m_s() * 1e3;
     let contact = MovingContact {
         head,
@@ -1321,6 +1331,7 @@ pub fn build_parts(
         support_x_m: interior.iter().map(|&i| grid.x[i] * 1e-3).collect(),
         support_nodes,
         head,
+        pantograph: pantograph.clone(),
         start_m: run_spec.start_m,
         speed_m_s: run_spec.speed_m_s(),
         length_m: length,

@@ -2,6 +2,7 @@
 //! dependency tree): every module runs the real binary in a temporary folder.
 
 mod boundary;
+mod catenary_cli;
 mod cli;
 mod damping_cli;
 mod diagnose_cli;

@@ -48,8 +48,6 @@ pub struct SpeedRun {
     pub closed_form_mean_n: f64,
     /// Wall time of the solve (s).
     pub solve_s: f64,
-    /// Free DOFs of the model.
-    pub dofs: usize,
     /// Time steps.
     pub steps: usize,
 }
@@ -180,7 +178,6 @@ pub fn run_model(built: &CatenaryModel, settings: &Settings) -> Result<SpeedRun>
         speed_m_s: built.speed_m_s,
         static_contact_n,
         solve_s,
-        dofs: 2 * built.wire_nodes,
         steps: moving.steps,
         history,
     })

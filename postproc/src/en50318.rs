@@ -439,9 +439,13 @@ mod tests {
         }
     }
 
-    /// One support at 500 m, static at -10 mm, that does not move.
-    fn still_support(n: usize) -> Vec<f64> {
-        vec![-10.0; n]
+    /// One support at 500 m, static at -10 mm, that does not move (`d` of -10 mm).
+    fn still_support(d: &[f64]) -> [Support<'_>; 1] {
+        [Support {
+            position_m: 500.0,
+            static_mm: -10.0,
+            displacement_mm: d,
+        }]
     }
 
     fn run(force: &[f64], supports: &[Support<'_>], settings: &Settings) -> Result<Evaluation> {
@@ -470,12 +474,8 @@ mod tests {
     #[test]
     fn a_constant_plus_a_sine_gives_its_closed_forms_below_and_above_the_cutoff() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         for (f, expected_gain) in [(5.0, 0.999985), (40.0, 0.003770)] {
             let g = gain(f);
             assert!((g - expected_gain).abs() < 1e-6, "{f} Hz: gain {g}");
@@ -521,12 +521,8 @@ mod tests {
     #[test]
     fn loss_of_contact_counts_the_unfiltered_zero_interval() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         let force: Vec<f64> = t
             .iter()
             .map(|&t| {
@@ -660,12 +656,8 @@ mod tests {
     #[test]
     fn bad_inputs_are_typed_errors() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         let force = vec![100.0; t.len()];
         let settings = Settings::new(window());
 

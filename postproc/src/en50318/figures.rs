@@ -35,11 +35,7 @@ pub fn contact_force(
 ) -> Result<()> {
     render(
         path,
-        &ForceFigure {
-            record,
-            settings,
-            evaluation,
-        },
+        &RunFigure::new(Along::Force, record, settings, evaluation),
     )
 }
 
@@ -52,11 +48,7 @@ pub fn uplift(
 ) -> Result<()> {
     render(
         path,
-        &UpliftFigure {
-            record,
-            settings,
-            evaluation,
-        },
+        &RunFigure::new(Along::Uplift, record, settings, evaluation),
     )
 }
 
@@ -76,16 +68,43 @@ pub fn spring_study(path: &Path, rows: &[SpringStudyRow]) -> Result<()> {
     render(path, &StudyFigure { rows })
 }
 
-struct ForceFigure<'a> {
+/// What a figure of one run shows along the track.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Along {
+    Force,
+    Uplift,
+}
+
+struct RunFigure<'a> {
+    what: Along,
     record: &'a Record<'a>,
     settings: &'a Settings,
     evaluation: &'a Evaluation,
 }
 
-struct UpliftFigure<'a> {
-    record: &'a Record<'a>,
-    settings: &'a Settings,
-    evaluation: &'a Evaluation,
+impl<'a> RunFigure<'a> {
+    fn new(
+        what: Along,
+        record: &'a Record<'a>,
+        settings: &'a Settings,
+        evaluation: &'a Evaluation,
+    ) -> Self {
+        RunFigure {
+            what,
+            record,
+            settings,
+            evaluation,
+        }
+    }
+}
+
+impl Figure for RunFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        match self.what {
+            Along::Force => self.force(root),
+            Along::Uplift => self.uplift(root),
+        }
+    }
 }
 
 struct StudyFigure<'a> {
@@ -97,9 +116,43 @@ fn track_range(evaluation: &Evaluation) -> (f64, f64) {
     padded_range(evaluation.position_m.iter().copied(), 0.0)
 }
 
+/// A chart over the track's extent with its axes, the window shaded and the supports as
+/// thin vertical lines.
+fn track_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    y_desc: &str,
+    record: &Record<'_>,
+    settings: &Settings,
+) -> std::result::Result<Chart<'a, DB>, String> {
+    let mut chart = ChartBuilder::on(root)
+        .margin(12)
+        .margin_right(36)
+        .x_label_area_size(55)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(text)?;
+    axes(
+        &mut chart.configure_mesh(),
+        "pantograph position along the track [m]",
+        y_desc,
+        POST_AXES,
+    )
+    .y_label_formatter(&tick_physical)
+    .light_line_style(WHITE.mix(0.0))
+    .draw()
+    .map_err(text)?;
+    window_and_supports(&mut chart, record, settings, (y0, y1))?;
+    Ok(chart)
+}
+
+/// A chart of two `f64` axes.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 /// The window as a shaded band and the supports as thin vertical lines.
 fn window_and_supports<DB: DrawingBackend>(
-    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    chart: &mut Chart<'_, DB>,
     record: &Record<'_>,
     settings: &Settings,
     (y0, y1): (f64, f64),
@@ -128,8 +181,8 @@ fn window_and_supports<DB: DrawingBackend>(
     Ok(())
 }
 
-impl Figure for ForceFigure<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+impl RunFigure<'_> {
+    fn force<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let (record, e) = (self.record, self.evaluation);
         let s = &e.statistics;
         root.fill(&WHITE).map_err(text)?;
@@ -152,24 +205,14 @@ impl Figure for ForceFigure<'_> {
                 .chain([0.0]),
             0.05,
         );
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(36)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(text)?;
-        axes(
-            &mut chart.configure_mesh(),
-            "pantograph position along the track [m]",
+        let mut chart = track_chart(
+            &root,
+            (x0, x1),
+            (y0, y1),
             "contact force [N]",
-            POST_AXES,
-        )
-        .y_label_formatter(&tick_physical)
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(text)?;
-        window_and_supports(&mut chart, record, self.settings, (y0, y1))?;
+            record,
+            self.settings,
+        )?;
         let raw = PALETTE[0].mix(0.4);
         chart
             .draw_series(LineSeries::new(
@@ -204,10 +247,8 @@ impl Figure for ForceFigure<'_> {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
         legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
-}
 
-impl Figure for UpliftFigure<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+    fn uplift<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let (record, e) = (self.record, self.evaluation);
         root.fill(&WHITE).map_err(text)?;
         let root = root
@@ -226,24 +267,14 @@ impl Figure for UpliftFigure<'_> {
             .collect();
         let (x0, x1) = track_range(e);
         let (y0, y1) = padded_range(uplifts.iter().flatten().copied().chain([0.0]), 0.05);
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(36)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(text)?;
-        axes(
-            &mut chart.configure_mesh(),
-            "pantograph position along the track [m]",
+        let mut chart = track_chart(
+            &root,
+            (x0, x1),
+            (y0, y1),
             "support displacement from its static position, up [mm]",
-            POST_AXES,
-        )
-        .y_label_formatter(&tick_physical)
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(text)?;
-        window_and_supports(&mut chart, record, self.settings, (y0, y1))?;
+            record,
+            self.settings,
+        )?;
         let mut coloured = 0;
         for ((support, values), uplift) in record
             .supports

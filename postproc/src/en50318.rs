@@ -177,8 +177,9 @@ impl Settings {
 }
 
 /// EN 50318's statistics of one run (module doc); the field names are the JSON keys.
+/// Reading one back ignores other keys beside them (a per-speed entry of an output may
+/// carry more).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Statistics {
     /// The run's speed (km/h).
     pub speed_km_h: f64,
@@ -579,6 +580,10 @@ mod tests {
         let e = evaluate(&record, &settings).unwrap();
         assert_eq!(e.window_indices, 200..=600);
         assert_eq!(e.window_samples, 401);
+        // The 20 Hz filter settles in 14 / (2 pi 20 sin(pi / 8)) = 0.2911 s, 292 whole
+        // samples: the window starts at sample 200, inside it.
+        assert!((e.settle_s - 0.292).abs() < 1e-9, "{}", e.settle_s);
+        assert!(!e.clear_of_ends);
         let s = e.statistics;
         assert!((s.mean_n - 100.0).abs() < 1e-9, "{}", s.mean_n);
         assert!((s.min_n - 50.0).abs() < 1e-9 && (s.max_n - 150.0).abs() < 1e-9);

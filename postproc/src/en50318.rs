@@ -77,6 +77,17 @@ pub const KEYS: [&str; 9] = [
     "loss_percent",
 ];
 
+/// A speed for titles and tables: `250 km/h` for `250 / 3.6 * 3.6` (round-off below a
+/// millionth of a km/h is not shown), three decimals otherwise.
+pub fn speed_label(speed_km_h: f64) -> String {
+    let whole = speed_km_h.round();
+    if (speed_km_h - whole).abs() < 1e-6 {
+        format!("{whole} km/h")
+    } else {
+        format!("{speed_km_h:.3} km/h")
+    }
+}
+
 /// The evaluation window along the track: samples with `start_m <= x <= end_m`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -591,6 +602,8 @@ mod tests {
         let std = 0.25 * ((401.0f64.powi(2) - 1.0) / 12.0).sqrt();
         assert!((s.std_n - std).abs() < 1e-9, "{} vs {std}", s.std_n);
         assert!((s.speed_km_h - 900.0).abs() < 1e-12);
+        assert_eq!(speed_label(3.6 * (250.0 / 3.6)), "250 km/h");
+        assert_eq!(speed_label(252.5), "252.500 km/h");
 
         let outside = Settings::new(Window {
             start_m: 300.0,

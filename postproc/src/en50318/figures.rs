@@ -16,7 +16,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Evaluation, Record, Settings, Statistics};
+use super::{speed_label, Evaluation, Record, Settings, Statistics};
 use crate::error::Result;
 use crate::plot::{
     axes, decimate, legend, padded_range, render, text, tick_physical, Draw, Figure, FONT, PALETTE,
@@ -189,8 +189,10 @@ impl RunFigure<'_> {
         let root = root
             .titled(
                 &format!(
-                    "Contact force at {} km/h: mean {:.1} N, std {:.1} N in the window",
-                    s.speed_km_h, s.mean_n, s.std_n
+                    "Contact force at {}: mean {:.1} N, std {:.1} N in the window",
+                    speed_label(s.speed_km_h),
+                    s.mean_n,
+                    s.std_n
                 ),
                 (FONT, 26),
             )
@@ -254,8 +256,9 @@ impl RunFigure<'_> {
         let root = root
             .titled(
                 &format!(
-                    "Uplift at the supports at {} km/h: largest in the window {:.1} mm",
-                    e.statistics.speed_km_h, e.statistics.uplift_support_mm
+                    "Uplift at the supports at {}: largest in the window {:.1} mm",
+                    speed_label(e.statistics.speed_km_h),
+                    e.statistics.uplift_support_mm
                 ),
                 (FONT, 26),
             )
@@ -416,7 +419,7 @@ impl Figure for StudyFigure<'_> {
                 chart
                     .draw_series(LineSeries::new(mids, colour.stroke_width(1)))
                     .map_err(text)?
-                    .label(format!("{speed} km/h"))
+                    .label(speed_label(speed))
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
                     });

@@ -49,6 +49,7 @@
 
 pub mod figures;
 pub mod report;
+pub mod study;
 
 use std::ops::RangeInclusive;
 

@@ -16,7 +16,9 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{speed_label, Evaluation, Record, Settings, Statistics};
+use super::study;
+pub use super::study::SpringStudyRow;
+use super::{speed_label, Evaluation, Record, Settings};
 use crate::error::Result;
 use crate::plot::{
     axes, decimate, legend, padded_range, render, text, tick_physical, Draw, Figure, FONT, PALETTE,
@@ -50,17 +52,6 @@ pub fn uplift(
         path,
         &RunFigure::new(Along::Uplift, record, settings, evaluation),
     )
-}
-
-/// One run of the spring study: a head-stage spring at one damping value and speed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SpringStudyRow {
-    /// The spring's name (`160ECT`, `#1`, ...).
-    pub spring: String,
-    /// The damping value of the band (`low`, `mid`, `high`).
-    pub zeta: String,
-    /// The run's statistics (its `speed_km_h` picks the colour).
-    pub statistics: Statistics,
 }
 
 /// Standard deviation, minimum and loss of contact per spring and speed (module doc).
@@ -312,20 +303,6 @@ impl RunFigure<'_> {
     }
 }
 
-/// Which statistic a panel shows.
-type Pick = fn(&Statistics) -> f64;
-
-/// Items in order of first appearance.
-fn first_seen<T: PartialEq + Clone>(items: impl Iterator<Item = T>) -> Vec<T> {
-    let mut seen: Vec<T> = Vec::new();
-    for item in items {
-        if !seen.contains(&item) {
-            seen.push(item);
-        }
-    }
-    seen
-}
-
 impl Figure for StudyFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let rows = self.rows;
@@ -336,17 +313,12 @@ impl Figure for StudyFigure<'_> {
                 (FONT, 26),
             )
             .map_err(text)?;
-        let springs = first_seen(rows.iter().map(|r| r.spring.clone()));
-        // Speeds compared by bits: they are copied from the same runs, never recomputed.
-        let speeds = first_seen(rows.iter().map(|r| r.statistics.speed_km_h.to_bits()));
-        let panels: [(&str, Pick); 3] = [
-            ("standard deviation [N]", |s| s.std_n),
-            ("actual minimum [N]", |s| s.min_n),
-            ("time without contact [%]", |s| s.loss_percent),
-        ];
+        let springs = study::springs(rows);
+        let speeds = study::speeds(rows);
+        let panels = study::COLUMNS;
         let areas = root.split_evenly((panels.len(), 1));
         let n = springs.len();
-        for (panel, (area, (y_desc, value))) in areas.iter().zip(panels).enumerate() {
+        for (panel, (area, (y_desc, _, value))) in areas.iter().zip(panels).enumerate() {
             let (y0, y1) = padded_range(
                 rows.iter()
                     .map(|r| value(&r.statistics))
@@ -374,37 +346,19 @@ impl Figure for StudyFigure<'_> {
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
                 .map_err(text)?;
-            for (k, bits) in speeds.iter().enumerate() {
+            for (k, speed) in speeds.iter().enumerate() {
                 let colour = PALETTE[k % PALETTE.len()];
                 // Side by side so that the bars of two speeds do not hide each other.
                 let offset = (k as f64 - 0.5 * (speeds.len() as f64 - 1.0)) * 0.08;
                 let mut mids = Vec::new();
                 let mut bars = Vec::new();
                 for (i, spring) in springs.iter().enumerate() {
-                    let of_spring: Vec<&SpringStudyRow> = rows
-                        .iter()
-                        .filter(|r| {
-                            &r.spring == spring && r.statistics.speed_km_h.to_bits() == *bits
-                        })
-                        .collect();
-                    if of_spring.is_empty() {
+                    let Some(b) = study::band(rows, spring, *speed, value) else {
                         continue;
-                    }
-                    let values: Vec<f64> = of_spring.iter().map(|r| value(&r.statistics)).collect();
-                    let mid = of_spring
-                        .iter()
-                        .find(|r| r.zeta == "mid")
-                        .map_or(values.iter().sum::<f64>() / values.len() as f64, |r| {
-                            value(&r.statistics)
-                        });
+                    };
                     let x = i as f64 + offset;
-                    mids.push((x, mid));
-                    let (lo, hi) = values
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                            (a.min(*v), b.max(*v))
-                        });
-                    bars.push(((x, lo), (x, hi)));
+                    mids.push((x, b.mid));
+                    bars.push(((x, b.low), (x, b.high)));
                 }
                 chart
                     .draw_series(
@@ -415,11 +369,10 @@ impl Figure for StudyFigure<'_> {
                 chart
                     .draw_series(mids.iter().map(|&p| Circle::new(p, 5, colour.filled())))
                     .map_err(text)?;
-                let speed = f64::from_bits(*bits);
                 chart
                     .draw_series(LineSeries::new(mids, colour.stroke_width(1)))
                     .map_err(text)?
-                    .label(speed_label(speed))
+                    .label(speed_label(*speed))
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
                     });
@@ -434,7 +387,7 @@ impl Figure for StudyFigure<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{evaluate, Support, Track, Window};
+    use super::super::{evaluate, Statistics, Support, Track, Window};
     use super::*;
 
     /// The three figures are drawn (PNG and SVG) from a small synthetic run.

@@ -110,6 +110,52 @@ pub struct HeadStage {
     pub surge_frequency_hz: f64,
 }
 
+/// A damping value of a stage's band.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ZetaLevel {
+    /// The band's smallest zeta.
+    Low,
+    /// The paper's law.
+    Mid,
+    /// The band's largest zeta.
+    High,
+}
+
+impl ZetaLevel {
+    /// The three, low to high.
+    pub const ALL: [ZetaLevel; 3] = [ZetaLevel::Low, ZetaLevel::Mid, ZetaLevel::High];
+
+    /// `low`, `mid` or `high` (the labels of the spring study's rows).
+    pub fn name(self) -> &'static str {
+        match self {
+            ZetaLevel::Low => "low",
+            ZetaLevel::Mid => "mid",
+            ZetaLevel::High => "high",
+        }
+    }
+}
+
+impl HeadStage {
+    /// The stage's zeta at `level` (-).
+    pub fn zeta(&self, level: ZetaLevel) -> f64 {
+        match level {
+            ZetaLevel::Low => self.zeta_low,
+            ZetaLevel::Mid => self.zeta_mid,
+            ZetaLevel::High => self.zeta_high,
+        }
+    }
+
+    /// The stage's dashpot at `level`, `2 zeta sqrt(K m_head)` (N s/m).
+    pub fn damping_n_s_m(&self, level: ZetaLevel) -> f64 {
+        match level {
+            ZetaLevel::Low => self.damping_low_n_s_m,
+            ZetaLevel::Mid => self.damping_mid_n_s_m,
+            ZetaLevel::High => self.damping_high_n_s_m,
+        }
+    }
+}
+
 /// The calibrated material (loops 1 and 2) with the band of every variant.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct HeadStages {
@@ -344,7 +390,13 @@ mod tests {
             assert!((z - 0.00175).abs() < 1e-12, "{z}");
         }
         let c = 2.0 * 0.00175 * (own.stiffness_n_m * 7.2).sqrt();
-        assert!((own.damping_mid_n_s_m - c).abs() < 1e-12);
+        for level in ZetaLevel::ALL {
+            assert!(
+                (own.damping_n_s_m(level) - c).abs() < 1e-12,
+                "{}",
+                level.name()
+            );
+        }
         // The test weight, tuned to T = 0.23 s with a third of the wire's 0.06 kg moving,
         // stands for a quarter of the head.
         let m = own.stiffness_n_m / 4.0 * (0.23 / std::f64::consts::TAU).powi(2);
@@ -399,6 +451,10 @@ mod tests {
                 h.name
             );
             assert!(h.zeta_low < h.zeta_high, "{}", h.name);
+            for level in ZetaLevel::ALL {
+                let c = 2.0 * h.zeta(level) * (h.stiffness_n_m * 7.2).sqrt();
+                assert!((h.damping_n_s_m(level) - c).abs() < 1e-12 * c.max(1.0));
+            }
             let zeta = h.paper_damping_ratio.unwrap();
             assert!(
                 (h.zeta_mid - zeta).abs() / zeta < 0.051,

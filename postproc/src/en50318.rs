@@ -49,6 +49,7 @@
 
 pub mod figures;
 pub mod report;
+pub mod study;
 
 use std::ops::RangeInclusive;
 
@@ -76,6 +77,17 @@ pub const KEYS: [&str; 9] = [
     "uplift_support_mm",
     "loss_percent",
 ];
+
+/// A speed for titles and tables: `250 km/h` for `250 / 3.6 * 3.6` (round-off below a
+/// millionth of a km/h is not shown), three decimals otherwise.
+pub fn speed_label(speed_km_h: f64) -> String {
+    let whole = speed_km_h.round();
+    if (speed_km_h - whole).abs() < 1e-6 {
+        format!("{whole} km/h")
+    } else {
+        format!("{speed_km_h:.3} km/h")
+    }
+}
 
 /// The evaluation window along the track: samples with `start_m <= x <= end_m`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -177,8 +189,9 @@ impl Settings {
 }
 
 /// EN 50318's statistics of one run (module doc); the field names are the JSON keys.
+/// Reading one back ignores other keys beside them (a per-speed entry of an output may
+/// carry more).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Statistics {
     /// The run's speed (km/h).
     pub speed_km_h: f64,
@@ -439,9 +452,13 @@ mod tests {
         }
     }
 
-    /// One support at 500 m, static at -10 mm, that does not move.
-    fn still_support(n: usize) -> Vec<f64> {
-        vec![-10.0; n]
+    /// One support at 500 m, static at -10 mm, that does not move (`d` of -10 mm).
+    fn still_support(d: &[f64]) -> [Support<'_>; 1] {
+        [Support {
+            position_m: 500.0,
+            static_mm: -10.0,
+            displacement_mm: d,
+        }]
     }
 
     fn run(force: &[f64], supports: &[Support<'_>], settings: &Settings) -> Result<Evaluation> {
@@ -470,12 +487,8 @@ mod tests {
     #[test]
     fn a_constant_plus_a_sine_gives_its_closed_forms_below_and_above_the_cutoff() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         for (f, expected_gain) in [(5.0, 0.999985), (40.0, 0.003770)] {
             let g = gain(f);
             assert!((g - expected_gain).abs() < 1e-6, "{f} Hz: gain {g}");
@@ -521,12 +534,8 @@ mod tests {
     #[test]
     fn loss_of_contact_counts_the_unfiltered_zero_interval() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         let force: Vec<f64> = t
             .iter()
             .map(|&t| {
@@ -583,6 +592,10 @@ mod tests {
         let e = evaluate(&record, &settings).unwrap();
         assert_eq!(e.window_indices, 200..=600);
         assert_eq!(e.window_samples, 401);
+        // The 20 Hz filter settles in 14 / (2 pi 20 sin(pi / 8)) = 0.2911 s, 292 whole
+        // samples: the window starts at sample 200, inside it.
+        assert!((e.settle_s - 0.292).abs() < 1e-9, "{}", e.settle_s);
+        assert!(!e.clear_of_ends);
         let s = e.statistics;
         assert!((s.mean_n - 100.0).abs() < 1e-9, "{}", s.mean_n);
         assert!((s.min_n - 50.0).abs() < 1e-9 && (s.max_n - 150.0).abs() < 1e-9);
@@ -590,6 +603,8 @@ mod tests {
         let std = 0.25 * ((401.0f64.powi(2) - 1.0) / 12.0).sqrt();
         assert!((s.std_n - std).abs() < 1e-9, "{} vs {std}", s.std_n);
         assert!((s.speed_km_h - 900.0).abs() < 1e-12);
+        assert_eq!(speed_label(3.6 * (250.0 / 3.6)), "250 km/h");
+        assert_eq!(speed_label(252.5), "252.500 km/h");
 
         let outside = Settings::new(Window {
             start_m: 300.0,
@@ -660,12 +675,8 @@ mod tests {
     #[test]
     fn bad_inputs_are_typed_errors() {
         let t = time();
-        let d = still_support(t.len());
-        let supports = [Support {
-            position_m: 500.0,
-            static_mm: -10.0,
-            displacement_mm: &d,
-        }];
+        let d = vec![-10.0; t.len()];
+        let supports = still_support(&d);
         let force = vec![100.0; t.len()];
         let settings = Settings::new(window());
 

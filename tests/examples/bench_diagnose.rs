@@ -1,6 +1,9 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
 //! time, with the confusion table and parameter errors:
-//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|all] [NAME...]`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|large|all] [NAME...]`
+//!
+//! `large` is every standard case sampled at the rate that gives 30 000 samples over its
+//! record, the largest record the wall-time budget covers.
 //!
 //! Every selected case (`coil_tests::truth::standard_cases()`, one effect each;
 //! `extended_cases()`, the columns and artefacts labs record; `hard_cases()`: short,
@@ -12,7 +15,8 @@
 //! parameter's error, the gains); the confusion table, the per-case table and the
 //! median and worst wall times against the budget are printed. Cases run one after
 //! another so each has the machine to itself (the diagnosis runs its own candidates in
-//! parallel).
+//! parallel). `COIL_BENCH_DIR=DIR` keeps the cases and outputs in DIR instead of a
+//! temporary folder, to profile one case.
 
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
@@ -22,6 +26,9 @@ use std::time::Instant;
 
 /// Wall-time budget per case (s; issue 14: 15 s up to 40 000 samples).
 const BUDGET_S: f64 = 15.0;
+
+/// Samples per record in the `large` selection (the budget's largest record).
+const LARGE_SAMPLES: f64 = 30_000.0;
 
 /// The release `coil-tune`: `$CARGO_TARGET_DIR/release` when that is set, else the
 /// workspace's `target/release`.
@@ -81,6 +88,15 @@ fn selected() -> Vec<TruthCase> {
         Some("standard") => standard_cases().into_iter().filter(named).collect(),
         Some("extended") => extended_cases().into_iter().filter(named).collect(),
         Some("hard") => hard_cases().into_iter().filter(named).collect(),
+        Some("large") => standard_cases()
+            .into_iter()
+            .filter(named)
+            .map(|mut c| {
+                c.sample_rate_hz = LARGE_SAMPLES / c.record_s;
+                c.name.push_str("_30k");
+                c
+            })
+            .collect(),
         Some(_) => all().filter(|c| args.contains(&c.name)).collect(),
     }
 }
@@ -101,15 +117,22 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    // `COIL_BENCH_DIR` keeps the cases and their outputs there (for profiling one case).
+    let kept = std::env::var_os("COIL_BENCH_DIR").map(PathBuf::from);
+    let root = kept.as_deref().unwrap_or(tmp.path());
     println!("binary: {}", exe.display());
     let mut scores = Vec::new();
     let mut failures = Vec::new();
     for case in selected() {
-        match bench(&exe, tmp.path(), &case) {
+        match bench(&exe, root, &case) {
             Ok(s) => {
                 println!(
-                    "{:<28} {:<40} {:<40} {:>7.2} s",
-                    s.name, s.truth, s.named, s.runtime_s
+                    "{:<28} {:<40} {:<40} {:>7} samples {:>7.2} s",
+                    s.name,
+                    s.truth,
+                    s.named,
+                    (case.record_s * case.sample_rate_hz).round(),
+                    s.runtime_s
                 );
                 scores.push(s);
             }

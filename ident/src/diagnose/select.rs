@@ -39,7 +39,11 @@
 //!
 //! A combination must also **need every part**: removing any one of its effects (the
 //! sub-combination is fitted too) must cost more than `DELTA_BIC`, so each effect kept
-//! pays for its parameter on the same scale.
+//! pays for its parameter on the same scale. The cost is the nested comparison on the
+//! combination's own `N_eff` (`N_eff ln(RSS_sub / RSS_combination) - dp ln N_eff`,
+//! [`nested_delta_bic`]), not the difference of the two models' `dBIC`s: those stand on
+//! two `N_eff`s, and a part that lowers the residual by 0.3 % while whitening it
+//! (a larger `N_eff`) would otherwise be credited hundreds of BIC units it did not earn.
 //!
 //! The cause is the passing candidate with the largest `dBIC`; `none` when none
 //! passes. Its effects' shares of the explained misfit are the drop-one increases of
@@ -309,6 +313,18 @@ pub fn score(ctx: &Context<'_>, candidate: &CandidateRun) -> Option<Score> {
     })
 }
 
+/// The BIC gain of `larger` over the nested `smaller` on `n_eff` residuals, the
+/// larger model's (module docs, the parts test): both sides on one scale, so a part
+/// that barely lowers the residual cannot borrow evidence from a larger `N_eff`.
+pub fn nested_delta_bic(
+    n_eff: f64,
+    smaller: &super::fit::Fitted,
+    larger: &super::fit::Fitted,
+) -> f64 {
+    let extra = larger.n_params as f64 - smaller.n_params as f64;
+    n_eff * (smaller.rss / larger.rss).ln() - extra * n_eff.ln()
+}
+
 /// Scores every candidate, adds the parts test to combinations and picks the cause.
 pub fn choose(ctx: &Context<'_>, candidates: &[CandidateRun]) -> Choice {
     let mut scores: Vec<Option<Score>> = candidates.iter().map(|c| score(ctx, c)).collect();
@@ -320,14 +336,18 @@ pub fn choose(ctx: &Context<'_>, candidates: &[CandidateRun]) -> Choice {
         if set.len() < 2 || scores[i].is_none() {
             continue;
         }
-        let own = scores[i].as_ref().map_or(f64::NAN, |s| s.delta_bic);
+        let n_eff = scores[i].as_ref().map_or(f64::NAN, |s| s.n_eff);
+        let full = candidates[i].run.as_ref().ok().map(|r| &r.full);
         let mut costs = Vec::new();
         for &drop in set {
             let sub: Vec<usize> = set.iter().copied().filter(|&e| e != drop).collect();
-            let sub_bic = find(&sub)
-                .and_then(|j| scores[j].as_ref())
-                .map_or(f64::NEG_INFINITY, |s| s.delta_bic);
-            costs.push((drop, own - sub_bic));
+            let sub_full = find(&sub).and_then(|j| candidates[j].run.as_ref().ok());
+            let cost = match (full, sub_full) {
+                (Some(f), Some(s)) => nested_delta_bic(n_eff, &s.full, f),
+                // A sub-combination whose fit failed explains nothing: the part is needed.
+                _ => f64::INFINITY,
+            };
+            costs.push((drop, cost));
         }
         let least = costs.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
         if let Some(s) = scores[i].as_mut() {

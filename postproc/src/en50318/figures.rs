@@ -16,7 +16,9 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Evaluation, Record, Settings, Statistics};
+use super::study;
+pub use super::study::SpringStudyRow;
+use super::{speed_label, Evaluation, Record, Settings};
 use crate::error::Result;
 use crate::plot::{
     axes, decimate, legend, padded_range, render, text, tick_physical, Draw, Figure, FONT, PALETTE,
@@ -35,11 +37,7 @@ pub fn contact_force(
 ) -> Result<()> {
     render(
         path,
-        &ForceFigure {
-            record,
-            settings,
-            evaluation,
-        },
+        &RunFigure::new(Along::Force, record, settings, evaluation),
     )
 }
 
@@ -52,23 +50,8 @@ pub fn uplift(
 ) -> Result<()> {
     render(
         path,
-        &UpliftFigure {
-            record,
-            settings,
-            evaluation,
-        },
+        &RunFigure::new(Along::Uplift, record, settings, evaluation),
     )
-}
-
-/// One run of the spring study: a head-stage spring at one damping value and speed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SpringStudyRow {
-    /// The spring's name (`160ECT`, `#1`, ...).
-    pub spring: String,
-    /// The damping value of the band (`low`, `mid`, `high`).
-    pub zeta: String,
-    /// The run's statistics (its `speed_km_h` picks the colour).
-    pub statistics: Statistics,
 }
 
 /// Standard deviation, minimum and loss of contact per spring and speed (module doc).
@@ -76,16 +59,43 @@ pub fn spring_study(path: &Path, rows: &[SpringStudyRow]) -> Result<()> {
     render(path, &StudyFigure { rows })
 }
 
-struct ForceFigure<'a> {
+/// What a figure of one run shows along the track.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Along {
+    Force,
+    Uplift,
+}
+
+struct RunFigure<'a> {
+    what: Along,
     record: &'a Record<'a>,
     settings: &'a Settings,
     evaluation: &'a Evaluation,
 }
 
-struct UpliftFigure<'a> {
-    record: &'a Record<'a>,
-    settings: &'a Settings,
-    evaluation: &'a Evaluation,
+impl<'a> RunFigure<'a> {
+    fn new(
+        what: Along,
+        record: &'a Record<'a>,
+        settings: &'a Settings,
+        evaluation: &'a Evaluation,
+    ) -> Self {
+        RunFigure {
+            what,
+            record,
+            settings,
+            evaluation,
+        }
+    }
+}
+
+impl Figure for RunFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        match self.what {
+            Along::Force => self.force(root),
+            Along::Uplift => self.uplift(root),
+        }
+    }
 }
 
 struct StudyFigure<'a> {
@@ -97,9 +107,43 @@ fn track_range(evaluation: &Evaluation) -> (f64, f64) {
     padded_range(evaluation.position_m.iter().copied(), 0.0)
 }
 
+/// A chart over the track's extent with its axes, the window shaded and the supports as
+/// thin vertical lines.
+fn track_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    y_desc: &str,
+    record: &Record<'_>,
+    settings: &Settings,
+) -> std::result::Result<Chart<'a, DB>, String> {
+    let mut chart = ChartBuilder::on(root)
+        .margin(12)
+        .margin_right(36)
+        .x_label_area_size(55)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(text)?;
+    axes(
+        &mut chart.configure_mesh(),
+        "pantograph position along the track [m]",
+        y_desc,
+        POST_AXES,
+    )
+    .y_label_formatter(&tick_physical)
+    .light_line_style(WHITE.mix(0.0))
+    .draw()
+    .map_err(text)?;
+    window_and_supports(&mut chart, record, settings, (y0, y1))?;
+    Ok(chart)
+}
+
+/// A chart of two `f64` axes.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 /// The window as a shaded band and the supports as thin vertical lines.
 fn window_and_supports<DB: DrawingBackend>(
-    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    chart: &mut Chart<'_, DB>,
     record: &Record<'_>,
     settings: &Settings,
     (y0, y1): (f64, f64),
@@ -128,16 +172,18 @@ fn window_and_supports<DB: DrawingBackend>(
     Ok(())
 }
 
-impl Figure for ForceFigure<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+impl RunFigure<'_> {
+    fn force<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let (record, e) = (self.record, self.evaluation);
         let s = &e.statistics;
         root.fill(&WHITE).map_err(text)?;
         let root = root
             .titled(
                 &format!(
-                    "Contact force at {} km/h: mean {:.1} N, std {:.1} N in the window",
-                    s.speed_km_h, s.mean_n, s.std_n
+                    "Contact force at {}: mean {:.1} N, std {:.1} N in the window",
+                    speed_label(s.speed_km_h),
+                    s.mean_n,
+                    s.std_n
                 ),
                 (FONT, 26),
             )
@@ -152,24 +198,14 @@ impl Figure for ForceFigure<'_> {
                 .chain([0.0]),
             0.05,
         );
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(36)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(text)?;
-        axes(
-            &mut chart.configure_mesh(),
-            "pantograph position along the track [m]",
+        let mut chart = track_chart(
+            &root,
+            (x0, x1),
+            (y0, y1),
             "contact force [N]",
-            POST_AXES,
-        )
-        .y_label_formatter(&tick_physical)
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(text)?;
-        window_and_supports(&mut chart, record, self.settings, (y0, y1))?;
+            record,
+            self.settings,
+        )?;
         let raw = PALETTE[0].mix(0.4);
         chart
             .draw_series(LineSeries::new(
@@ -204,17 +240,16 @@ impl Figure for ForceFigure<'_> {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
         legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
-}
 
-impl Figure for UpliftFigure<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+    fn uplift<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let (record, e) = (self.record, self.evaluation);
         root.fill(&WHITE).map_err(text)?;
         let root = root
             .titled(
                 &format!(
-                    "Uplift at the supports at {} km/h: largest in the window {:.1} mm",
-                    e.statistics.speed_km_h, e.statistics.uplift_support_mm
+                    "Uplift at the supports at {}: largest in the window {:.1} mm",
+                    speed_label(e.statistics.speed_km_h),
+                    e.statistics.uplift_support_mm
                 ),
                 (FONT, 26),
             )
@@ -226,24 +261,14 @@ impl Figure for UpliftFigure<'_> {
             .collect();
         let (x0, x1) = track_range(e);
         let (y0, y1) = padded_range(uplifts.iter().flatten().copied().chain([0.0]), 0.05);
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(36)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(text)?;
-        axes(
-            &mut chart.configure_mesh(),
-            "pantograph position along the track [m]",
+        let mut chart = track_chart(
+            &root,
+            (x0, x1),
+            (y0, y1),
             "support displacement from its static position, up [mm]",
-            POST_AXES,
-        )
-        .y_label_formatter(&tick_physical)
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(text)?;
-        window_and_supports(&mut chart, record, self.settings, (y0, y1))?;
+            record,
+            self.settings,
+        )?;
         let mut coloured = 0;
         for ((support, values), uplift) in record
             .supports
@@ -278,20 +303,6 @@ impl Figure for UpliftFigure<'_> {
     }
 }
 
-/// Which statistic a panel shows.
-type Pick = fn(&Statistics) -> f64;
-
-/// Items in order of first appearance.
-fn first_seen<T: PartialEq + Clone>(items: impl Iterator<Item = T>) -> Vec<T> {
-    let mut seen: Vec<T> = Vec::new();
-    for item in items {
-        if !seen.contains(&item) {
-            seen.push(item);
-        }
-    }
-    seen
-}
-
 impl Figure for StudyFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let rows = self.rows;
@@ -302,17 +313,12 @@ impl Figure for StudyFigure<'_> {
                 (FONT, 26),
             )
             .map_err(text)?;
-        let springs = first_seen(rows.iter().map(|r| r.spring.clone()));
-        // Speeds compared by bits: they are copied from the same runs, never recomputed.
-        let speeds = first_seen(rows.iter().map(|r| r.statistics.speed_km_h.to_bits()));
-        let panels: [(&str, Pick); 3] = [
-            ("standard deviation [N]", |s| s.std_n),
-            ("actual minimum [N]", |s| s.min_n),
-            ("time without contact [%]", |s| s.loss_percent),
-        ];
+        let springs = study::springs(rows);
+        let speeds = study::speeds(rows);
+        let panels = study::COLUMNS;
         let areas = root.split_evenly((panels.len(), 1));
         let n = springs.len();
-        for (panel, (area, (y_desc, value))) in areas.iter().zip(panels).enumerate() {
+        for (panel, (area, (y_desc, _, value))) in areas.iter().zip(panels).enumerate() {
             let (y0, y1) = padded_range(
                 rows.iter()
                     .map(|r| value(&r.statistics))
@@ -340,37 +346,19 @@ impl Figure for StudyFigure<'_> {
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
                 .map_err(text)?;
-            for (k, bits) in speeds.iter().enumerate() {
+            for (k, speed) in speeds.iter().enumerate() {
                 let colour = PALETTE[k % PALETTE.len()];
                 // Side by side so that the bars of two speeds do not hide each other.
                 let offset = (k as f64 - 0.5 * (speeds.len() as f64 - 1.0)) * 0.08;
                 let mut mids = Vec::new();
                 let mut bars = Vec::new();
                 for (i, spring) in springs.iter().enumerate() {
-                    let of_spring: Vec<&SpringStudyRow> = rows
-                        .iter()
-                        .filter(|r| {
-                            &r.spring == spring && r.statistics.speed_km_h.to_bits() == *bits
-                        })
-                        .collect();
-                    if of_spring.is_empty() {
+                    let Some(b) = study::band(rows, spring, *speed, value) else {
                         continue;
-                    }
-                    let values: Vec<f64> = of_spring.iter().map(|r| value(&r.statistics)).collect();
-                    let mid = of_spring
-                        .iter()
-                        .find(|r| r.zeta == "mid")
-                        .map_or(values.iter().sum::<f64>() / values.len() as f64, |r| {
-                            value(&r.statistics)
-                        });
+                    };
                     let x = i as f64 + offset;
-                    mids.push((x, mid));
-                    let (lo, hi) = values
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                            (a.min(*v), b.max(*v))
-                        });
-                    bars.push(((x, lo), (x, hi)));
+                    mids.push((x, b.mid));
+                    bars.push(((x, b.low), (x, b.high)));
                 }
                 chart
                     .draw_series(
@@ -381,11 +369,10 @@ impl Figure for StudyFigure<'_> {
                 chart
                     .draw_series(mids.iter().map(|&p| Circle::new(p, 5, colour.filled())))
                     .map_err(text)?;
-                let speed = f64::from_bits(*bits);
                 chart
                     .draw_series(LineSeries::new(mids, colour.stroke_width(1)))
                     .map_err(text)?
-                    .label(format!("{speed} km/h"))
+                    .label(speed_label(*speed))
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
                     });
@@ -400,7 +387,7 @@ impl Figure for StudyFigure<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{evaluate, Support, Track, Window};
+    use super::super::{evaluate, Statistics, Support, Track, Window};
     use super::*;
 
     /// The three figures are drawn (PNG and SVG) from a small synthetic run.

@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Statistics, KEYS};
+use super::{speed_label, Statistics, KEYS};
 use crate::error::{PostError, Result};
 
 /// Reference ranges per speed (km/h, as text) and statistic key (module doc).
@@ -155,7 +155,7 @@ pub fn markdown(runs: &[Statistics], reference: &Reference) -> String {
     let mut s = String::new();
     for run in runs {
         let rows = verdicts(run, reference);
-        let _ = writeln!(s, "### {} km/h\n", run.speed_km_h);
+        let _ = writeln!(s, "### {}\n", speed_label(run.speed_km_h));
         s.push_str("| statistic | key | coil | reference | verdict |\n|---|---|---:|---:|---|\n");
         for row in &rows {
             let range = row

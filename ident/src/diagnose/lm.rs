@@ -10,8 +10,14 @@
 //! ```
 //! by Cholesky (faer); `lambda` is divided by 3 after an accepted step and multiplied by
 //! 4 after a rejected one (Nielsen's schedule is not needed at these sizes). The fit
-//! stops when the relative decrease of `S` over an accepted step is below `1e-9`, when
-//! every `|dp_j| <= 1e-8 max(|p_j|, scale_j)`, or after `max_iterations`.
+//! stops when the relative decrease of `S` over an accepted step is below `1e-6`, when
+//! every `|dp_j| <= 1e-8 max(|p_j|, scale_j)`, or after `max_iterations`. The models
+//! are compared by `N_eff ln(S_ref / S)`, so a further relative decrease `d` would move
+//! a candidate's BIC by `N_eff d`: under 0.06 for the 60 000 residuals of the longest
+//! record, against the 10 units a decision needs. Where the optimum is sharp, the
+//! step before that one converged quadratically anyway; where it is flat (a candidate
+//! that cannot explain the record crawling along a valley), the rule stops the crawl
+//! that cost most of the diagnosis's time.
 //!
 //! Standard errors come from `sigma^2 (J^T J)^{-1}` at the optimum, with
 //! `sigma^2 = S / (n - m)`: they hold for independent residuals and are only indicative
@@ -119,7 +125,7 @@ pub fn fit(model: &dyn Residuals, start: &[f64], options: &LmOptions) -> Result<
                 s = st;
                 lambda = (lambda / 3.0).max(1e-12);
                 accepted = true;
-                if decrease < 1e-9 || small {
+                if decrease < 1e-6 || small {
                     return finish(model, p, r, s, iterations, evaluations, &scale);
                 }
                 break;

@@ -50,7 +50,7 @@
 //! masses from [`PANTOGRAPH_BASE`] (the head first; the ground node last), its bars from
 //! [`PANTOGRAPH_BASE`] (stage index).
 
-use crate::SpecError;
+use crate::{check, SpecError};
 use coil_solver::analysis::{run, CaseSolution, StaticSolution};
 use coil_solver::model::{
     Analysis, BeamTension, Damping, Dashpot, Element, ElementType, FixedDisp, Geometry, Integrator,
@@ -308,23 +308,6 @@ pub enum CatenaryError {
     /// The spec's values give a state no catenary can be in.
     #[error("static state: {0}")]
     State(String),
-}
-
-fn check(
-    ok: bool,
-    field: &'static str,
-    value: f64,
-    expected: &'static str,
-) -> Result<(), SpecError> {
-    if ok && value.is_finite() {
-        Ok(())
-    } else {
-        Err(SpecError {
-            field,
-            value: value.to_string(),
-            expected,
-        })
-    }
 }
 
 impl CatenarySpec {

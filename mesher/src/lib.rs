@@ -254,7 +254,7 @@ pub struct SpecError {
     pub expected: &'static str,
 }
 
-fn check(
+pub(crate) fn check(
     ok: bool,
     field: &'static str,
     value: f64,

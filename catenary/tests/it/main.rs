@@ -1,7 +1,9 @@
 //! coil-catenary's integration tests (one binary): the mean contact force against its
-//! closed form on a short catenary (the command itself: `cli/tests/it/catenary_cli.rs`).
+//! closed form on a short catenary, the reference case against its ranges (ignored: long)
+//! (the command itself: `cli/tests/it/catenary_cli.rs`).
 
 mod closed_form;
+mod reference_case;
 
 use coil_mesher::catenary::{
     CatenarySpec, DampingSpec, DropperSpec, PantographSpec, StageSpec, SupportSpec, WireSpec,

@@ -125,3 +125,50 @@ fn format_mentat_writes_the_same_model_in_extended_fixed_format() {
     assert!(text.contains("\nEXTENDED\n"), "no EXTENDED parameter");
     assert_eq!(a, b);
 }
+
+/// `coil-mesh catenary`: a 2-span spec gives a deck that reads back with its links,
+/// contact and tensions, and the static state; a bad field is named; the spring command
+/// still wants its output.
+#[test]
+fn catenary_writes_a_deck_and_its_static_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spec = r#"{
+      "catenary": {
+        "spans": 2, "span_length_m": 60.0, "system_height_m": 1.2, "presag_mm": 30.0,
+        "contact_wire": {"mass_kg_m": 1.35, "tension_n": 20000.0, "ei_n_m2": 195.0},
+        "messenger_wire": {"mass_kg_m": 1.07, "tension_n": 16000.0, "ei_n_m2": 131.7},
+        "droppers": {"positions_m": [5.0, 17.0, 30.0, 43.0, 55.0], "stiffness_n_m": 100000.0,
+                     "contact_clamp_mass_kg": 0.195, "messenger_clamp_mass_kg": 0.165},
+        "steady_arm": {"stiffness_n_m": 300.0, "mass_kg": 1.0},
+        "messenger_support": {"stiffness_n_m": 50000.0, "mass_kg": 0.0},
+        "damping": {"ratio": 0.005, "frequencies_hz": [1.0, 20.0]},
+        "element_length_m": 2.0
+      },
+      "pantograph": {"stages": [{"mass_kg": 7.2, "stiffness_n_m": 4200.0, "damping_n_s_m": 10.0},
+                                {"mass_kg": 15.0, "stiffness_n_m": 50.0, "damping_n_s_m": 90.0}],
+                     "uplift_force_n": 120.0, "contact_stiffness_n_m": 50000.0},
+      "run": {"speed_km_h": 250.0, "time_step_s": 0.002}
+    }"#;
+    std::fs::write(d.join("spec.json"), spec).unwrap();
+    let out = coil_mesh(
+        &["catenary", "spec.json", "-o", "cat.dat", "--state", "state.json"],
+        d,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(d.join("cat.dat")).unwrap();
+    let model = coil_solver::deck::read_str(&text, "cat.dat").unwrap();
+    assert_eq!(model.tension_links().len(), 10);
+    assert_eq!(model.moving_contacts().len(), 1);
+    let state: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("state.json")).unwrap()).unwrap();
+    assert!(state["presag_miss_mm"].as_f64().unwrap() < 1e-3);
+
+    std::fs::write(d.join("bad.json"), spec.replace("\"spans\": 2", "\"spans\": 0")).unwrap();
+    let out = coil_mesh(&["catenary", "bad.json", "-o", "bad.dat"], d);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("catenary.spans"));
+    assert!(!d.join("bad.dat").exists());
+    let out = coil_mesh(&["--coils", "12"], d);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -238,6 +238,76 @@ pub struct CatenaryDeckSpec {
     pub run: RunSpec,
 }
 
+impl CatenaryDeckSpec {
+    /// The EN 50318:2002 reference model's values as `cases/catenary-en50318-2002` gives
+    /// them (its README cites each and marks the assumptions: no presag, 120 N uplift, 50
+    /// kN/m contact), on `spans` spans of `element_length_m` (m) elements, run at 250 km/h
+    /// in 1 ms steps: a starting point for tests and examples.
+    pub fn en50318_reference(spans: u32, element_length_m: f64) -> Self {
+        CatenaryDeckSpec {
+            catenary: CatenarySpec {
+                spans,
+                span_length_m: 60.0,
+                system_height_m: 1.2,
+                presag_mm: 0.0,
+                contact_wire: WireSpec {
+                    mass_kg_m: 1.35,
+                    tension_n: 20_000.0,
+                    ei_n_m2: 195.0,
+                },
+                messenger_wire: WireSpec {
+                    mass_kg_m: 1.07,
+                    tension_n: 16_000.0,
+                    ei_n_m2: 131.7,
+                },
+                droppers: DropperSpec {
+                    positions_m: vec![5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0],
+                    stiffness_n_m: 100_000.0,
+                    contact_clamp_mass_kg: 0.195,
+                    messenger_clamp_mass_kg: 0.165,
+                },
+                steady_arm: SupportSpec {
+                    stiffness_n_m: 300.0,
+                    mass_kg: 1.0,
+                },
+                messenger_support: SupportSpec {
+                    stiffness_n_m: 50_000.0,
+                    mass_kg: 0.0,
+                },
+                damping: DampingSpec {
+                    ratio: 0.005,
+                    frequencies_hz: [1.0, 20.0],
+                },
+                element_length_m,
+                gravity_m_s2: 9.81,
+            },
+            pantograph: PantographSpec {
+                stages: vec![
+                    StageSpec {
+                        mass_kg: 7.2,
+                        stiffness_n_m: 4200.0,
+                        damping_n_s_m: 10.0,
+                    },
+                    StageSpec {
+                        mass_kg: 15.0,
+                        stiffness_n_m: 50.0,
+                        damping_n_s_m: 90.0,
+                    },
+                ],
+                uplift_force_n: 120.0,
+                contact_stiffness_n_m: 50_000.0,
+            },
+            run: RunSpec {
+                speed_km_h: 250.0,
+                time_step_s: 1e-3,
+                start_m: 0.0,
+                end_m: None,
+                output_every: 1,
+            },
+        }
+    }
+}
+
 /// What the catenary's static state came to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StaticState {
@@ -721,32 +791,15 @@ impl Pieces {
         }
     }
 
-    /// A vertical spring bar of `k` (N/mm) from `node` at `xyz` to a ground node `ground`
-    /// `BAR_MM` above (`up`) or below it, the ground at `offset` (mm) along z.
-    #[allow(clippy::too_many_arguments)]
-    fn spring(
-        &mut self,
-        id: u32,
-        node: NodeId,
-        xyz: [f64; 3],
-        ground: NodeId,
-        up: bool,
-        k: f64,
-        offset: f64,
-        name: String,
-    ) {
-        let dz = if up { BAR_MM } else { -BAR_MM };
-        self.nodes.push(Node {
-            id: ground,
-            xyz: [xyz[0], xyz[1], xyz[2] + dz],
-        });
+    /// A spring bar of axial stiffness `k` (N/mm) between two nodes `BAR_MM` apart: EA / L
+    /// = k with A = 1 mm^2; I = 1e-3 mm^4 leaves its bending negligible beside the wires'
+    /// (4 E I / L below 1e-3 of theirs). No mass.
+    fn bar(&mut self, id: u32, nodes: [NodeId; 2], k: f64, name: String) {
         self.elements.push(Element {
             id,
             kind: ElementType::Beam52,
-            nodes: [node, ground],
+            nodes,
         });
-        // EA / L = k with A = 1 mm^2; I = 1e-3 mm^4 leaves the bar's bending negligible
-        // beside the wires' (4 E I / L below 1e-3 of theirs).
         self.materials.push(Material {
             name: name.clone(),
             youngs_modulus: k * BAR_MM,
@@ -766,6 +819,28 @@ impl Pieces {
             orientation: [1.0, 0.0, 0.0],
             elements: vec![id],
         });
+    }
+
+    /// A vertical spring bar of `k` (N/mm) from `node` at `xyz` to a ground node `ground`
+    /// `BAR_MM` above (`up`) or below it, the ground at `offset` (mm) along z.
+    #[allow(clippy::too_many_arguments)]
+    fn spring(
+        &mut self,
+        id: u32,
+        node: NodeId,
+        xyz: [f64; 3],
+        ground: NodeId,
+        up: bool,
+        k: f64,
+        offset: f64,
+        name: String,
+    ) {
+        let dz = if up { BAR_MM } else { -BAR_MM };
+        self.nodes.push(Node {
+            id: ground,
+            xyz: [xyz[0], xyz[1], xyz[2] + dz],
+        });
+        self.bar(id, [node, ground], k, name);
         self.fixed_disp.push(FixedDisp {
             dofs: vec![
                 (1, 0.0),
@@ -793,44 +868,38 @@ fn catenary_pieces(spec: &CatenarySpec, grid: &Grid, part: Part, setting: &Setti
     let mut p = Pieces::default();
     let height = spec.system_height_m * 1e3;
     let interior = &grid.supports[1..grid.supports.len() - 1];
-    if part != Part::Messenger {
-        p.wire(
-            grid,
+    // Each wire with its clamps and support masses; the contact wire is left out of the
+    // messenger's model and the messenger out of the contact wire's.
+    let wires = [
+        (
+            Part::Messenger,
             CONTACT_BASE,
             0.0,
             &spec.contact_wire,
             "contact_wire",
-            g,
-        );
-        for &i in &grid.droppers {
-            p.mass(
-                CONTACT_BASE + i as u32,
-                spec.droppers.contact_clamp_mass_kg,
-                g,
-            );
-        }
-        for &i in interior {
-            p.mass(CONTACT_BASE + i as u32, spec.steady_arm.mass_kg, g);
-        }
-    }
-    if part != Part::ContactWire {
-        p.wire(
-            grid,
+            spec.droppers.contact_clamp_mass_kg,
+            spec.steady_arm.mass_kg,
+        ),
+        (
+            Part::ContactWire,
             MESSENGER_BASE,
             height,
             &spec.messenger_wire,
             "messenger",
-            g,
-        );
+            spec.droppers.messenger_clamp_mass_kg,
+            spec.messenger_support.mass_kg,
+        ),
+    ];
+    for (without, base, z, wire, name, clamp_kg, support_kg) in wires {
+        if part == without {
+            continue;
+        }
+        p.wire(grid, base, z, wire, name, g);
         for &i in &grid.droppers {
-            p.mass(
-                MESSENGER_BASE + i as u32,
-                spec.droppers.messenger_clamp_mass_kg,
-                g,
-            );
+            p.mass(base + i as u32, clamp_kg, g);
         }
         for &i in interior {
-            p.mass(MESSENGER_BASE + i as u32, spec.messenger_support.mass_kg, g);
+            p.mass(base + i as u32, support_kg, g);
         }
     }
     match part {
@@ -1207,32 +1276,12 @@ pub fn build_parts(
             mass: kg_to_t(stage.mass_kg),
             inertia: [0.0; 3],
         });
-        let k = n_m_to_n_mm(stage.stiffness_n_m);
-        p.elements.push(Element {
+        p.bar(
             id,
-            kind: ElementType::Beam52,
-            nodes: [node, node + 1],
-        });
-        let name = format!("pantograph_stage_{}", i + 1);
-        p.materials.push(Material {
-            name: name.clone(),
-            youngs_modulus: k * BAR_MM,
-            poisson: 0.3,
-            density: 0.0,
-            elements: vec![id],
-        });
-        p.geometries.push(Geometry {
-            name,
-            section: Section::General {
-                area: 1.0,
-                iyy: 1e-3,
-                izz: 1e-3,
-                torsion: 2e-3,
-                shear_coefficient: 0.0,
-            },
-            orientation: [1.0, 0.0, 0.0],
-            elements: vec![id],
-        });
+            [node, node + 1],
+            n_m_to_n_mm(stage.stiffness_n_m),
+            format!("pantograph_stage_{}", i + 1),
+        );
         if stage.damping_n_s_m > 0.0 {
             // C_e = beta K_e on the bar: the dashpot c = beta k beside the spring.
             p.damping.push(Damping {
@@ -1370,69 +1419,11 @@ pub fn read_json<T: serde::de::DeserializeOwned>(
 mod tests {
     use super::*;
 
-    /// A 2-span catenary of the EN 50318 wires, 1 m elements.
+    /// A 2-span catenary of the EN 50318 wires, 1 m elements, 30 mm presag.
     pub(crate) fn small() -> CatenaryDeckSpec {
-        CatenaryDeckSpec {
-            catenary: CatenarySpec {
-                spans: 2,
-                span_length_m: 60.0,
-                system_height_m: 1.2,
-                presag_mm: 30.0,
-                contact_wire: WireSpec {
-                    mass_kg_m: 1.35,
-                    tension_n: 20_000.0,
-                    ei_n_m2: 195.0,
-                },
-                messenger_wire: WireSpec {
-                    mass_kg_m: 1.07,
-                    tension_n: 16_000.0,
-                    ei_n_m2: 131.7,
-                },
-                droppers: DropperSpec {
-                    positions_m: vec![5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0],
-                    stiffness_n_m: 100_000.0,
-                    contact_clamp_mass_kg: 0.195,
-                    messenger_clamp_mass_kg: 0.165,
-                },
-                steady_arm: SupportSpec {
-                    stiffness_n_m: 300.0,
-                    mass_kg: 1.0,
-                },
-                messenger_support: SupportSpec {
-                    stiffness_n_m: 50_000.0,
-                    mass_kg: 0.0,
-                },
-                damping: DampingSpec {
-                    ratio: 0.005,
-                    frequencies_hz: [1.0, 20.0],
-                },
-                element_length_m: 1.0,
-                gravity_m_s2: 9.81,
-            },
-            pantograph: PantographSpec {
-                stages: vec![
-                    StageSpec {
-                        mass_kg: 7.2,
-                        stiffness_n_m: 4200.0,
-                        damping_n_s_m: 10.0,
-                    },
-                    StageSpec {
-                        mass_kg: 15.0,
-                        stiffness_n_m: 50.0,
-                        damping_n_s_m: 90.0,
-                    },
-                ],
-                uplift_force_n: 120.0,
-                contact_stiffness_n_m: 50_000.0,
-            },
-            run: RunSpec {
-                speed_km_h: 250.0,
-                time_step_s: 1e-3,
-                start_m: 0.0,
-                end_m: None,
-                output_every: 1,
-            },
-        }
+        let mut spec = CatenaryDeckSpec::en50318_reference(2, 1.0);
+        spec.catenary.presag_mm = 30.0;
+        spec
     }
 
     #[test]

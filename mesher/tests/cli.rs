@@ -152,10 +152,21 @@ fn catenary_writes_a_deck_and_its_static_state() {
     }"#;
     std::fs::write(d.join("spec.json"), spec).unwrap();
     let out = coil_mesh(
-        &["catenary", "spec.json", "-o", "cat.dat", "--state", "state.json"],
+        &[
+            "catenary",
+            "spec.json",
+            "-o",
+            "cat.dat",
+            "--state",
+            "state.json",
+        ],
         d,
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = std::fs::read_to_string(d.join("cat.dat")).unwrap();
     let model = coil_solver::deck::read_str(&text, "cat.dat").unwrap();
     assert_eq!(model.tension_links().len(), 10);
@@ -164,7 +175,11 @@ fn catenary_writes_a_deck_and_its_static_state() {
         serde_json::from_str(&std::fs::read_to_string(d.join("state.json")).unwrap()).unwrap();
     assert!(state["presag_miss_mm"].as_f64().unwrap() < 1e-3);
 
-    std::fs::write(d.join("bad.json"), spec.replace("\"spans\": 2", "\"spans\": 0")).unwrap();
+    std::fs::write(
+        d.join("bad.json"),
+        spec.replace("\"spans\": 2", "\"spans\": 0"),
+    )
+    .unwrap();
     let out = coil_mesh(&["catenary", "bad.json", "-o", "bad.dat"], d);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("catenary.spans"));

@@ -8,7 +8,9 @@
 //! force is the uplift less the frame spring's mean force.
 
 use coil_catenary::run::run_model;
-use coil_mesher::catenary::{build_parts, RunSpec, CONTACT_FORCE_COLUMN, PANTOGRAPH_BASE};
+use coil_mesher::catenary::{
+    build_parts, CatenaryDeckSpec, RunSpec, CONTACT_FORCE_COLUMN, PANTOGRAPH_BASE,
+};
 use coil_postproc::en50318::{Settings, Window};
 use coil_solver::analysis::transient::column_name;
 use coil_solver::model::Quantity;
@@ -20,8 +22,10 @@ fn trapezoid_mean(x: &[f64]) -> f64 {
 
 #[test]
 fn the_mean_contact_force_is_the_uplift_less_the_frame_spring() {
-    let catenary = super::short_catenary();
-    let pantograph = super::pantograph();
+    // Two 60 m spans of the EN 50318 reference wires, droppers and pantograph, 1 m
+    // elements.
+    let reference = CatenaryDeckSpec::en50318_reference(2, 1.0);
+    let (catenary, pantograph) = (reference.catenary, reference.pantograph);
     let run = RunSpec {
         speed_km_h: 250.0,
         time_step_s: 2e-3,

@@ -1374,15 +1374,10 @@ pub fn build_parts(
 /// Reading a catenary spec file failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadCatenaryError {
-    /// The file cannot be read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The spec file.
-        path: String,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file cannot be read, is not a regular file or is larger than
+    /// [`MAX_SPEC_BYTES`].
+    #[error(transparent)]
+    Read(#[from] coil_io::ConfineError),
     /// The file is not a catenary spec.
     #[error("{path}:{line}:{column}: {message}; expected a JSON object with `catenary`, `pantograph` and `run` (docs/catenary.md, \"The catenary spec\")")]
     Json {
@@ -1397,18 +1392,17 @@ pub enum ReadCatenaryError {
     },
 }
 
-/// Reads a JSON document of type `T` (unknown fields are errors), naming the file, line
-/// and column of a fault.
+/// Largest spec file read (bytes).
+pub const MAX_SPEC_BYTES: u64 = 1 << 20;
+
+/// Reads a JSON document of type `T` of at most [`MAX_SPEC_BYTES`] (unknown fields are
+/// errors), naming the file, line and column of a fault.
 pub fn read_json<T: serde::de::DeserializeOwned>(
     path: &std::path::Path,
 ) -> Result<T, ReadCatenaryError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| ReadCatenaryError::Io {
-        path: name.clone(),
-        source,
-    })?;
+    let text = coil_io::read_bounded(path, MAX_SPEC_BYTES, "catenary spec")?;
     serde_json::from_str(&text).map_err(|e| ReadCatenaryError::Json {
-        path: name,
+        path: path.display().to_string(),
         line: e.line(),
         column: e.column(),
         message: e.to_string(),

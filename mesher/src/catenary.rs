@@ -1077,6 +1077,31 @@ fn uz(solution: &StaticSolution, model: &Model, node: NodeId) -> f64 {
         .map_or(f64::NAN, |u| u[2])
 }
 
+/// The static solution of `part` of the catenary (a model of its own with one STATIC
+/// case).
+fn solve_part(
+    spec: &CatenarySpec,
+    grid: &Grid,
+    part: Part,
+    setting: &Setting,
+) -> Result<(Model, StaticSolution), CatenaryError> {
+    let (title, stage) = match part {
+        Part::ContactWire => ("contact wire at its prescribed heights", "contact wire"),
+        Part::Messenger => ("messenger under the dropper forces", "messenger"),
+        Part::Catenary => ("catenary at rest", "catenary"),
+    };
+    let p = catenary_pieces(spec, grid, part, setting);
+    let model = model_of(parts(
+        title.into(),
+        p,
+        vec![static_case(title)],
+        vec![],
+        vec![],
+    ))?;
+    let solution = solve_static(&model, stage)?;
+    Ok((model, solution))
+}
+
 /// The static state of the catenary alone (module doc, steps 1-4): dropper forces and
 /// lengths, support offsets, and the full catenary's static check.
 fn static_state(spec: &CatenarySpec, grid: &Grid) -> Result<(Setting, StaticState), CatenaryError> {
@@ -1089,16 +1114,7 @@ fn static_state(spec: &CatenarySpec, grid: &Grid) -> Result<(Setting, StaticStat
         support_offset_mm: vec![0.0; interior.len()],
     };
     // 1. The contact wire with its heights prescribed.
-    let title = "contact wire at its prescribed heights";
-    let p = catenary_pieces(spec, grid, Part::ContactWire, &setting);
-    let model = model_of(parts(
-        title.into(),
-        p,
-        vec![static_case(title)],
-        vec![],
-        vec![],
-    ))?;
-    let sol = solve_static(&model, "contact wire")?;
+    let (_, sol) = solve_part(spec, grid, Part::ContactWire, &setting)?;
     let targets: Vec<f64> = grid
         .droppers
         .iter()
@@ -1126,16 +1142,7 @@ fn static_state(spec: &CatenarySpec, grid: &Grid) -> Result<(Setting, StaticStat
         setting.steady_arm_offset_mm[s] = f / k_sa;
     }
     // 2. The messenger under the dropper forces.
-    let title = "messenger under the dropper forces";
-    let p = catenary_pieces(spec, grid, Part::Messenger, &setting);
-    let model = model_of(parts(
-        title.into(),
-        p,
-        vec![static_case(title)],
-        vec![],
-        vec![],
-    ))?;
-    let sol = solve_static(&model, "messenger")?;
+    let (model, sol) = solve_part(spec, grid, Part::Messenger, &setting)?;
     let k_ms = n_m_to_n_mm(spec.messenger_support.stiffness_n_m);
     let support_force: Vec<f64> = interior
         .iter()
@@ -1152,18 +1159,9 @@ fn static_state(spec: &CatenarySpec, grid: &Grid) -> Result<(Setting, StaticStat
         setting.slack_mm[j] = u_m - targets[j] - setting.dropper_force_n[j] / k_d;
     }
     // 4. The whole catenary, corrected until it meets the heights.
-    let title = "catenary at rest";
     let mut iterations = 0;
     loop {
-        let p = catenary_pieces(spec, grid, Part::Catenary, &setting);
-        let model = model_of(parts(
-            title.into(),
-            p,
-            vec![static_case(title)],
-            vec![],
-            vec![],
-        ))?;
-        let sol = solve_static(&model, "catenary")?;
+        let (model, sol) = solve_part(spec, grid, Part::Catenary, &setting)?;
         let heights: Vec<f64> = grid
             .droppers
             .iter()

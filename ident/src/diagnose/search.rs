@@ -634,9 +634,8 @@ fn sorted(mut v: Vec<usize>) -> Vec<usize> {
 /// the amplitude, a region a motion passes through and turns back from (a pendulum
 /// beyond 90 degrees).
 pub fn bounded_softening_n_m3(k: f64, w: f64, amplitude: f64) -> f64 {
-    if !(k > 0.0 && k.is_finite() && w >= 0.0 && w.is_finite())
-        || !(amplitude > 0.0 && amplitude.is_finite())
-    {
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !(positive(k) && positive(amplitude) && w >= 0.0 && w.is_finite()) {
         return f64::NAN;
     }
     let bounded = |c: f64| -> bool {

@@ -277,6 +277,50 @@ pub enum PostError {
     #[error("invalid option: {0}")]
     InvalidOption(String),
 
+    /// A history given beside a time axis has another length (EN 50318 statistics).
+    #[error("{what}: {found} samples but the time axis has {expected}; expected one value per time sample")]
+    LengthMismatch {
+        /// Which history (`force_n`, `position_m`, `support 3 displacement_mm`).
+        what: String,
+        /// Its length.
+        found: usize,
+        /// The time axis's length.
+        expected: usize,
+    },
+
+    /// A low-pass cutoff at or above the Nyquist frequency of the record.
+    #[error("low-pass cutoff {cutoff_hz} Hz is at or above the Nyquist frequency {nyquist_hz} Hz of the record; expected a cutoff below it (sample the record more finely or lower the cutoff)")]
+    CutoffAboveNyquist {
+        /// The cutoff asked for (Hz).
+        cutoff_hz: f64,
+        /// Half the sampling rate (Hz).
+        nyquist_hz: f64,
+    },
+
+    /// No sample of a record lies in the evaluation window (EN 50318 statistics).
+    #[error("the evaluation window {start_m} to {end_m} m holds no sample: the pantograph covers {first_m} to {last_m} m; expected a window inside the covered track")]
+    EmptyWindow {
+        /// The window's start along the track (m).
+        start_m: f64,
+        /// Its end (m).
+        end_m: f64,
+        /// The pantograph's first position (m).
+        first_m: f64,
+        /// Its last position (m).
+        last_m: f64,
+    },
+
+    /// No support (steady arm, messenger support) lies in the evaluation window.
+    #[error("no support lies in the evaluation window {start_m} to {end_m} m ({supports} supports given); expected the displacement history of at least one support inside it")]
+    NoSupportInWindow {
+        /// The window's start along the track (m).
+        start_m: f64,
+        /// Its end (m).
+        end_m: f64,
+        /// How many supports were given.
+        supports: usize,
+    },
+
     /// Writing an output file failed; nothing was left at the destination.
     #[error("{}: cannot write: {source}", path.display())]
     Write {

@@ -19,7 +19,7 @@
 //!   `K_ii phi = omega^2 M_ii phi`, mass-normalised (`phi^T M_ii phi = 1`).
 //!
 //! Reduced matrices are the Galerkin projections `T^T A T` (`A` = K, the beam elements'
-//! mass, the point masses' mass), so every reduced eigenvalue is an upper bound of the
+//! mass, the point masses' and matrix elements' mass), so every reduced eigenvalue is an upper bound of the
 //! full model's (Rayleigh-Ritz) and the bound tightens with `n_modes` (nested bases).
 //! `K_r` is block diagonal in exact arithmetic: `[[K_bb - K_bi K_ii^-1 K_ib, 0],
 //! [0, Omega^2]]`; it is computed as `T^T K T` all the same (the coupling blocks come

@@ -16,7 +16,7 @@
 //! difference `|H_r - H_l| / |H_l|` inside the 20 Hz band that EN 50318 keeps (and
 //! outside the resonance's half-power band), then the 160ECT's responses at a few
 //! frequencies. Run: `cargo run --release -p coil-tuner --example head_stage_reduced`
-//! (about 3 s).
+//! (about 1 s).
 
 use coil_tuner::case::read_variants;
 use coil_tuner::head_stage::{head_stages_of_files, HeadStageSettings};

@@ -298,7 +298,7 @@ mod tests {
         }
     }
 
-    /// The acceptance signal of issue 3 in library form; the CLI test repeats it end to end.
+    /// The acceptance signal in library form; the CLI test repeats it end to end.
     #[test]
     fn paper_signal_gives_zeta_within_three_per_mille() {
         let mut rng = Rng::new(2024);
@@ -447,7 +447,7 @@ mod tests {
         assert!(worst_lsq < 1e-4, "coarse interpolated {worst_lsq:e}");
     }
 
-    /// A ripple alternating every step (the FE trap of issue 3) shifts every raw crest by its
+    /// A ripple alternating every step (the FE trap of a stiff mode) shifts every raw crest by its
     /// full amplitude; the zero-phase low-pass removes it without touching zeta or T.
     #[test]
     fn lowpass_removes_a_step_ripple_without_bias() {

@@ -1,7 +1,7 @@
 //! Speed benchmark (not a test): the issue's peer transient of the paper spring, 20 s at
 //! dt = 1 ms, timed as the whole `coil-solve` process (deck reading, assembly, solve,
 //! history and result files), by direct integration (Newmark average acceleration) and by
-//! modal superposition (`--method modal --modes 20`). Targets (issue 3): 1 s and 0.05 s.
+//! modal superposition (`--method modal --modes 20`). Targets: 1 s and 0.05 s.
 //!
 //! Run (the binary must be built first, in the same profile):
 //! ```text

@@ -1,4 +1,4 @@
-//! Benchmark of `coil-tune damping` (issue 10): writes generated cases from the damping
+//! Benchmark of `coil-tune damping`: writes generated cases from the damping
 //! truth model (`coil_tests::truth_damping`) into a temporary folder and times the
 //! release binary on each, printing the verdict beside the hidden law and what the design
 //! can decide (each test's damping scattered by `SCATTER`, 3 % by default).

@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
-/// Wall-time budget per case (s; issue 14: 15 s up to 40 000 samples).
+/// Wall-time budget per case (s: 15 s per record up to 30 000 samples).
 const BUDGET_S: f64 = 15.0;
 
 /// Samples per record in the `large` selection (the budget's largest record).

@@ -50,7 +50,7 @@ fn first_half(case: &Path, dir: &Path) -> Result<PathBuf, String> {
 }
 
 /// Cases of one rig (the same `spring` and `mass_kg` in case.json) written as one case
-/// whose decay records are all of theirs, for the joint fit (issue 14, section 3): one
+/// whose decay records are all of theirs, for the joint fit: one
 /// folder per rig with two or more cases, under `dir`.
 fn joint_cases(cases: &[PathBuf], dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut rigs: Vec<(serde_json::Value, Vec<(PathBuf, serde_json::Value)>)> = Vec::new();

@@ -212,7 +212,7 @@ pub fn modal_case(model: &mut Model, title: &str, modes: u32) {
     });
 }
 
-/// The paper's helical spring (section 2 of issue 2): helix `x = R cos t, y = R sin t,
+/// The paper's helical spring (the paper's section 2): helix `x = R cos t, y = R sin t,
 /// z = h t / 2 pi`, base wire end clamped, top wire end tied (all six DOFs, RBE2) to a
 /// reference node on the axis at the top, which is guided (only u_z free) and carries
 /// the weight as a point mass.

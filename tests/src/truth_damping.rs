@@ -1,4 +1,4 @@
-//! An independent truth model for the damping-law tests (issue 10): it writes measured
+//! An independent truth model for the damping-law tests: it writes measured
 //! cases (docs/measured-case.md) whose decay records come from a damping law the
 //! test knows and `coil-tune damping` must find. It shares no code with coil's solver or
 //! tuner (only `truth.rs`'s Jacobi eigensolver).

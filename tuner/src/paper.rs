@@ -282,7 +282,7 @@ pub fn run_paper(options: &PaperOptions, out: &OutDir) -> Result<PaperReport> {
         });
     }
 
-    // The band of damping laws one decay allows (issue 10), with its figure.
+    // The band of damping laws one decay allows, with its figure.
     let damping_band =
         crate::band::band(&state, &variants, &settings.fe, targets.damping_ratio, 0.03)?;
     crate::plots::band_figure(&damping_band, &out.path("damping_band.png"))?;

@@ -1,4 +1,4 @@
-//! The file boundary of the real `coil-tune` (issue 9, docs/files.md): record paths stay
+//! The file boundary of the real `coil-tune` (docs/files.md): record paths stay
 //! in the case folder and errors never show a target's content; procedure files write
 //! only inside their output folder; one run per output folder; junk records refused under
 //! `calibrate` whatever the targets; negative damping grids refused; a closed stdout is

@@ -244,7 +244,7 @@ mod tests {
             steps: 1,
             time: 1.0,
         };
-        // A model without nodes is nonsense, refused (issue 9), not an empty result.
+        // A model without nodes is nonsense, refused, not an empty result.
         let e = run(&empty).unwrap_err().to_string();
         assert!(e.contains("no nodes"), "{e}");
         let mut no_case = model.clone();

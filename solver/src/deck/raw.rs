@@ -102,7 +102,7 @@ pub(crate) enum PointLawKind {
     Friction,
     Quadratic,
     Cubic,
-    /// `DASHPOT` (issue 10): linear, so it goes to the model's dashpots, not its laws.
+    /// `DASHPOT`: linear, so it goes to the model's dashpots, not its laws.
     Dashpot,
 }
 

@@ -438,13 +438,13 @@ pub struct Model {
     pub(crate) outputs: Vec<OutputRequest>,
     /// The load cases, in order.
     pub(crate) load_cases: Vec<LoadCase>,
-    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub(crate) point_laws: Vec<PointElement>,
-    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    /// Linear dashpots to ground (`DASHPOT`), sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub(crate) dashpots: Vec<Dashpot>,
-    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`).
     #[serde(default)]
     pub(crate) modal_damping: ModalDamping,
     /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
@@ -502,13 +502,13 @@ pub struct ModelParts {
     pub outputs: Vec<OutputRequest>,
     /// The load cases, in order.
     pub load_cases: Vec<LoadCase>,
-    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub point_laws: Vec<PointElement>,
-    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    /// Linear dashpots to ground (`DASHPOT`), sorted by (node, DOF), on free DOFs.
     #[serde(default)]
     pub dashpots: Vec<Dashpot>,
-    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`).
     #[serde(default)]
     pub modal_damping: ModalDamping,
     /// Axial forces of tensioned beams (`BEAM TENSION`): each element in one entry at most.
@@ -865,17 +865,17 @@ impl Model {
         &self.load_cases
     }
 
-    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`; issue 5): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
+    /// Nonlinear point elements (`FRICTION`, `QUADRATIC DAMPER`, `CUBIC SPRING`): one entry per (node, DOF), the cards on it combined, sorted by (node, DOF), on free DOFs.
     pub fn point_laws(&self) -> &[PointElement] {
         &self.point_laws
     }
 
-    /// Linear dashpots to ground (`DASHPOT`; issue 10), sorted by (node, DOF), on free DOFs.
+    /// Linear dashpots to ground (`DASHPOT`), sorted by (node, DOF), on free DOFs.
     pub fn dashpots(&self) -> &[Dashpot] {
         &self.dashpots
     }
 
-    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`; issue 10).
+    /// Modal damping (`LOSS FACTOR`, `MODAL DAMPING`).
     pub fn modal_damping(&self) -> &ModalDamping {
         &self.modal_damping
     }

@@ -1,4 +1,4 @@
-//! The file boundary of the real `coil-solve` (issue 9, docs/files.md), run as the
+//! The file boundary of the real `coil-solve` (docs/files.md), run as the
 //! calling user (root in CI containers: device nodes are made with `mknod` when allowed):
 //! one run per `--out`, a stale lock taken over, outputs as a whole set that never
 //! replaces or writes through a symlink, device or FIFO, a failed run that keeps the

@@ -1,4 +1,4 @@
-//! The damping laws of issue 10 as solver features, each checked against its closed form
+//! The damping laws as solver features, each checked against its closed form
 //! on a single degree of freedom: a massless axial bar (k = EA/L) with a point mass m at
 //! its free end, every other DOF held, given v0 at t = 0. The exact free decay is
 //! `u(t) = v0 / w_d exp(-zeta w t) sin(w_d t)`, `w = sqrt(k/m)`, `w_d = w sqrt(1 - zeta^2)`,

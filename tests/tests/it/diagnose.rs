@@ -11,7 +11,7 @@
 //!   the catalogue (`truth::FAST_HARD`), a friction decay that stops after 12 cycles, a
 //!   10-cycle null decay and a softening spring under 130 mm of static deflection.
 //! - **Full table** ([`full_confusion_table`], `#[ignore]`d: several minutes): the 17
-//!   standard cases of issue 5 and the 33 extended ones of issue 14 (softening and
+//!   standard cases and the 33 extended ones (softening and
 //!   hardening alone and with each damping effect, two damping effects together,
 //!   position and velocity sensors, band-limited noise, jitter, drift, an impulse at the
 //!   start, 30 Hz short records, 150+ cycle records, null cases with each

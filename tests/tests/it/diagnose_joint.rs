@@ -1,4 +1,4 @@
-//! Several decay records of one case are fitted jointly (issue 14, section 3: one mass,
+//! Several decay records of one case are fitted jointly (one mass,
 //! one spring). Two records of the same spring by the independent truth model
 //! (`coil_tests::truth`): the shipped drag case, and a second run with a weight 25 %
 //! heavier, another impulse and another noise seed. The truth's damping is Rayleigh

@@ -1,4 +1,4 @@
-//! Acceptance tests of the transient load case (issue 3) on the paper's spring: mesher ->
+//! Acceptance tests of the transient load case on the paper's spring: mesher ->
 //! deck text -> reader -> `analysis::run` -> history -> the paper's decrement
 //! (`coil_postproc::decrement`, every 10th crest).
 //!
@@ -25,7 +25,7 @@ use coil_tests::{paper_spec, through_deck as model_of};
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
-/// The peer's numbers (issue 3).
+/// The peer's numbers.
 const PEER_ZETA: f64 = 0.001691;
 const PEER_PERIOD_S: f64 = 0.23045;
 /// The peer's zeta with alpha on the weight's mass too ("about 0.0163").

@@ -249,7 +249,7 @@ fn cubic_stiffness_static_equilibrium() {
 /// `dw/w = (3 eps/8 - 15 eps^2/4) (A^2 - A_end^2) / x0^2`, eps = k3 x0^2 / k_t (Nayfeh and
 /// Mook, 4.1; without preload `3 k3 (A^2 - A_end^2) / (8 k)`). That expansion is second
 /// order in A; its next term is O((A/x0)^2) relative, up to 0.3 here, and the amplitude
-/// is averaged over each window: within 25 %. Softening springs (issue 14, `k3 < 0`)
+/// is averaged over each window: within 25 %. Softening springs (`k3 < 0`)
 /// follow the same backbone with the other sign.
 #[test]
 fn cubic_stiffness_backbone() {

@@ -468,7 +468,7 @@ fn spring_stiffness(n: usize, kind: ElementType) -> f64 {
     sol.stiffness_n_mm.unwrap()
 }
 
-/// The paper's spring (issue 2, sec. 5): K decreases monotonically with the mesh and
+/// The paper's spring: K decreases monotonically with the mesh and
 /// converges to within 0.5% of the Castigliano helix stiffness (3.797 N/mm for type 98).
 /// Straight chords between nodes on the helix shorten the wire and its lever arm:
 /// the compliance `int r^2 ds` of a chord of angle theta = 2 pi / n is smaller than the
@@ -521,7 +521,7 @@ fn paper_spring_stiffness_table() {
 }
 
 /// With the weight chosen for T = 2 pi sqrt(m / K) = 0.23 s, the axial mode's period is
-/// 2 pi sqrt((m + m_spring/3) / K) within 0.05% (issue 2, sec. 5). The axial mode is the
+/// 2 pi sqrt((m + m_spring/3) / K) within 0.05%. The axial mode is the
 /// one with the largest effective mass along z.
 #[test]
 fn paper_spring_axial_period() {

@@ -1,4 +1,4 @@
-//! Point laws and modal damping (issues 5 and 10): the nonlinear point elements
+//! Point laws and modal damping: the nonlinear point elements
 //! `FRICTION` (N), `QUADRATIC DAMPER` (N s^2/mm^2), `CUBIC SPRING` (N/mm^3), the linear
 //! `DASHPOT` (N s/mm), and `LOSS FACTOR` and `MODAL DAMPING` (dimensionless).
 //! Their checks across cards (free DOFs) are the model's, see `docs/transient.md`.

@@ -1029,6 +1029,7 @@ fn parts(
         beam_tensions: p.beam_tensions,
         tension_links: p.tension_links,
         moving_contacts: contacts,
+        matrix_elements: Vec::new(),
     }
 }
 

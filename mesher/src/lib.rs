@@ -679,6 +679,7 @@ impl SpringSpec {
             beam_tensions: Vec::new(),
             tension_links: Vec::new(),
             moving_contacts: Vec::new(),
+            matrix_elements: Vec::new(),
         };
         // The spec was validated above, so this fails only on a mesher bug; it still
         // goes through the model's checks like every other model.

@@ -145,6 +145,11 @@ impl DofMap {
                 touched[index_of(node, &format!("element {}", element.id))?] = true;
             }
         }
+        for e in &model.matrix_elements {
+            for &(node, _) in &e.dofs {
+                touched[index_of(node, &format!("DMIG `{}`", e.name))?] = true;
+            }
+        }
         for tie in &model.rigid_ties {
             let context = format!("rigid tie '{}'", tie.name);
             let r = index_of(tie.reference, &context)?;

@@ -19,7 +19,7 @@
 //!   `K_ii phi = omega^2 M_ii phi`, mass-normalised (`phi^T M_ii phi = 1`).
 //!
 //! Reduced matrices are the Galerkin projections `T^T A T` (`A` = K, the beam elements'
-//! mass, the point masses' mass), so every reduced eigenvalue is an upper bound of the
+//! mass, the point masses' and matrix elements' mass), so every reduced eigenvalue is an upper bound of the
 //! full model's (Rayleigh-Ritz) and the bound tightens with `n_modes` (nested bases).
 //! `K_r` is block diagonal in exact arithmetic: `[[K_bb - K_bi K_ii^-1 K_ib, 0],
 //! [0, Omega^2]]`; it is computed as `T^T K T` all the same (the coupling blocks come
@@ -58,7 +58,7 @@ use crate::analysis::{modal, System};
 use crate::dof::{dof_name, DofMap, DofStatus};
 use crate::error::solve::SolveError;
 use crate::linalg::sym_upper_matvec;
-use crate::model::{FixedDisp, Model, NodeId};
+use crate::model::{FixedDisp, MatrixElement, Model, NodeId};
 use faer::sparse::SparseColMat;
 use nalgebra::DMatrix;
 
@@ -165,7 +165,8 @@ pub struct Reduction {
     pub k: DMatrix<f64>,
     /// Reduced mass of the beam elements (what Rayleigh alpha acts on).
     pub m_elements: DMatrix<f64>,
-    /// Reduced mass of the point masses (the weight and its rotary inertia).
+    /// Reduced mass of the point masses (the weight and its rotary inertia) and of any
+    /// matrix element (`DMIG`).
     pub m_points: DMatrix<f64>,
     /// Frequencies (Hz) of the fixed-interface modes, ascending.
     pub fixed_interface_hz: Vec<f64>,
@@ -337,6 +338,10 @@ pub fn craig_bampton(
             .assembler
             .add_block(&mut mp, n_elements + p, m.as_slice(), 1.0);
     }
+    for (i, e) in model.matrix_elements().iter().enumerate() {
+        let b = system.matrix_first + i;
+        system.assembler.add_block(&mut mp, b, &e.mass, 1.0);
+    }
     let me = system
         .assembler
         .matrix(&me)
@@ -442,6 +447,49 @@ impl Reduction {
             .iter()
             .map(|w2| w2.max(0.0).sqrt() / std::f64::consts::TAU)
             .collect())
+    }
+
+    /// The reduced model as a matrix element (`DMIG`) of another model: boundary `i`
+    /// on `boundary_dofs[i]` (a (node, DOF) of that model), mode `k` on DOF 1 of
+    /// `modal_nodes[k]` (nodes whose other DOFs that model holds), with the operators
+    /// of [`Reduction::operators`] (`k_scale`, no added mass, Rayleigh `alpha`, `beta`;
+    /// no damping matrix when both are zero).
+    pub fn matrix_element(
+        &self,
+        name: &str,
+        boundary_dofs: &[(NodeId, u8)],
+        modal_nodes: &[NodeId],
+        k_scale: f64,
+        alpha: f64,
+        beta: f64,
+    ) -> Result<MatrixElement, ReduceError> {
+        for (what, expected, found) in [
+            ("boundary DOFs", self.boundary.len(), boundary_dofs.len()),
+            ("modal nodes", self.n_modes, modal_nodes.len()),
+        ] {
+            if found != expected {
+                return Err(ReduceError::Dimension {
+                    what,
+                    expected,
+                    found,
+                });
+            }
+        }
+        let ops = self.operators(k_scale, &vec![0.0; self.boundary.len()], alpha, beta)?;
+        let row_major = |a: &DMatrix<f64>| a.transpose().as_slice().to_vec();
+        let mut dofs = boundary_dofs.to_vec();
+        dofs.extend(modal_nodes.iter().map(|&n| (n, 1)));
+        Ok(MatrixElement {
+            name: name.to_string(),
+            dofs,
+            stiffness: row_major(&ops.k),
+            mass: row_major(&ops.m),
+            damping: if alpha == 0.0 && beta == 0.0 {
+                Vec::new()
+            } else {
+                row_major(&ops.c)
+            },
+        })
     }
 
     /// The full displacement field (every node, six DOFs, mm and rad; prescribed DOFs

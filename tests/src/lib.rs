@@ -66,6 +66,7 @@ pub fn empty_parts(title: &str) -> ModelParts {
         beam_tensions: Vec::new(),
         tension_links: Vec::new(),
         moving_contacts: Vec::new(),
+        matrix_elements: Vec::new(),
     }
 }
 

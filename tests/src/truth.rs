@@ -1953,7 +1953,10 @@ fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> Trut
 /// Records from rigs outside the catalogue, the ones a new user brings: friction decays
 /// that stop after 12 to 20 cycles, and a null decay of 10 cycles (the shortest records
 /// the reader accepts are 8 cycles); softening decays of large amplitude whose frequency
-/// sweeps 10 to 15 % over 130 cycles (a line spread over many spectral bins); a weight
+/// sweeps 10 to 15 % over 130 cycles (a line spread over many spectral bins), and one
+/// that sweeps 21 % (it starts beyond the amplitude where the tangent stiffness
+/// vanishes, as a pendulum released past 90 degrees does); a hardening decay sweeping
+/// 19 % the other way; a weight
 /// hanging on a soft spring with 110 mm of static deflection, with each effect and
 /// without. Expected causes: [`TruthCase::causes`]; the measured sweep of each softening
 /// case is checked by the `truth` test.
@@ -2011,6 +2014,11 @@ pub fn hard_cases() -> Vec<TruthCase> {
         712,
     );
     let sweep_g3 = cubic_shift_case("soft_sweep_g3_horizontal", RIG_G3, t, 0.0, -0.105);
+    // Beyond the tangent-stiffness limit `|k3| A^2 < k / 3` at the start (0.15 of
+    // frequency shift is `|k3| A^2 = 0.4 k`), inside the bounded-motion one (`k`); and
+    // a hardening spring sweeping the other way.
+    let sweep_strong = cubic_shift_case("soft_sweep_20_g3_horizontal", RIG_G3, t, 0.0, -0.15);
+    let hard_sweep = cubic_shift_case("hard_sweep_20_g3_horizontal", RIG_G3, t, 0.0, 0.45);
 
     // A hanging weight with 110 mm of static deflection, with each effect.
     let t = test(100.0, 40.0, 0.005, 0.002, 10.0, 721);
@@ -2026,6 +2034,8 @@ pub fn hard_cases() -> Vec<TruthCase> {
         null_10,
         sweep_g1,
         sweep_g3,
+        sweep_strong,
+        hard_sweep,
         hang_null,
         hang_friction,
         hang_quadratic,
@@ -2035,8 +2045,14 @@ pub fn hard_cases() -> Vec<TruthCase> {
 }
 
 /// Names of the [`hard_cases`] in the fast (CI) subset: the shortest friction decay, the
-/// 10-cycle null decay, and the preloaded softening spring (each a few seconds).
-pub const FAST_HARD: [&str; 3] = ["friction_stops_12_g1", "null_10_cycles_g2", "hanging_cubic"];
+/// 10-cycle null decay, the preloaded softening spring (each a second or two), and the
+/// softening decay that sweeps 21 % (a few seconds).
+pub const FAST_HARD: [&str; 4] = [
+    "friction_stops_12_g1",
+    "null_10_cycles_g2",
+    "hanging_cubic",
+    "soft_sweep_20_g3_horizontal",
+];
 
 /// Names of the extended cases in the fast (CI) subset: one per kind of record the
 /// reader conditions (a quantised position sensor, a band-limited record, a hammer blow

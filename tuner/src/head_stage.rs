@@ -165,6 +165,9 @@ pub struct HeadStages {
     pub band: Band,
     /// One stage per spring: the case's own first, then the variants in file order.
     pub stages: Vec<HeadStage>,
+    /// The paper's law on coil's model, `[alpha (1/s), beta (s)]` of Rayleigh damping
+    /// on the wire: what gives `zeta_mid` (module doc).
+    pub rayleigh_mid: [f64; 2],
 }
 
 /// What every spring's stage shares.
@@ -297,10 +300,12 @@ pub fn head_stages(
             (variant.paper_stiffness_n_mm, variant.paper_damping_ratio),
         )?);
     }
+    let rayleigh_mid = [share * alpha_alone, (1.0 - share) * band.parameters[0]];
     Ok(HeadStages {
         material: state,
         band,
         stages,
+        rayleigh_mid,
     })
 }
 

@@ -30,6 +30,7 @@ pub mod decay;
 pub mod design;
 pub mod grid;
 pub mod head_stage;
+pub mod head_stage_reduced;
 pub mod paper;
 pub mod plots;
 pub mod procedure;

@@ -249,16 +249,19 @@ impl ReducedSpring {
                 e.to_string()
             }
         })?;
-        // A softening spring is stable while its tangent stiffness k + 3 k3 x^2 stays
-        // positive, x the compression from the free length: a motion beyond that is
-        // an error naming the limit, not a NaN or a spring that snaps through.
+        // A softening spring's free motion stays bounded while its energy is below the
+        // potential's saddle; past `k x + k3 x^3 = 0` (x from the free length) the
+        // spring pushes outwards and the weight cannot come back: a trial that gets
+        // there is an error naming the point, not a NaN or a spring that snaps
+        // through. (A motion through the region of negative tangent stiffness,
+        // `k + 3 k3 x^2 < 0`, turns back: it is allowed.)
         let law = p.extension().law;
         let k = self.reduction.k[(0, 0)] * p.k_scale;
-        let limit_mm = law.stable_displacement(k);
+        let limit_mm = law.escape_displacement(k);
         if let Some(s) = samples.iter().find(|s| s.u.abs() >= limit_mm) {
             return Err(format!(
-                "the softening spring (k3 = {:.4e} N/m^3) loses stability at {:.4} mm from \
-                 the free length (k + 3 k3 x^2 = 0); the motion reaches {:.4} mm",
+                "the softening spring (k3 = {:.4e} N/m^3) snaps through: beyond {:.4} mm from \
+                 the free length (k x + k3 x^3 = 0) it pushes outwards; the motion reaches {:.4} mm",
                 law.cubic * 1e9,
                 limit_mm,
                 s.u.abs()

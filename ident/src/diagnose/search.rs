@@ -17,7 +17,7 @@ pub const MAX_COMBINED: usize = 3;
 /// Levenberg-Marquardt iterations of each start's first-quarter fit.
 const SEED_ITERATIONS: usize = 10;
 
-/// The share of the stability limit a softening start is kept within
+/// The share of the bounded-motion limit a softening start is kept within
 /// ([`Job::inside_limit`]).
 pub const STABLE_SHARE: f64 = 0.9;
 
@@ -209,19 +209,18 @@ impl Job<'_> {
     }
 
     /// `seed` with a softening start (a negative signed effect, the cubic spring) inside
-    /// [`STABLE_SHARE`] of the stability limit `|k3| x^2 < k / 3` at the record's
-    /// largest compression `x`, the gravity preload plus the displacement amplitude: a
-    /// start past it cannot run the record at all.
+    /// [`STABLE_SHARE`] of the largest softening whose free motion at the record's
+    /// amplitude stays bounded, at the record's gravity preload
+    /// ([`bounded_softening_n_m3`]): a start past it cannot run the record at all.
     pub fn inside_limit(&self, mut seed: Physical) -> Physical {
-        let x = self.figures.preload_m + self.figures.amplitude_m;
         let k = self.guided.stiffness_n_m(&seed);
-        if !(x > 0.0 && k > 0.0) {
+        let limit = bounded_softening_n_m3(k, k * self.figures.preload_m, self.figures.amplitude_m);
+        if !(limit.is_finite() && limit > 0.0) {
             return seed;
         }
-        let limit = STABLE_SHARE * k / (3.0 * x * x);
         for (v, e) in seed.effects.iter_mut().zip(CATALOGUE.iter()) {
-            if e.signed() && *v < -limit {
-                *v = -limit;
+            if e.signed() && *v < -STABLE_SHARE * limit {
+                *v = -STABLE_SHARE * limit;
             }
         }
         seed
@@ -619,4 +618,118 @@ pub fn candidates(
 fn sorted(mut v: Vec<usize>) -> Vec<usize> {
     v.sort_unstable();
     v
+}
+
+/// The largest softening `c = -k3` (N/m^3) for which the free motion of a weight on a
+/// spring `k x - c x^3` (N; x the compression from the free length, m) under its
+/// weight `w` (N) stays bounded when it swings `amplitude` (m) either side of its
+/// equilibrium; `NaN` when an input is not positive and finite (`w` may be 0).
+///
+/// The potential `V(x) = k x^2 / 2 - c x^4 / 4 - w x` has its well at the smaller
+/// positive root `x_s` of `k x - c x^3 = w` and saddles at the larger one `x_u+` and at
+/// the negative one `x_u-`. The motion is bounded when `x_u- < x_s - A`,
+/// `x_s + A < x_u+` and `max(V(x_s + A), V(x_s - A)) < min(V(x_u+), V(x_u-))`; the set
+/// of such `c` is an interval from 0, bisected here. Without a weight it is
+/// `c < k / A^2`, three times the `k / (3 A^2)` where the tangent stiffness vanishes at
+/// the amplitude, a region a motion passes through and turns back from (a pendulum
+/// beyond 90 degrees).
+pub fn bounded_softening_n_m3(k: f64, w: f64, amplitude: f64) -> f64 {
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !(positive(k) && positive(amplitude) && w >= 0.0 && w.is_finite()) {
+        return f64::NAN;
+    }
+    let bounded = |c: f64| -> bool {
+        let g = |x: f64| k * x - c * x * x * x - w;
+        let v = |x: f64| 0.5 * k * x * x - 0.25 * c * x.powi(4) - w * x;
+        // A root of g on [lo, hi], where g changes sign, by bisection to rounding.
+        let root = |mut lo: f64, mut hi: f64| {
+            let rising = g(hi) > g(lo);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if (g(mid) < 0.0) == rising {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        let peak = (k / (3.0 * c)).sqrt();
+        if g(peak) <= 0.0 {
+            // No equilibrium: the weight crushes the spring.
+            return false;
+        }
+        let x_s = root(0.0, peak);
+        let x_up = root(peak, (k / c).sqrt());
+        let mut far = -(k / c).sqrt();
+        while g(far) < 0.0 {
+            far *= 2.0;
+        }
+        let x_um = root(far, -peak);
+        let (top, bottom) = (x_s + amplitude, x_s - amplitude);
+        top < x_up && bottom > x_um && v(top).max(v(bottom)) < v(x_up).min(v(x_um))
+    };
+    let (mut lo, mut hi) = (0.0, k / (amplitude * amplitude));
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if bounded(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bounded_softening_n_m3;
+
+    /// The largest |u - x_s| of a free motion released at rest from `x_s + a` (`a` of
+    /// either sign) under
+    /// `m x'' = w - k x + c x^3` (m = 1), by classical RK4 over `periods` linear periods;
+    /// infinite when it passes the point where the spring pushes outwards.
+    fn swing(k: f64, c: f64, w: f64, a: f64, periods: f64) -> f64 {
+        let f = |x: f64| w - k * x + c * x * x * x;
+        // The equilibrium, by Newton from the linear deflection.
+        let mut x_s = w / k;
+        for _ in 0..100 {
+            x_s -= (k * x_s - c * x_s.powi(3) - w) / (k - 3.0 * c * x_s * x_s);
+        }
+        let (mut x, mut v) = (x_s + a, 0.0);
+        let dt = 1e-3 * std::f64::consts::TAU / k.sqrt();
+        let mut widest = 0.0_f64;
+        for _ in 0..(periods * 1000.0) as usize {
+            let (k1x, k1v) = (v, f(x));
+            let (k2x, k2v) = (v + 0.5 * dt * k1v, f(x + 0.5 * dt * k1x));
+            let (k3x, k3v) = (v + 0.5 * dt * k2v, f(x + 0.5 * dt * k2x));
+            let (k4x, k4v) = (v + dt * k3v, f(x + dt * k3x));
+            x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            if x.abs() >= (k / c).sqrt() {
+                return f64::INFINITY;
+            }
+            widest = widest.max((x - x_s).abs());
+        }
+        widest
+    }
+
+    #[test]
+    fn the_bounded_softening_limit_is_where_the_motion_escapes() {
+        // Without a weight: c A^2 < k, the closed form.
+        let c = bounded_softening_n_m3(4.0, 0.0, 0.5);
+        assert!((c / 16.0 - 1.0).abs() < 1e-6, "{c}");
+        // With a weight of 40 % of k A (a hanging weight: the saddle on the
+        // compression side is near), the motions released at rest `A` either side of
+        // the equilibrium stay bounded just inside the limit, and one of them escapes
+        // just outside it; the limit lies below the unpreloaded one.
+        let (k, a) = (100.0, 0.1);
+        let w = 0.4 * k * a;
+        let c = bounded_softening_n_m3(k, w, a);
+        assert!(c > 0.0 && c < k / (a * a), "{c}");
+        let both = |c: f64| swing(k, c, w, a, 20.0).max(swing(k, c, w, -a, 20.0));
+        assert!(both(0.98 * c).is_finite());
+        assert!(both(1.02 * c).is_infinite());
+        assert!(bounded_softening_n_m3(k, w, 0.0).is_nan());
+    }
 }

@@ -111,6 +111,7 @@ pub fn paper_spring_parts(
         beam_tensions: Vec::new(),
         tension_links: Vec::new(),
         moving_contacts: Vec::new(),
+        matrix_elements: Vec::new(),
     }
 }
 

@@ -29,6 +29,9 @@ pub struct System<'m> {
     pub element_mass: Vec<Matrix12>,
     /// Point-mass blocks (6x6 diagonal), in `model.point_masses` order.
     pub point_mass_blocks: Vec<SMatrix<f64, 6, 6>>,
+    /// Index in `blocks` of the first matrix element (`DMIG`); they are the last
+    /// blocks, in `model.matrix_elements` order.
+    pub matrix_first: usize,
     /// Reduced stiffness (upper triangle).
     pub stiffness: SparseColMat<usize, f64>,
     /// Reduced mass (upper triangle).
@@ -95,6 +98,19 @@ impl<'m> System<'m> {
             let a = node_dofs(l.nodes[0], "TENSION LINK")?.start + usize::from(l.dof - 1);
             let b = node_dofs(l.nodes[1], "TENSION LINK")?.start + usize::from(l.dof - 1);
             blocks.push(vec![a, b]);
+        }
+        // Matrix elements (`DMIG`): one block over their listed DOFs each, last.
+        let matrix_first = blocks.len();
+        for e in &model.matrix_elements {
+            let mut block = Vec::with_capacity(e.size());
+            for &(node, dof) in &e.dofs {
+                let d = dofs.full_index(node, dof).ok_or(SolveError::BadDof {
+                    dof,
+                    context: format!("DMIG `{}` at node {node}", e.name),
+                })?;
+                block.push(d);
+            }
+            blocks.push(block);
         }
         let assembler = Assembler::new(&dofs, &blocks)?;
         let n_elements = model.elements.len();
@@ -170,6 +186,15 @@ impl<'m> System<'m> {
             pretension[b[0]] -= k * l.slack;
             pretension[b[1]] += k * l.slack;
         }
+        for (i, e) in model.matrix_elements.iter().enumerate() {
+            let b = matrix_first + i;
+            assembler.add_block(&mut k_values, b, &e.stiffness, 1.0);
+            assembler.add_block(&mut m_values, b, &e.mass, 1.0);
+            assembler.add_prescribed_load(&mut prescribed_load, b, &e.stiffness, 1.0);
+            if !e.damping.is_empty() {
+                assembler.add_block(&mut c_values, b, &e.damping, 1.0);
+            }
+        }
         dofs.restrict_add(&pretension, &mut prescribed_load);
         let stiffness = assembler.matrix(&k_values)?;
         let mass = assembler.matrix(&m_values)?;
@@ -183,6 +208,7 @@ impl<'m> System<'m> {
             element_stiffness,
             element_mass,
             point_mass_blocks,
+            matrix_first,
             stiffness,
             mass,
             damping,
@@ -300,6 +326,14 @@ impl<'m> System<'m> {
         let mut r: Vec<f64> = f_full.iter().map(|f| -f).collect();
         let first =
             self.model.elements.len() + self.model.point_masses.len() + self.model.dashpots.len();
+        for (e, b) in self
+            .model
+            .matrix_elements
+            .iter()
+            .zip(&self.blocks[self.matrix_first..])
+        {
+            matrix_times(b, &e.stiffness, u_full, &mut r);
+        }
         for (l, b) in self.model.tension_links.iter().zip(&self.blocks[first..]) {
             let e = u_full[b[1]] - u_full[b[0]] - l.slack;
             let force = l.stiffness * e.max(0.0);
@@ -339,7 +373,23 @@ impl<'m> System<'m> {
                 out[da] += m[(a, a)] * v_full[da];
             }
         }
+        for (e, b) in self
+            .model
+            .matrix_elements
+            .iter()
+            .zip(&self.blocks[self.matrix_first..])
+        {
+            matrix_times(b, &e.mass, v_full, &mut out);
+        }
         out
+    }
+}
+
+/// `out[block] += A x[block]` for a row-major `A` over the full DOFs `block`.
+fn matrix_times(block: &[usize], a: &[f64], x: &[f64], out: &mut [f64]) {
+    let n = block.len();
+    for (i, &di) in block.iter().enumerate() {
+        out[di] += (0..n).map(|j| a[i * n + j] * x[block[j]]).sum::<f64>();
     }
 }
 

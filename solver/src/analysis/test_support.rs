@@ -49,6 +49,7 @@ pub fn model(nodes: &[(NodeId, [f64; 3])], elements: &[[NodeId; 2]]) -> Model {
         beam_tensions: Vec::new(),
         tension_links: Vec::new(),
         moving_contacts: Vec::new(),
+        matrix_elements: Vec::new(),
     }
 }
 

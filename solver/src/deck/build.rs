@@ -15,7 +15,7 @@
 //! The build functions live with their cards (`cards/<family>.rs`); list resolution
 //! and the line-named checks they share are in [`super::resolve`].
 
-use super::cards::{catenary, history, loads, masses, mesh, point_laws, properties};
+use super::cards::{catenary, history, loads, masses, mesh, point_laws, properties, superelement};
 use super::error::{DeckError, Loc};
 use super::raw::{PointLawKind, RawDeck, SetKind};
 use super::resolve::Builder;
@@ -48,6 +48,7 @@ pub(crate) fn build(raw: RawDeck, file: &str) -> Result<Model, DeckError> {
     properties::build(&b, &raw, &mut parts)?;
     masses::build(&b, &raw, &mut parts)?;
     catenary::build(&b, &raw, &mut parts)?;
+    superelement::build(&raw, &mut parts);
     let prescribed = loads::build_supports(&b, &raw, &mut parts)?;
     masses::build_ties(&b, &raw, &prescribed, &mut parts)?;
     point_laws::build(&b, &raw, &prescribed, &mut parts)?;
@@ -121,6 +122,7 @@ fn locate(b: &Builder<'_>, raw: &RawDeck, keys: &PointKeys, e: ModelError) -> De
             .moving_contacts
             .get(i)
             .map(|c| ("MOVING CONTACT", c.loc)),
+        Site::MatrixElement(i) => raw.matrix_elements.get(i).map(|m| ("DMIG", m.1)),
         Site::PointMass(i) => raw.point_masses.get(i).map(|p| ("POINT MASS", p.node_loc)),
         Site::RigidTie(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.loc)),
         Site::RigidTieReference(i) => raw.rigid_ties.get(i).map(|t| ("RBE2", t.reference_loc)),

@@ -44,6 +44,7 @@ mod writer;
 pub use card::{DeckSection, Keyword, Origin};
 pub use cards::{reference_markdown, KEYWORDS};
 pub use error::{DeckError, Loc};
+pub use writer::dmig_card;
 
 use crate::model::Model;
 use std::path::Path;

@@ -230,6 +230,8 @@ pub(crate) struct RawDeck {
     pub tension_links: Vec<(crate::model::TensionLink, Loc)>,
     /// `MOVING CONTACT` groups.
     pub moving_contacts: Vec<RawMovingContact>,
+    /// `DMIG` groups: the matrix element and where its group starts.
+    pub matrix_elements: Vec<(crate::model::MatrixElement, Loc)>,
     pub point_masses: Vec<RawPointMass>,
     pub point_laws: Vec<RawPointLaw>,
     /// `LOSS FACTOR`: (eta, modes, where).

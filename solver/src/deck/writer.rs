@@ -12,8 +12,44 @@
 use std::fmt::Write;
 
 use crate::model::{
-    Analysis, Integrator, Model, PointElement, PointLoad, Quantity, Section, TransientMethod,
+    Analysis, Integrator, MatrixElement, Model, PointElement, PointLoad, Quantity, Section,
+    TransientMethod,
 };
+
+/// The `DMIG` card of `elements` (empty text for none), as [`write`] writes it: a name
+/// that is a number is the group's id, any other name follows an id counted from 1.
+pub fn dmig_card(elements: &[MatrixElement]) -> String {
+    let mut out = String::new();
+    if elements.is_empty() {
+        return out;
+    }
+    out.push_str("DMIG\n");
+    for (i, e) in elements.iter().enumerate() {
+        let n = e.size();
+        let flag = u8::from(!e.damping.is_empty());
+        out.push_str("$ id, n, 1 if a damping matrix follows, name\n");
+        match e.name.parse::<u32>() {
+            Ok(id) if id > 0 => out.push_str(&format!("{id}, {n}, {flag}\n")),
+            _ => out.push_str(&format!("{}, {n}, {flag}, {}\n", i + 1, e.name)),
+        }
+        out.push_str("$ node, dof of each row\n");
+        for &(node, dof) in &e.dofs {
+            out.push_str(&format!("{node}, {dof}\n"));
+        }
+        let damping = (flag == 1).then_some(("damping (N s/mm)", &e.damping));
+        for (what, a) in [("stiffness (N/mm)", &e.stiffness), ("mass (t)", &e.mass)]
+            .into_iter()
+            .chain(damping)
+        {
+            out.push_str(&format!("$ {what}, row by row\n"));
+            for row in a.chunks(n.max(1)) {
+                out.push_str(&nums(row.iter().copied()));
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
 
 /// The value a nonlinear point card writes for an element, if it writes one.
 type PointValue = fn(&PointElement) -> Option<f64>;
@@ -319,6 +355,7 @@ impl Writer<'_> {
     fn attachments(&mut self) {
         let m = self.model;
         let node_sets = node_sets(m);
+        self.out.push_str(&dmig_card(&m.matrix_elements));
         if !m.point_masses.is_empty() {
             self.line("POINT MASS");
             self.comment("node, mass (t), Ixx, Iyy, Izz (t mm^2)");

@@ -85,6 +85,21 @@ impl PointLaw {
         }
     }
 
+    /// The `|u|` (from the reference) beyond which a softening spring in parallel with
+    /// a linear stiffness `k` pushes outwards, `k u + k3 u^3 = 0`: `sqrt(k / |k3|)`;
+    /// infinite for `k3 >= 0`. A bounded free motion never reaches it, whatever the
+    /// preload: its energy is below the potential's saddle, which lies inside it
+    /// (`ident`'s diagnosis refuses a trial that gets there). Between
+    /// [`PointLaw::stable_displacement`] and it, the tangent stiffness is negative and a
+    /// motion passing through turns back, as a pendulum beyond 90 degrees does.
+    pub fn escape_displacement(&self, k: f64) -> f64 {
+        if self.cubic < 0.0 {
+            (k / -self.cubic).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// The smooth part `k3 u^3 + c2 v|v|`.
     pub fn smooth_force(&self, u: f64, v: f64) -> f64 {
         self.cubic * u * u * u + self.quadratic * v * v.abs()
@@ -498,6 +513,7 @@ mod tests {
         // Far beyond u_h = 1/sqrt(3 |k3| h) = 4.08 the law has no stable root.
         assert!(law.solve(50.0, 0.0, h, g).is_none());
         assert!((law.stable_displacement(6.0) - 1.0).abs() < 1e-15);
+        assert!((law.escape_displacement(2.0) - 1.0).abs() < 1e-15);
         assert!(PointLaw::default().stable_displacement(1.0).is_infinite());
         assert!(law.is_valid());
     }

@@ -935,6 +935,7 @@ fn paper_like_spring(coils: usize, per_coil: usize, lumped_mass: bool) -> (Mck, 
         beam_tensions: Vec::new(),
         tension_links: Vec::new(),
         moving_contacts: Vec::new(),
+        matrix_elements: Vec::new(),
     };
     let system = System::new(&model).unwrap();
     let weight = match system.dofs.status(system.dofs.full_index(1, 3).unwrap()) {

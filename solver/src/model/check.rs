@@ -13,7 +13,10 @@
 //! 5. point masses (existing node, one per node, non-negative values), Rayleigh
 //!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass),
 //!    beam tensions (finite force, existing elements, each element once), tension
-//!    links and moving contacts (existing nodes, a translation, stiffness > 0);
+//!    links and moving contacts (existing nodes, a translation, stiffness > 0), matrix
+//!    elements (unique names, existing nodes, DOFs 1..=6 once each, n x n finite
+//!    matrices, symmetric to [`SYMMETRY`], mass and damping positive semi-definite to
+//!    [`SEMI_DEFINITE`]);
 //! 6. constraints: prescribed DOFs 1..=6 once each, rigid ties (existing reference not
 //!    in its own list, no overlap, no chain, no tied DOF also prescribed), nonlinear
 //!    point elements and dashpots on existing, free DOFs with non-negative values;
@@ -33,6 +36,14 @@ use super::{Analysis, ElementId, ElementType, ModelParts, NodeId, Section, Trans
 /// Relative tolerance under which an element counts as zero-length: its length over
 /// the model's largest coordinate. Far above round-off (1e-16), far below any mesh.
 pub const ZERO_LENGTH: f64 = 1e-12;
+/// A matrix element's `|a_ij - a_ji| <= SYMMETRY max|a|`: written matrices are exactly
+/// symmetric; this lets through a matrix printed with 10 significant digits, not a
+/// wrong entry.
+pub const SYMMETRY: f64 = 1e-9;
+/// A matrix element's mass or damping is positive semi-definite when its smallest
+/// eigenvalue is `>= -SEMI_DEFINITE` times its largest magnitude (rounding of a
+/// singular matrix, not a negative mass).
+pub const SEMI_DEFINITE: f64 = 1e-9;
 /// |v x e| <= PARALLEL |v| |e|: the orientation fixes no plane (angle below 1e-6 rad).
 pub const PARALLEL: f64 = 1e-6;
 
@@ -105,6 +116,8 @@ pub enum Site {
     TensionLink(usize),
     /// `moving_contacts[i]`.
     MovingContact(usize),
+    /// `matrix_elements[i]`.
+    MatrixElement(usize),
 }
 
 impl fmt::Display for Site {
@@ -141,6 +154,7 @@ impl fmt::Display for Site {
             Site::BeamTension(i) => write!(f, "beam tension {}", i + 1),
             Site::TensionLink(i) => write!(f, "tension link {}", i + 1),
             Site::MovingContact(i) => write!(f, "moving contact {}", i + 1),
+            Site::MatrixElement(i) => write!(f, "matrix element {}", i + 1),
         }
     }
 }
@@ -186,6 +200,7 @@ pub(crate) fn check(mut p: ModelParts) -> Result<ModelParts, ModelError> {
     check_masses_and_damping(&p, &ids)?;
     check_beam_tensions(&p, &ids)?;
     check_links_and_contacts(&p, &ids)?;
+    check_matrix_elements(&p, &ids)?;
     let fixed = check_constraints(&p, &ids)?;
     check_point_elements(&p, &ids, &fixed)?;
     check_loads_and_cases(&p, &ids)?;
@@ -658,6 +673,93 @@ fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 ),
                 "a stiffness > 0 (N/mm), a finite speed (mm/s) and start (mm)",
             );
+        }
+    }
+    Ok(())
+}
+
+/// Matrix elements: unique names, existing nodes, DOFs 1..=6 once each, finite
+/// `n x n` matrices (damping empty or `n x n`), symmetric, mass and damping positive
+/// semi-definite.
+fn check_matrix_elements(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
+    let mut names = HashSet::new();
+    for (i, e) in p.matrix_elements.iter().enumerate() {
+        let site = Site::MatrixElement(i);
+        if e.name.is_empty() || !names.insert(e.name.to_ascii_lowercase()) {
+            return fail(
+                site,
+                format!("name `{}` is empty or used twice", e.name),
+                "a unique name per matrix element",
+            );
+        }
+        let n = e.dofs.len();
+        if n == 0 {
+            return fail(site, "no DOF", "at least one (node, DOF) pair");
+        }
+        let mut seen = HashSet::new();
+        for &(node, dof) in &e.dofs {
+            ids.nodes_exist(&[node], site)?;
+            if !dof_ok(dof) {
+                return fail(site, format!("node {node} DOF {dof}"), "DOFs 1..6");
+            }
+            if !seen.insert((node, dof)) {
+                return fail(
+                    site,
+                    format!("node {node} DOF {dof} is listed twice"),
+                    "each (node, DOF) once",
+                );
+            }
+        }
+        let matrices = [("stiffness", &e.stiffness), ("mass", &e.mass)];
+        let damping = (!e.damping.is_empty()).then_some(("damping", &e.damping));
+        for (what, a) in matrices.into_iter().chain(damping) {
+            if a.len() != n * n {
+                return fail(
+                    site,
+                    format!("a {what} matrix of {} entries", a.len()),
+                    format!("{n} x {n} = {} entries", n * n),
+                );
+            }
+            if let Some(k) = a.iter().position(|x| !x.is_finite()) {
+                return fail(
+                    site,
+                    format!("{what} entry ({}, {}) is {}", k / n + 1, k % n + 1, a[k]),
+                    "finite entries",
+                );
+            }
+            let scale = a.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            for r in 0..n {
+                for c in r + 1..n {
+                    if (a[r * n + c] - a[c * n + r]).abs() > SYMMETRY * scale {
+                        return fail(
+                            site,
+                            format!(
+                                "{what} entries ({}, {}) = {} and ({}, {}) = {} differ",
+                                r + 1,
+                                c + 1,
+                                a[r * n + c],
+                                c + 1,
+                                r + 1,
+                                a[c * n + r]
+                            ),
+                            "a symmetric matrix",
+                        );
+                    }
+                }
+            }
+            if what != "stiffness" {
+                let m = nalgebra::DMatrix::from_row_slice(n, n, a);
+                let eig = ((&m + m.transpose()) * 0.5).symmetric_eigenvalues();
+                let lowest = eig.iter().copied().fold(f64::INFINITY, f64::min);
+                let largest = eig.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+                if lowest < -SEMI_DEFINITE * largest {
+                    return fail(
+                        site,
+                        format!("the {what} matrix has the eigenvalue {lowest:e}"),
+                        format!("a positive semi-definite {what} matrix"),
+                    );
+                }
+            }
         }
     }
     Ok(())

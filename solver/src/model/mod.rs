@@ -456,6 +456,9 @@ pub struct Model {
     /// Moving unilateral contacts of a node on a beam line (`MOVING CONTACT`).
     #[serde(default)]
     pub(crate) moving_contacts: Vec<MovingContact>,
+    /// Matrix elements (`DMIG`): symmetric K, M, C over listed (node, DOF) pairs.
+    #[serde(default)]
+    pub(crate) matrix_elements: Vec<MatrixElement>,
 }
 
 /// The pieces of a [`Model`] before validation: every field public, so a caller (the
@@ -517,6 +520,37 @@ pub struct ModelParts {
     /// Moving unilateral contacts of a node on a beam line (`MOVING CONTACT`).
     #[serde(default)]
     pub moving_contacts: Vec<MovingContact>,
+    /// Matrix elements (`DMIG`): symmetric K, M, C over listed (node, DOF) pairs.
+    #[serde(default)]
+    pub matrix_elements: Vec<MatrixElement>,
+}
+
+/// A matrix element (card `DMIG`, direct matrix input): symmetric stiffness, mass and
+/// damping matrices over an ordered list of (node, DOF) pairs, added to the global K, M
+/// and C of every analysis before constraints are applied, as an element's matrices are.
+/// A reduced model (Craig-Bampton) is one: its boundary DOFs are the physical DOFs it
+/// connects to, its modal coordinates extra nodes with one free DOF each.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MatrixElement {
+    /// The element's name (unique among matrix elements).
+    pub name: String,
+    /// The (node, DOF 1..=6) of each row and column, in order, each pair once.
+    pub dofs: Vec<(NodeId, u8)>,
+    /// Stiffness, `n x n` row-major (N/mm, N, N mm per unit DOF), symmetric.
+    pub stiffness: Vec<f64>,
+    /// Mass, `n x n` row-major (t, t mm, t mm^2), symmetric positive semi-definite.
+    pub mass: Vec<f64>,
+    /// Damping, `n x n` row-major (N s/mm, ...), symmetric positive semi-definite;
+    /// empty for none.
+    #[serde(default)]
+    pub damping: Vec<f64>,
+}
+
+impl MatrixElement {
+    /// Number of DOFs (rows) `n`.
+    pub fn size(&self) -> usize {
+        self.dofs.len()
+    }
 }
 
 /// A tension-only link (coil card `TENSION LINK`; a catenary's dropper): along the
@@ -697,6 +731,7 @@ impl Model {
             beam_tensions: p.beam_tensions,
             tension_links: p.tension_links,
             moving_contacts: p.moving_contacts,
+            matrix_elements: p.matrix_elements,
         })
     }
 
@@ -736,6 +771,7 @@ impl Model {
             beam_tensions: self.beam_tensions,
             tension_links: self.tension_links,
             moving_contacts: self.moving_contacts,
+            matrix_elements: self.matrix_elements,
         }
     }
 
@@ -902,6 +938,11 @@ impl Model {
     /// Moving contacts (`MOVING CONTACT`).
     pub fn moving_contacts(&self) -> &[MovingContact] {
         &self.moving_contacts
+    }
+
+    /// Matrix elements (`DMIG`).
+    pub fn matrix_elements(&self) -> &[MatrixElement] {
+        &self.matrix_elements
     }
 
     /// The given axial force of an element (`BEAM TENSION`; N), zero when none is given.

@@ -554,6 +554,13 @@ fn every_field_model() -> Model {
             slack: -1.0,
         }],
         moving_contacts: Vec::new(),
+        matrix_elements: vec![MatrixElement {
+            name: "head".into(),
+            dofs: vec![(20, 3), (2, 1)],
+            stiffness: vec![2.5, -0.5, -0.5, 1.0],
+            mass: vec![1.0e-6, 0.0, 0.0, 2.0e-6],
+            damping: vec![1.0e-3, 0.0, 0.0, 0.0],
+        }],
     }
     .build()
     .expect("every field is valid")

@@ -6,3 +6,4 @@ mod catenary;
 mod cli;
 mod decks;
 mod marc;
+mod superelement;

@@ -9,14 +9,16 @@
 //!   blow left at the start, jittered stamps), a friction behind a position sensor
 //!   (`truth::FAST`), and the shipped friction case; from the records of rigs outside
 //!   the catalogue (`truth::FAST_HARD`), a friction decay that stops after 12 cycles, a
-//!   10-cycle null decay and a softening spring under 130 mm of static deflection.
+//!   10-cycle null decay, a softening spring under 130 mm of static deflection and a
+//!   softening decay that sweeps its frequency by 21 %.
 //! - **Full table** ([`full_confusion_table`], `#[ignore]`d: several minutes): the 17
 //!   standard cases and the 33 extended ones (softening and
 //!   hardening alone and with each damping effect, two damping effects together,
 //!   position and velocity sensors, band-limited noise, jitter, drift, an impulse at the
 //!   start, 30 Hz short records, 150+ cycle records, null cases with each
-//!   imperfection), and the 11 `hard_cases` (friction decays stopping after 12-20
-//!   cycles, a 10-cycle null decay, softening sweeping the frequency by 10-15 %, a
+//!   imperfection), and the 13 `hard_cases` (friction decays stopping after 12-20
+//!   cycles, a 10-cycle null decay, softening sweeping the frequency by 10-15 % and
+//!   21 %, hardening sweeping it by 19 %, a
 //!   hanging weight with 110 mm of static deflection with each effect). Run it with
 //!   `cargo test --release -p coil-tests --test it diagnose:: -- --ignored --nocapture`; the
 //!   benchmark `examples/bench_diagnose.rs` prints the same table with the whole

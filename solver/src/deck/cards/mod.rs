@@ -1,6 +1,7 @@
 //! THE keyword table (the registry). Every card of the deck language is one [`Keyword`]
 //! entry, defined beside its parse function and its tests in the module of its family
-//! (`parameters`, `mesh`, `properties`, `masses`, `catenary`, `point_laws`, `loads`,
+//! (`parameters`, `mesh`, `properties`, `masses`, `catenary`, `superelement`,
+//! `point_laws`, `loads`,
 //! `history`, `mentat`, `control`); [`KEYWORDS`] lists them in the order of the deck
 //! reference. The reader
 //! finds cards here, the writer and docs/deck.md follow it ([`reference_markdown`];
@@ -21,6 +22,7 @@ pub(crate) mod mesh;
 pub(crate) mod parameters;
 pub(crate) mod point_laws;
 pub(crate) mod properties;
+pub(crate) mod superelement;
 #[cfg(test)]
 pub(crate) mod testing;
 
@@ -43,6 +45,7 @@ pub static KEYWORDS: &[Keyword] = &[
     catenary::BEAM_TENSION,
     catenary::TENSION_LINK,
     catenary::MOVING_CONTACT,
+    superelement::DMIG,
     masses::POINT_MASS,
     point_laws::FRICTION,
     point_laws::QUADRATIC_DAMPER,

@@ -54,8 +54,8 @@ use crate::{check, SpecError};
 use coil_solver::analysis::{run, CaseSolution, StaticSolution};
 use coil_solver::model::{
     Analysis, BeamTension, Damping, Dashpot, Element, ElementType, FixedDisp, Geometry, Integrator,
-    LoadCase, Material, Model, ModelParts, MovingContact, Node, NodeId, NodeSet, OutputRequest,
-    PointLoad, PointMass, Quantity, Section, TensionLink, TransientMethod,
+    LoadCase, Material, MatrixElement, Model, ModelParts, MovingContact, Node, NodeId, NodeSet,
+    OutputRequest, PointLoad, PointMass, Quantity, Section, TensionLink, TransientMethod,
 };
 use serde::{Deserialize, Serialize};
 
@@ -69,6 +69,9 @@ pub const STEADY_ARM_BASE: u32 = 2_000_001;
 pub const SUPPORT_BASE: u32 = 3_000_001;
 /// The pantograph's head node; its lower masses follow, then its ground node.
 pub const PANTOGRAPH_BASE: u32 = 9_000_001;
+/// First modal node of a stage matrix: stage `i`'s mode `j` (from 0) is node
+/// `PANTOGRAPH_MODAL_BASE + 1000 i + j`.
+pub const PANTOGRAPH_MODAL_BASE: u32 = 9_100_001;
 /// Most grid nodes per wire.
 pub const MAX_WIRE_NODES: usize = 999_999;
 /// The contact wire's largest miss of its prescribed heights (mm) in the static state.
@@ -178,17 +181,74 @@ pub struct CatenarySpec {
     pub gravity_m_s2: f64,
 }
 
-/// One lumped stage of a pantograph: a mass, and the spring and damper below it.
+/// One stage of a pantograph: a mass, and the spring and damper below it, either lumped
+/// (a bar and its dashpot) or a reduced model given as matrices ([`StageMatrix`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StageSpec {
     /// Mass (kg), > 0.
     pub mass_kg: f64,
-    /// Spring to the next stage down, or the ground for the last (N/m), > 0.
+    /// Spring to the next stage down, or the ground for the last (N/m), > 0. With
+    /// `matrix`, the matrix's static stiffness (checked to [`STAGE_STIFFNESS_TOLERANCE`]).
     pub stiffness_n_m: f64,
-    /// Damper beside it (N s/m), >= 0.
+    /// Damper beside it (N s/m), >= 0; 0 with `matrix` (its damping is the matrix's).
     pub damping_n_s_m: f64,
+    /// The stage's spring and damper as a reduced model in place of the lumped bar and
+    /// dashpot [default: none].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<StageMatrix>,
 }
+
+/// A stage's spring as symmetric matrices (a Craig-Bampton model, say) over the
+/// coordinates `[lower end u, upper end u, eta_1, .., eta_r]`: the axial (z)
+/// displacements of the stage's two ends (the next mass down, or the ground, and the
+/// stage's own mass), then `r >= 0` modal amplitudes. Row-major `n x n` with `n = 2 + r`,
+/// in deck units: N/mm, t, N s/mm on the ends (a modal coordinate's units are its own,
+/// sqrt(t) mm for a mass-normalised mode). The deck holds it as one `DMIG`; each modal
+/// coordinate is DOF 1 of its own node (the other DOFs held).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageMatrix {
+    /// Stiffness, `n x n` row-major.
+    pub stiffness: Vec<f64>,
+    /// Mass, `n x n` row-major (the spring's own mass; the stage's `mass_kg` stays a
+    /// point mass on its upper end).
+    pub mass: Vec<f64>,
+    /// Damping, `n x n` row-major [default: none].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<Vec<f64>>,
+}
+
+impl StageMatrix {
+    /// The order `n` of the matrices, if `stiffness` holds a square number >= 4 of
+    /// entries.
+    pub fn order(&self) -> Option<usize> {
+        let n = (self.stiffness.len() as f64).sqrt().round() as usize;
+        (n >= 2 && n * n == self.stiffness.len()).then_some(n)
+    }
+
+    /// The static stiffness between the ends with the modal coordinates relaxed (N/mm):
+    /// the upper end's entry of the Schur complement `K_bb - K_bm K_mm^-1 K_mb`, or
+    /// `None` if the modal block is singular or the size is wrong.
+    pub fn static_stiffness_n_mm(&self) -> Option<f64> {
+        let n = self.order()?;
+        let k = nalgebra::DMatrix::from_row_slice(n, n, &self.stiffness);
+        if n == 2 {
+            return Some(k[(1, 1)]);
+        }
+        let kmm = k.view((2, 2), (n - 2, n - 2)).into_owned();
+        let kbm = k.view((1, 2), (1, n - 2)).into_owned();
+        let solved = kmm.lu().solve(&kbm.transpose())?;
+        let s = k[(1, 1)] - (kbm * solved)[(0, 0)];
+        s.is_finite().then_some(s)
+    }
+}
+
+/// A stage matrix's static stiffness and the stage's `stiffness_n_m` agree to this
+/// fraction (a matrix exported with 9 significant digits passes, a unit slip does not).
+pub const STAGE_STIFFNESS_TOLERANCE: f64 = 1e-6;
+/// Most modal coordinates of one stage matrix.
+pub const MAX_STAGE_MODES: usize = 999;
 
 /// A lumped pantograph: its stages from the head down, a static uplift force on the
 /// lowest mass, and the contact's penalty stiffness.
@@ -287,11 +347,13 @@ impl CatenaryDeckSpec {
                         mass_kg: 7.2,
                         stiffness_n_m: 4200.0,
                         damping_n_s_m: 10.0,
+                        matrix: None,
                     },
                     StageSpec {
                         mass_kg: 15.0,
                         stiffness_n_m: 50.0,
                         damping_n_s_m: 90.0,
+                        matrix: None,
                     },
                 ],
                 uplift_force_n: 120.0,
@@ -557,6 +619,9 @@ impl PantographSpec {
                 s.damping_n_s_m,
                 ">= 0",
             )?;
+            if let Some(m) = &s.matrix {
+                m.validate(s)?;
+            }
         }
         check(
             self.uplift_force_n.is_finite(),
@@ -569,6 +634,57 @@ impl PantographSpec {
             "pantograph.contact_stiffness_n_m",
             self.contact_stiffness_n_m,
             "> 0",
+        )
+    }
+}
+
+impl StageMatrix {
+    /// Checks the sizes and the static stiffness against `stage` (symmetry and the
+    /// mass's and damping's semi-definiteness are the model's checks, reported under
+    /// `pantograph.stages.matrix` by [`build`]).
+    fn validate(&self, stage: &StageSpec) -> Result<(), SpecError> {
+        let len = self.stiffness.len() as f64;
+        let Some(n) = self.order() else {
+            return Err(SpecError {
+                field: "pantograph.stages.matrix.stiffness",
+                value: format!("{len} entries"),
+                expected: "n x n entries, n >= 2 (two ends, then the modal coordinates)",
+            });
+        };
+        check(
+            n - 2 <= MAX_STAGE_MODES,
+            "pantograph.stages.matrix.stiffness",
+            len,
+            "at most 999 modal coordinates",
+        )?;
+        let same = [
+            ("pantograph.stages.matrix.mass", Some(&self.mass)),
+            ("pantograph.stages.matrix.damping", self.damping.as_ref()),
+        ];
+        for (field, a) in same {
+            if let Some(a) = a {
+                if a.len() != n * n {
+                    return Err(SpecError {
+                        field,
+                        value: format!("{} entries", a.len()),
+                        expected: "as many entries as the stiffness (n x n)",
+                    });
+                }
+            }
+        }
+        check(
+            stage.damping_n_s_m == 0.0,
+            "pantograph.stages.damping_n_s_m",
+            stage.damping_n_s_m,
+            "0 with a matrix (the matrix's damping stands for the dashpot)",
+        )?;
+        let k = self.static_stiffness_n_mm().unwrap_or(f64::NAN) * 1e3;
+        check(
+            (k - stage.stiffness_n_m).abs() <= STAGE_STIFFNESS_TOLERANCE * stage.stiffness_n_m,
+            "pantograph.stages.stiffness_n_m",
+            stage.stiffness_n_m,
+            "the matrix's static stiffness (its Schur complement on the upper end, N/m, \
+             to 1e-6)",
         )
     }
 }
@@ -699,6 +815,7 @@ struct Pieces {
     tension_links: Vec<TensionLink>,
     node_sets: Vec<NodeSet>,
     dashpots: Vec<Dashpot>,
+    matrix_elements: Vec<MatrixElement>,
 }
 
 impl Pieces {
@@ -818,6 +935,41 @@ impl Pieces {
             },
             orientation: [1.0, 0.0, 0.0],
             elements: vec![id],
+        });
+    }
+
+    /// Stage `stage`'s matrix on the u_z of `ends` (lower, upper) and its modal
+    /// coordinates on DOF 1 of new nodes from [`PANTOGRAPH_MODAL_BASE`] (the other DOFs
+    /// held), as one matrix element `pantograph_stage_<stage + 1>`.
+    fn stage_matrix(&mut self, stage: u32, ends: [NodeId; 2], matrix: &StageMatrix) {
+        let n = matrix.order().unwrap_or(2);
+        let modal: Vec<NodeId> = (0..n as u32 - 2)
+            .map(|j| PANTOGRAPH_MODAL_BASE + 1000 * stage + j)
+            .collect();
+        for (j, &id) in modal.iter().enumerate() {
+            self.nodes.push(Node {
+                id,
+                xyz: [
+                    -5000.0,
+                    BAR_MM * (j + 1) as f64,
+                    -BAR_MM * (f64::from(stage) + 0.5),
+                ],
+            });
+        }
+        if !modal.is_empty() {
+            self.fixed_disp.push(FixedDisp {
+                dofs: (2..=6).map(|d| (d, 0.0)).collect(),
+                nodes: modal.clone(),
+            });
+        }
+        let mut dofs = vec![(ends[0], 3), (ends[1], 3)];
+        dofs.extend(modal.iter().map(|&id| (id, 1)));
+        self.matrix_elements.push(MatrixElement {
+            name: format!("pantograph_stage_{}", stage + 1),
+            dofs,
+            stiffness: matrix.stiffness.clone(),
+            mass: matrix.mass.clone(),
+            damping: matrix.damping.clone().unwrap_or_default(),
         });
     }
 
@@ -1029,7 +1181,7 @@ fn parts(
         beam_tensions: p.beam_tensions,
         tension_links: p.tension_links,
         moving_contacts: contacts,
-        matrix_elements: Vec::new(),
+        matrix_elements: p.matrix_elements,
     }
 }
 
@@ -1046,6 +1198,14 @@ fn static_case(title: &str) -> LoadCase {
 
 fn model_of(parts: ModelParts) -> Result<Model, CatenaryError> {
     Model::try_new(parts).map_err(|e| {
+        if let coil_solver::model::Site::MatrixElement(_) = e.site {
+            // The catenary's only matrix elements are the pantograph's stage matrices.
+            return CatenaryError::Spec(SpecError {
+                field: "pantograph.stages.matrix",
+                value: e.to_string(),
+                expected: "symmetric matrices, the mass and damping positive semi-definite",
+            });
+        }
         CatenaryError::State(format!(
             "the mesh is not a valid model ({e}); expected a spec whose mesh is one"
         ))
@@ -1275,6 +1435,10 @@ pub fn build_parts(
             mass: kg_to_t(stage.mass_kg),
             inertia: [0.0; 3],
         });
+        if let Some(matrix) = &stage.matrix {
+            p.stage_matrix(i as u32, [node + 1, node], matrix);
+            continue;
+        }
         p.bar(
             id,
             [node, node + 1],
@@ -1481,6 +1645,127 @@ mod tests {
         assert!(e.contains("pantograph.stages"), "{e}");
         let json = r#"{"catenary": {}, "pantograph": {}, "run": {}, "extra": 1}"#;
         assert!(serde_json::from_str::<CatenaryDeckSpec>(json).is_err());
+    }
+
+    /// The static state's pantograph displacements and a short run's contact force.
+    fn static_and_force(spec: &CatenaryDeckSpec) -> (Vec<f64>, Vec<f64>) {
+        let built = build(spec).unwrap();
+        let results = run(&built.model).unwrap();
+        let CaseSolution::Static(rest) = &results[0].solution else {
+            panic!("not static")
+        };
+        let CaseSolution::Transient(moving) = &results[1].solution else {
+            panic!("not transient")
+        };
+        let u = (0..spec.pantograph.stages.len() as u32)
+            .map(|i| {
+                rest.node_displacement(&built.model, PANTOGRAPH_BASE + i)
+                    .unwrap()[2]
+            })
+            .collect();
+        let force = moving
+            .history
+            .column(CONTACT_FORCE_COLUMN)
+            .unwrap()
+            .to_vec();
+        (u, force)
+    }
+
+    #[test]
+    fn a_stage_matrix_equal_to_the_bar_is_the_lumped_stage() {
+        // 2 spans, the head run over the first 15 m (216 steps at 250 km/h).
+        let mut lumped = small();
+        lumped.run.end_m = Some(15.0);
+        let mut matrix = lumped.clone();
+        let (k, c) = (4.2, 10e-3); // N/mm, N s/mm: the head stage's bar and dashpot
+        let stage = &mut matrix.pantograph.stages[0];
+        stage.damping_n_s_m = 0.0;
+        stage.matrix = Some(StageMatrix {
+            stiffness: vec![k, -k, -k, k],
+            mass: vec![0.0; 4],
+            damping: Some(vec![c, -c, -c, c]),
+        });
+        let built = build(&matrix).unwrap();
+        assert_eq!(built.model.matrix_elements().len(), 1);
+        let (u0, f0) = static_and_force(&lumped);
+        let (u1, f1) = static_and_force(&matrix);
+        let scale = f0.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+        let worst = f0
+            .iter()
+            .zip(&f1)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        println!(
+            "static u {u0:?} / {u1:?} mm; {} samples, contact force up to {scale:.2} N, \
+             largest difference {worst:e} N",
+            f0.len()
+        );
+        assert_eq!(f0.len(), f1.len());
+        for (a, b) in u0.iter().zip(&u1) {
+            assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{a} {b}");
+        }
+        assert!(worst <= 1e-9 * scale, "{worst} N of {scale} N");
+        // The force moves during the run (the comparison is not of a constant).
+        let spread =
+            f0.iter().fold(f64::MIN, |m, &f| m.max(f)) - f0.iter().fold(f64::MAX, |m, &f| m.min(f));
+        assert!(spread > 1.0, "{spread}");
+    }
+
+    #[test]
+    fn a_stage_matrix_with_modes_gets_its_nodes_and_a_bad_one_is_named() {
+        // One modal coordinate: a mass-normalised mode of 100 rad/s coupled to the ends.
+        let mut spec = small();
+        spec.run.end_m = Some(1.0);
+        let (k, w2, g) = (4.2, 1e4, 50.0);
+        let stage = &mut spec.pantograph.stages[0];
+        stage.damping_n_s_m = 0.0;
+        // K_bm = [-g, g]: the static stiffness is k - g^2 / w2 on the upper end.
+        stage.stiffness_n_m = (k - g * g / w2) * 1e3;
+        stage.matrix = Some(StageMatrix {
+            stiffness: vec![k, -k, -g, -k, k, g, -g, g, w2],
+            mass: vec![1e-4, 0.0, 0.0, 0.0, 1e-4, 0.0, 0.0, 0.0, 1.0],
+            damping: None,
+        });
+        let built = build(&spec).unwrap();
+        let e = &built.model.matrix_elements()[0];
+        assert_eq!(
+            e.dofs,
+            [
+                (PANTOGRAPH_BASE + 1, 3),
+                (PANTOGRAPH_BASE, 3),
+                (PANTOGRAPH_MODAL_BASE, 1)
+            ]
+        );
+        assert!(run(&built.model).is_ok());
+        let text = coil_solver::deck::write(&built.model);
+        let back = coil_solver::deck::read_str(&text, "catenary.dat").unwrap();
+        assert_eq!(back, built.model);
+
+        let bad = |f: &dyn Fn(&mut StageSpec)| {
+            let mut s = spec.clone();
+            f(&mut s.pantograph.stages[0]);
+            build(&s).unwrap_err().to_string()
+        };
+        let e = bad(&|s| {
+            s.matrix
+                .as_mut()
+                .unwrap()
+                .stiffness
+                .pop()
+                .map(drop)
+                .unwrap()
+        });
+        assert!(e.contains("pantograph.stages.matrix.stiffness"), "{e}");
+        let e = bad(&|s| s.matrix.as_mut().unwrap().damping = Some(vec![0.0; 4]));
+        assert!(e.contains("pantograph.stages.matrix.damping"), "{e}");
+        let e = bad(&|s| s.stiffness_n_m = 4200.0);
+        assert!(e.contains("pantograph.stages.stiffness_n_m"), "{e}");
+        let e = bad(&|s| s.damping_n_s_m = 10.0);
+        assert!(e.contains("pantograph.stages.damping_n_s_m"), "{e}");
+        let e = bad(&|s| s.matrix.as_mut().unwrap().mass[1] = 1.0);
+        assert!(
+            e.contains("pantograph.stages.matrix") && e.contains("symmetric"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -9,6 +9,8 @@
 //! the contact force and the supports' uplift over the window
 //! (`coil_postproc::en50318`). [`run::write`] puts `catenary.json`, `report.md`, the
 //! figures and the histories in the output folder as one set. [`cli`] is the command.
+//! [`head_stage`] puts coil's springs, Craig-Bampton reduced, in the pantograph's head
+//! stage.
 //!
 //! Layering: above `coil-mesher` (the model), `coil-solver` (the runs), `coil-postproc`
 //! (the statistics and figures) and `coil-tuner` (the output folder, the error type and
@@ -21,6 +23,7 @@
 
 pub mod case;
 pub mod cli;
+pub mod head_stage;
 pub mod run;
 
 pub use coil_tuner::error::{Result, TuneError};

@@ -303,6 +303,20 @@ impl RunFigure<'_> {
     }
 }
 
+/// The loss-of-contact panel's index in [`study::COLUMNS`].
+const LOSS_PANEL: usize = 2;
+
+/// The loss panel's axis (%): 0 and the largest loss, padded by a tenth; 0 to 1 % when no
+/// run loses contact (a zero-height axis would label every tick "0").
+fn loss_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let high = values.filter(|v| v.is_finite()).fold(0.0_f64, f64::max);
+    if high > 0.0 {
+        padded_range([0.0, high].into_iter(), 0.1)
+    } else {
+        (0.0, 1.0)
+    }
+}
+
 impl Figure for StudyFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let rows = self.rows;
@@ -319,12 +333,12 @@ impl Figure for StudyFigure<'_> {
         let areas = root.split_evenly((panels.len(), 1));
         let n = springs.len();
         for (panel, (area, (y_desc, _, value))) in areas.iter().zip(panels).enumerate() {
-            let (y0, y1) = padded_range(
-                rows.iter()
-                    .map(|r| value(&r.statistics))
-                    .chain((panel == 2).then_some(0.0)),
-                0.1,
-            );
+            let values = rows.iter().map(|r| value(&r.statistics));
+            let (y0, y1) = if panel == LOSS_PANEL {
+                loss_range(values)
+            } else {
+                padded_range(values, 0.1)
+            };
             let mut chart = ChartBuilder::on(area)
                 .margin(10)
                 .margin_right(36)
@@ -389,6 +403,18 @@ impl Figure for StudyFigure<'_> {
 mod tests {
     use super::super::{evaluate, Statistics, Support, Track, Window};
     use super::*;
+
+    #[test]
+    fn the_loss_axis_is_0_to_1_percent_without_loss() {
+        assert_eq!(loss_range([0.0, 0.0, 0.0].into_iter()), (0.0, 1.0));
+        assert_eq!(loss_range(std::iter::empty()), (0.0, 1.0));
+        let (low, high) = loss_range([0.0, 2.0].into_iter());
+        assert!(
+            low < 0.0 && low > -0.25 && high > 2.0 && high < 2.25,
+            "{low} {high}"
+        );
+        assert!(study::COLUMNS[LOSS_PANEL].1 == "loss");
+    }
 
     /// The three figures are drawn (PNG and SVG) from a small synthetic run.
     #[test]

@@ -14,7 +14,10 @@
 //! first and last support. The pantograph is a chain of lumped stages from the head down
 //! (stage i's spring and damper join mass i to mass i+1, the last to the ground), on bars
 //! (springs) and Rayleigh `beta = c / k` on each bar (its dashpot), the static uplift force
-//! on the lowest mass; the head presses on the contact wire by a `MOVING CONTACT`.
+//! on the lowest mass; the head presses on the contact wire by a `MOVING CONTACT`. A
+//! stage given as matrices ([`StageMatrix`], a reduced spring model) gets no bar and no
+//! dashpot but one `DMIG` over its two ends' u_z and its modal coordinates (DOF 1 of
+//! extra nodes, the other DOFs held).
 //! Gravity acts on the catenary (lumped nodal weights `q h / 2` per element end and the
 //! point masses' weights), not on the pantograph, whose uplift force is the net static
 //! force of the standard's models.
@@ -48,7 +51,8 @@
 //! [`MESSENGER_BASE`], steady-arm ground nodes and bars from [`STEADY_ARM_BASE`] (+ support
 //! index), messenger-support ground nodes and bars from [`SUPPORT_BASE`], the pantograph's
 //! masses from [`PANTOGRAPH_BASE`] (the head first; the ground node last), its bars from
-//! [`PANTOGRAPH_BASE`] (stage index).
+//! [`PANTOGRAPH_BASE`] (stage index), a stage matrix's modal nodes from
+//! [`PANTOGRAPH_MODAL_BASE`] (+ 1000 stage index + mode index).
 
 use crate::{check, SpecError};
 use coil_solver::analysis::{run, CaseSolution, StaticSolution};

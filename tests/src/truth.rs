@@ -1980,39 +1980,18 @@ pub fn hard_cases() -> Vec<TruthCase> {
         friction_stop_case("friction_stops_16_position", RIG_G4, t, 16.0),
         position(0.01),
     );
-    let probe = linear_case("", RIG_G2, test(500.0, 1.0, 0.005, 0.002, 2.0, 704));
-    let t = test(
-        500.0,
-        10.0 * rayleigh_period_s(&probe),
-        0.005,
-        0.002,
-        2.0,
-        704,
-    );
+    // `t` lasting `n` linear periods of `rig`.
+    let lasting = |rig: Rig, n: f64, mut t: Test| {
+        t.record_s = n * rayleigh_period_s(&linear_case("", rig, t));
+        t
+    };
+    let t = lasting(RIG_G2, 10.0, test(500.0, 1.0, 0.005, 0.002, 2.0, 704));
     let null_10 = linear_case("null_10_cycles_g2", RIG_G2, t);
 
     // Large-amplitude softening: the frequency sweeps 10-15 % from start to end.
-    let t = test(500.0, 0.0, 0.003, 0.002, 6.0, 711);
-    let probe = linear_case("", RIG_G1, t);
-    let t = test(
-        500.0,
-        140.0 * rayleigh_period_s(&probe),
-        0.003,
-        0.002,
-        6.0,
-        711,
-    );
+    let t = lasting(RIG_G1, 140.0, test(500.0, 0.0, 0.003, 0.002, 6.0, 711));
     let sweep_g1 = cubic_shift_case("soft_sweep_g1_horizontal", RIG_G1, t, 0.0, -0.1);
-    let t = test(400.0, 0.0, 0.003, 0.0025, 5.0, 712);
-    let probe = linear_case("", RIG_G3, t);
-    let t = test(
-        400.0,
-        140.0 * rayleigh_period_s(&probe),
-        0.003,
-        0.0025,
-        5.0,
-        712,
-    );
+    let t = lasting(RIG_G3, 140.0, test(400.0, 0.0, 0.003, 0.0025, 5.0, 712));
     let sweep_g3 = cubic_shift_case("soft_sweep_g3_horizontal", RIG_G3, t, 0.0, -0.105);
     // Beyond the tangent-stiffness limit `|k3| A^2 < k / 3` at the start (0.15 of
     // frequency shift is `|k3| A^2 = 0.4 k`), inside the bounded-motion one (`k`); and

@@ -262,6 +262,29 @@ impl<'c, 'a> CardCtx<'c, 'a> {
         }
     }
 
+    /// The card's data lines one at a time, for cards of one line per entry: while
+    /// the next line is data ([`Self::more_data`]), it is read against `layout`,
+    /// checked for `fields.0..=fields.1` fields and handed to `entry`. A card without
+    /// a data line is an error naming `layout`.
+    pub fn each_line(
+        &mut self,
+        layout: &str,
+        fields: (usize, usize),
+        mut entry: impl FnMut(&mut Self, &'a Line) -> Result<(), DeckError>,
+    ) -> Result<(), DeckError> {
+        let mut done = 0;
+        while self.more_data() {
+            let l = self.data_line(layout)?;
+            self.field_count(l, fields.0, fields.1, layout)?;
+            entry(self, l)?;
+            done += 1;
+        }
+        if done == 0 {
+            return Err(no_groups(self, layout));
+        }
+        Ok(())
+    }
+
     /// True if another group (or line) of this card follows: the next significant
     /// line starts with a number. A keyword, a word that is not a keyword, or the
     /// end of the file ends the card (the section reader reports the latter two).

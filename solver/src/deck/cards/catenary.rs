@@ -22,7 +22,7 @@
 //! build function (raw deck -> model parts, run in order by [`crate::deck::build`]); its
 //! tests close the file.
 
-use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
+use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::DeckError;
 use crate::deck::raw::{RawBeamTension, RawDeck, RawMovingContact, SetKind};
 use crate::deck::resolve::Builder;
@@ -113,10 +113,7 @@ pub(crate) const MOVING_CONTACT: Keyword = Keyword {
 fn parse_tension_link(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "node a, node b, dof (1..3), k (N/mm), slack (mm)";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 5, 5, LAYOUT)?;
+    c.each_line(LAYOUT, (5, 5), |c, l| {
         let a = c.id(l, 0, "node a")?;
         let b = c.id(l, 1, "node b")?;
         let dof = c.dof(l, 2)?;
@@ -131,21 +128,14 @@ fn parse_tension_link(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             },
             l.start_loc(),
         ));
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 fn parse_moving_contact(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "head, dof (1..3), k (N/mm), speed (mm/s), start (mm) / the line's nodes";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 5, 5, LAYOUT)?;
+    c.each_line(LAYOUT, (5, 5), |c, l| {
         let head = c.id(l, 0, "the head node")?;
         let dof = c.dof(l, 1)?;
         let stiffness = c.real(l, 2, "the penalty stiffness k (N/mm)")?;
@@ -161,21 +151,14 @@ fn parse_moving_contact(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             loc: l.start_loc(),
             line,
         });
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 fn parse_beam_tension(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "force (N) / the list of tensioned elements";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 1, 1, LAYOUT)?;
+    c.each_line(LAYOUT, (1, 1), |c, l| {
         let force = c.real(l, 0, "the axial force (N)")?;
         let elements = c.list("the list of tensioned elements")?;
         c.deck.beam_tensions.push(RawBeamTension {
@@ -183,12 +166,8 @@ fn parse_beam_tension(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             loc: l.start_loc(),
             elements,
         });
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Beam tensions, links and contacts: lists resolved (non-empty); the model checks the

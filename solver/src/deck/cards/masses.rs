@@ -87,10 +87,7 @@ pub(crate) const RBE2: Keyword = Keyword {
 fn parse_damping(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "alpha (1/s), beta (s)[, 1 if a line of point-mass nodes follows]";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 2, 3, LAYOUT)?;
+    c.each_line(LAYOUT, (2, 3), |c, l| {
         let alpha = c.real(l, 0, "alpha (1/s)")?;
         let alpha = c.non_negative(alpha, l.loc_of(0), "alpha")?;
         let beta = c.real(l, 1, "beta (s)")?;
@@ -123,21 +120,14 @@ fn parse_damping(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             elements,
             mass_nodes,
         });
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 fn parse_point_mass(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "node, mass (t), Ixx, Iyy, Izz (t mm^2)";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 5, 5, LAYOUT)?;
+    c.each_line(LAYOUT, (5, 5), |c, l| {
         let node = c.id(l, 0, "the node id")?;
         let m = c.real(l, 1, "the mass (t)")?;
         let mass = c.non_negative(m, l.loc_of(1), "the mass")?;
@@ -152,12 +142,8 @@ fn parse_point_mass(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             mass,
             inertia,
         });
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 fn parse_rbe2(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {

@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
+use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::raw::{PointLawKind, RawDeck, RawPointLaw};
 use crate::deck::resolve::Builder;
@@ -202,10 +202,7 @@ fn parse_loss_factor(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
 fn parse_modal_damping(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const LAYOUT: &str = "mode (>= 1), zeta (0 <= zeta < 1)";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(LAYOUT)?;
-        c.field_count(l, 2, 2, LAYOUT)?;
+    c.each_line(LAYOUT, (2, 2), |c, l| {
         let mode = c.count(l, 0, 1, "the mode number")?;
         let x = c.real(l, 1, "the damping ratio zeta")?;
         let zeta = c.non_negative(x, l.loc_of(1), "the damping ratio zeta")?;
@@ -231,22 +228,15 @@ fn parse_modal_damping(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             ));
         }
         c.deck.modal_ratios.push((mode, zeta, l.start_loc()));
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, LAYOUT));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// `node, dof, value` lines of the nonlinear point cards.
 fn parse_point_law(c: &mut CardCtx<'_, '_>, kind: PointLawKind) -> Result<(), DeckError> {
     let layout = kind.layout();
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(layout)?;
-        c.field_count(l, 3, 3, layout)?;
+    c.each_line(layout, (3, 3), |c, l| {
         let node = c.id(l, 0, "the node id")?;
         let dof = c.dof(l, 1)?;
         let x = c.real(l, 2, kind.what())?;
@@ -260,12 +250,8 @@ fn parse_point_law(c: &mut CardCtx<'_, '_>, kind: PointLawKind) -> Result<(), De
             dof_loc: l.loc_of(1),
             value,
         });
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, layout));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Nonlinear point elements and dashpots: free DOFs only, one line per card, node and

@@ -30,7 +30,7 @@
 //! ([`crate::model::check`]) refuse an unknown node, a DOF out of 1..6 or listed twice,
 //! a non-symmetric matrix, and a mass or damping that is not positive semi-definite.
 
-use crate::deck::card::{no_groups, CardCtx, DeckSection, Keyword, Origin};
+use crate::deck::card::{CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::DeckError;
 use crate::deck::raw::RawDeck;
 use crate::model::{MatrixElement, ModelParts};
@@ -83,10 +83,7 @@ fn parse_dmig(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     const HEADER: &str = "id, n (DOFs), c (1: a damping matrix follows)[, name]";
     const PAIR: &str = "node, dof (1..6)";
     c.no_args()?;
-    let mut done = 0;
-    while c.more_data() {
-        let l = c.data_line(HEADER)?;
-        c.field_count(l, 2, 4, HEADER)?;
+    c.each_line(HEADER, (2, 4), |c, l| {
         let id = c.id(l, 0, "the element id")?;
         let n = c.count(l, 1, 1, "the number of DOFs n")? as usize;
         let flag = c.uint_or(l, 2, 0, "1 or 0")?;
@@ -124,12 +121,8 @@ fn parse_dmig(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             },
             l.start_loc(),
         ));
-        done += 1;
-    }
-    if done == 0 {
-        return Err(no_groups(c, HEADER));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// `n` lines of `n` reals: one matrix, row-major.

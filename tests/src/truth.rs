@@ -175,6 +175,93 @@ impl Effect {
     }
 }
 
+/// A law at the weight that the diagnosis catalogue does not hold (out-of-catalogue
+/// truth): the diagnosis must call its misfit unexplained, or name a cause and report
+/// the misfit it leaves, never a confident wrong cause. `y` is the weight's axial
+/// displacement from its static equilibrium (m), `k` the spring's linear stiffness.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Anomaly {
+    None,
+    /// A stop of stiffness `stiffness_ratio k` that engages beyond `+-gap_m`: the force
+    /// `-stiffness_ratio k (y - gap_m sign y)` for `|y| > gap_m` (a backlash gap
+    /// between the weight and a stiff guide).
+    Backlash {
+        gap_m: f64,
+        stiffness_ratio: f64,
+    },
+    /// A spring stiffer on one side of the equilibrium: `-stiffness_ratio k y` for
+    /// `y > 0` only (a bilinear spring, a stop that closes on extension).
+    Bilinear {
+        stiffness_ratio: f64,
+    },
+    /// Hysteretic friction of the Bouc-Wen form (Wen, J. Eng. Mech. 102, 1976):
+    /// force `-force_n z`, `dz/dt = (v / yield_m) (1 - (0.5 sign(v z) + 0.5) |z|)`
+    /// (n = 1, beta = gamma = 0.5): a smooth stick-slip whose loss per cycle is
+    /// neither constant nor a power of the amplitude.
+    BoucWen {
+        force_n: f64,
+        yield_m: f64,
+    },
+}
+
+impl Anomaly {
+    /// The spec-style name of the anomaly (`none` for none).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Anomaly::None => "none",
+            Anomaly::Backlash { .. } => "backlash",
+            Anomaly::Bilinear { .. } => "bilinear_spring",
+            Anomaly::BoucWen { .. } => "bouc_wen_friction",
+        }
+    }
+
+    /// The force on the weight (N) at displacement `y` from equilibrium and velocity
+    /// `v`, with the Bouc-Wen state `z` advanced over `dt` (explicit Euler, clamped to
+    /// `|z| <= 1`, its bound).
+    fn force(&self, k: f64, y: f64, v: f64, z: &mut f64, dt: f64) -> f64 {
+        match *self {
+            Anomaly::None => 0.0,
+            Anomaly::Backlash {
+                gap_m,
+                stiffness_ratio,
+            } => {
+                if y.abs() > gap_m {
+                    -stiffness_ratio * k * (y - gap_m * y.signum())
+                } else {
+                    0.0
+                }
+            }
+            Anomaly::Bilinear { stiffness_ratio } => {
+                if y > 0.0 {
+                    -stiffness_ratio * k * y
+                } else {
+                    0.0
+                }
+            }
+            Anomaly::BoucWen { force_n, yield_m } => {
+                let f = -force_n * *z;
+                let shape = 0.5 * (v * *z).signum() + 0.5;
+                *z += dt * v / yield_m * (1.0 - shape * z.abs());
+                *z = z.clamp(-1.0, 1.0);
+                f
+            }
+        }
+    }
+}
+
+/// A second decaying oscillation added to the recorded quantity: a slow mode of the
+/// rig (a frame, a pendulum sway) or a second mode close to the axial one. Its
+/// amplitude is `amplitude_fraction` of the free decay's peak (in the recorded
+/// quantity), its frequency `frequency_ratio` times the axial one, its damping ratio
+/// `damping_ratio`, its phase `phase_rad`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExtraMode {
+    pub frequency_ratio: f64,
+    pub amplitude_fraction: f64,
+    pub damping_ratio: f64,
+    pub phase_rad: f64,
+}
+
 /// One generated case: the truth, what the case file claims (nominal values), the test
 /// and the measurement settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -216,6 +303,8 @@ pub struct TruthCase {
     /// How the decay is recorded (sensor and imperfections); the default is the
     /// accelerometer of the measurement model above.
     pub recording: Recording,
+    /// A law outside the catalogue acting at the weight ([`Anomaly`]).
+    pub anomaly: Anomaly,
 }
 
 /// What measures the weight's axial motion.
@@ -271,6 +360,10 @@ pub struct Recording {
     pub offset_fraction: f64,
     pub drift_fraction: f64,
     pub impulse: Option<Impulse>,
+    /// A second oscillation in the record ([`ExtraMode`]).
+    pub extra_mode: Option<ExtraMode>,
+    /// A sensor that saturates at this fraction of the free decay's peak.
+    pub clip_fraction: Option<f64>,
 }
 
 impl Default for Recording {
@@ -282,6 +375,8 @@ impl Default for Recording {
             offset_fraction: 0.0,
             drift_fraction: 0.0,
             impulse: None,
+            extra_mode: None,
+            clip_fraction: None,
         }
     }
 }
@@ -694,6 +789,8 @@ fn simulate_chain(
     let c2 = case.quadratic();
     let k3 = case.cubic();
     let weight_force = -case.mass_kg * case.gravity_m_s2;
+    let k_linear = case.linear_stiffness_n_m();
+    let mut bouc_wen = 0.0;
 
     // Static equilibrium: every segment carries the tip load; with the rotation held the
     // reaction moment cancels each segment's twist, with it free each twists C_zt F / N.
@@ -759,7 +856,10 @@ fn simulate_chain(
                 0.0
             }
         });
-        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs() + hammer;
+        let anomaly = case
+            .anomaly
+            .force(k_linear, u[n] - tip_u, v, &mut bouc_wen, dt);
+        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs() + hammer + anomaly;
         // The weight's kick with friction (explicit stick-slip).
         let (v_new, a_tip) = if F == 0.0 {
             (v + dt * other / m_tip, other / m_tip)
@@ -971,6 +1071,7 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
             .collect(),
     };
     let n = clean.len();
+    let clean = with_extra_mode(case, clean);
     // Time stamps: uniform plus jitter (all >= 0); values at those times by cubic
     // Lagrange interpolation of the uniformly sampled truth (error about
     // 0.2 (w/fs)^4 / 24 of the amplitude: 1e-4 at 16 samples per cycle).
@@ -1003,6 +1104,10 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
     if let Some(fc) = rec.band_limit_hz {
         values = butterworth_zero_phase(&values, fc, fs);
     }
+    if let Some(clip) = rec.clip_fraction {
+        let level = clip * peak;
+        values.iter_mut().for_each(|v| *v = v.clamp(-level, level));
+    }
     let duration = n as f64 / fs;
     for (v, t) in values.iter_mut().zip(&stamps) {
         *v += peak * (rec.offset_fraction + rec.drift_fraction * t / duration);
@@ -1020,6 +1125,31 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
         .map(|(&t, &v)| (t, (v / lsb).round() * lsb))
         .collect();
     (decay, peak, lsb, free_decay_start)
+}
+
+/// `clean` (the recorded quantity at the sample times) with the recording's
+/// [`ExtraMode`] added: `a f e^(-zeta w t) cos(w t + phase)`, `f` the fraction of the
+/// clean record's peak, `w` the given ratio of the axial frequency.
+fn with_extra_mode(case: &TruthCase, mut clean: Vec<f64>) -> Vec<f64> {
+    let Some(mode) = case.recording.extra_mode else {
+        return clean;
+    };
+    let peak = clean.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+    let mean = clean.iter().sum::<f64>() / clean.len().max(1) as f64;
+    let peak = if matches!(case.recording.sensor, Sensor::Position { .. }) {
+        clean.iter().fold(0.0f64, |p, v| p.max((v - mean).abs()))
+    } else {
+        peak
+    };
+    let w = TAU * mode.frequency_ratio / rayleigh_period_s(case);
+    for (i, v) in clean.iter_mut().enumerate() {
+        let t = i as f64 / case.sample_rate_hz;
+        *v += mode.amplitude_fraction
+            * peak
+            * (-mode.damping_ratio * w * t).exp()
+            * (w * t + mode.phase_rad).cos();
+    }
+    clean
 }
 
 /// Cubic Lagrange interpolation of uniformly sampled `y` at the fractional index `p`
@@ -1315,18 +1445,18 @@ pub const NOMINAL_YOUNGS_MODULUS_MPA: f64 = 206_000.0;
 
 /// A spring with its true modulus and weight (the catalogue's building block).
 #[derive(Debug, Clone, Copy)]
-struct Rig {
-    spring: Helix,
-    youngs_modulus_mpa: f64,
-    mass_kg: f64,
+pub(crate) struct Rig {
+    pub(crate) spring: Helix,
+    pub(crate) youngs_modulus_mpa: f64,
+    pub(crate) mass_kg: f64,
 }
 
-const PAPER_RIG: Rig = Rig {
+pub(crate) const PAPER_RIG: Rig = Rig {
     spring: Helix::PAPER,
     youngs_modulus_mpa: 194_000.0,
     mass_kg: 5.24,
 };
-const RIG_G1: Rig = Rig {
+pub(crate) const RIG_G1: Rig = Rig {
     spring: Helix {
         active_coils: 12.0,
         mean_diameter_mm: 26.0,
@@ -1336,7 +1466,7 @@ const RIG_G1: Rig = Rig {
     youngs_modulus_mpa: 196_000.0,
     mass_kg: 5.75,
 };
-const RIG_G2: Rig = Rig {
+pub(crate) const RIG_G2: Rig = Rig {
     spring: Helix {
         active_coils: 9.0,
         mean_diameter_mm: 18.0,
@@ -1346,7 +1476,7 @@ const RIG_G2: Rig = Rig {
     youngs_modulus_mpa: 200_000.0,
     mass_kg: 2.8,
 };
-const RIG_G3: Rig = Rig {
+pub(crate) const RIG_G3: Rig = Rig {
     spring: Helix {
         active_coils: 8.0,
         mean_diameter_mm: 30.0,
@@ -1356,7 +1486,7 @@ const RIG_G3: Rig = Rig {
     youngs_modulus_mpa: 192_000.0,
     mass_kg: 5.4,
 };
-const RIG_G4: Rig = Rig {
+pub(crate) const RIG_G4: Rig = Rig {
     spring: Helix {
         active_coils: 16.0,
         mean_diameter_mm: 22.0,
@@ -1367,7 +1497,7 @@ const RIG_G4: Rig = Rig {
     mass_kg: 6.8,
 };
 /// A steeper helix (pitch angle 8 degrees): a stronger axial-torsional coupling.
-const RIG_G5: Rig = Rig {
+pub(crate) const RIG_G5: Rig = Rig {
     spring: Helix {
         active_coils: 10.0,
         mean_diameter_mm: 20.0,
@@ -1380,20 +1510,20 @@ const RIG_G5: Rig = Rig {
 
 /// Measurement settings of one catalogue entry.
 #[derive(Debug, Clone, Copy)]
-struct Test {
-    sample_rate_hz: f64,
-    record_s: f64,
-    noise_fraction: f64,
-    damping_ratio: f64,
+pub(crate) struct Test {
+    pub(crate) sample_rate_hz: f64,
+    pub(crate) record_s: f64,
+    pub(crate) noise_fraction: f64,
+    pub(crate) damping_ratio: f64,
     /// Initial amplitude of the axial motion (m).
-    amplitude_m: f64,
+    pub(crate) amplitude_m: f64,
     /// Nominal mass over the true one (0.9 or 1.1).
-    nominal_mass_ratio: f64,
-    seed: u64,
+    pub(crate) nominal_mass_ratio: f64,
+    pub(crate) seed: u64,
 }
 
 /// A linear case (no effect yet) of `rig` under `test`.
-fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
+pub(crate) fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
     let mut case = TruthCase {
         name: name.to_string(),
         spring: rig.spring,
@@ -1417,6 +1547,7 @@ fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
         seed: test.seed,
         also: Vec::new(),
         recording: Recording::default(),
+        anomaly: Anomaly::None,
     };
     case.impulse_velocity_m_s = test.amplitude_m * TAU / rayleigh_period_s(&case);
     case
@@ -1426,7 +1557,7 @@ fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
 /// linear decay alone. Per cycle `dA/dn = -delta A - 4F/k` (delta = 2 pi zeta) gives
 /// `A(n) = (A0 + c) e^(-delta n) - c`, `c = 4F / (k delta)`, so the loss against the
 /// linear decay after n cycles is `c (e^(delta n) - 1) / A0`.
-fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
+pub(crate) fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
     let mut case = linear_case(name, rig, test);
     let cycles = test.record_s / rayleigh_period_s(&case);
     let delta = TAU * test.damping_ratio;
@@ -1440,7 +1571,7 @@ fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
 
 /// Velocity-squared drag whose equivalent viscous coefficient at the initial amplitude,
 /// `8 c2 w A / (3 pi)`, is `ratio` times the linear one `2 zeta m w`.
-fn quadratic_case(name: &str, rig: Rig, test: Test, ratio: f64) -> TruthCase {
+pub(crate) fn quadratic_case(name: &str, rig: Rig, test: Test, ratio: f64) -> TruthCase {
     let mut case = linear_case(name, rig, test);
     let c2 = ratio * 3.0 * PI * test.damping_ratio * case.mass_kg / (4.0 * test.amplitude_m);
     case.effect = Effect::QuadraticDamping {
@@ -1646,7 +1777,13 @@ pub fn backbone_shift(case: &TruthCase) -> f64 {
 /// ([`backbone_shift`]) is `shift`: without gravity `k3 = 8 k shift / (3 A^2)`; with the
 /// preload, `eps` of [`cubic_case`] by bisection on [-0.3, 0.05] (the shift rises with
 /// eps there).
-fn cubic_shift_case(name: &str, rig: Rig, test: Test, gravity_m_s2: f64, shift: f64) -> TruthCase {
+pub(crate) fn cubic_shift_case(
+    name: &str,
+    rig: Rig,
+    test: Test,
+    gravity_m_s2: f64,
+    shift: f64,
+) -> TruthCase {
     if gravity_m_s2 == 0.0 {
         let mut case = linear_case(name, rig, test);
         case.gravity_m_s2 = 0.0;
@@ -1670,20 +1807,20 @@ fn cubic_shift_case(name: &str, rig: Rig, test: Test, gravity_m_s2: f64, shift: 
 
 /// `case` with the effect of `other` (built on the same rig and test) acting as well;
 /// the rig's orientation (gravity) is `other`'s, which its effect was sized for.
-fn with(mut case: TruthCase, other: TruthCase) -> TruthCase {
+pub(crate) fn with(mut case: TruthCase, other: TruthCase) -> TruthCase {
     case.also.push(other.effect);
     case.gravity_m_s2 = other.gravity_m_s2;
     case
 }
 
 /// `case` recorded by `recording`.
-fn recorded_by(mut case: TruthCase, recording: Recording) -> TruthCase {
+pub(crate) fn recorded_by(mut case: TruthCase, recording: Recording) -> TruthCase {
     case.recording = recording;
     case
 }
 
 /// A position sensor with steps of `step_mm` (offset 37.5 mm, sign as mounted).
-fn position(step_mm: f64) -> Recording {
+pub(crate) fn position(step_mm: f64) -> Recording {
     Recording {
         sensor: Sensor::Position {
             step_mm,
@@ -1917,7 +2054,7 @@ pub fn extended_cases() -> Vec<TruthCase> {
 
 /// A soft spring for a hanging weight: about 110 mm of static deflection under its
 /// 3.2 kg, 1.5 Hz, 160 mm of free travel between the coils.
-const RIG_SOFT: Rig = Rig {
+pub(crate) const RIG_SOFT: Rig = Rig {
     spring: Helix {
         active_coils: 20.0,
         mean_diameter_mm: 30.0,
@@ -1933,7 +2070,7 @@ const RIG_SOFT: Rig = Rig {
 /// `n = ln(1 + A0 / c) / delta`, `c = 4F / (k delta)`; so `c = A0 / (e^(delta n) - 1)`
 /// and `F = c k delta / 4`, `n` counted from the start of the simulation. The record runs on for a third of that time while the weight
 /// rests in its dead band.
-fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> TruthCase {
+pub(crate) fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> TruthCase {
     let probe = linear_case(name, rig, test);
     test.record_s = 1.35 * cycles * rayleigh_period_s(&probe);
     let mut case = linear_case(name, rig, test);

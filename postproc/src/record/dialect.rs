@@ -19,7 +19,8 @@
 //! coil's quantity columns; else the only column whose unit is a displacement, velocity
 //! or acceleration; else the only column besides time.
 
-use super::{fail, units, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units;
 use crate::error::Result;
 use crate::signal::TIME_COLUMN;
 
@@ -141,7 +142,7 @@ fn rewrite(path: &std::path::Path, text: &str, dialect: &Dialect) -> Result<Stri
 
 /// Reads the channel `spec` names from a CSV file's bytes (any dialect).
 pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
-    super::no_time_variable(spec)?;
+    super::spec::no_time_variable(spec)?;
     let path = spec.file.as_path();
     let raw = match String::from_utf8(bytes) {
         Ok(text) => text,
@@ -223,7 +224,7 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
             ));
         }
     }
-    let unit = super::resolve_unit(spec, &at, file_unit)?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit)?;
     let names = [header[time_index].as_str(), header[column].as_str()];
     let fields = crate::signal::read_fields_in(path, normalised.into_bytes(), &names)?;
     let mut columns = fields.values.into_iter();
@@ -291,7 +292,11 @@ fn choose_column(
     let coil: Vec<usize> = others
         .iter()
         .copied()
-        .filter(|&i| super::Quantity::ALL.iter().any(|q| q.column() == header[i]))
+        .filter(|&i| {
+            super::units::Quantity::ALL
+                .iter()
+                .any(|q| q.column() == header[i])
+        })
         .collect();
     match coil.as_slice() {
         [one] => return Ok(*one),

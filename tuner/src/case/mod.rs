@@ -15,10 +15,21 @@
 //! when the case is read and parsed on demand ([`MeasuredCase::static_records`],
 //! [`MeasuredCase::decay_records`]), so a case with targets only costs nothing more.
 
+mod records;
+#[cfg(test)]
+mod tests;
+
+pub use crate::error::CaseError;
+pub use records::{
+    format_note, read_decay, read_decay_record, read_static_record, MeasuredDecay, Quantity,
+    StaticRecord,
+};
+
 use crate::fields::{root, Field, FieldError, Object, Range};
 use crate::json;
 use coil_postproc::record::RecordSpec;
 use coil_postproc::signal::Signal;
+use records::static_slope_n_m;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -284,88 +295,11 @@ fn decay_entry<'a>(item: &Field<'a>) -> Result<(Field<'a>, DecayInfo), FieldErro
     ))
 }
 
-/// A static force-compression record (`displacement_mm,force_n`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct StaticRecord {
-    /// The file it was read from.
-    pub file: PathBuf,
-    /// Compression from the free length (mm, positive = shorter).
-    pub displacement_mm: Vec<f64>,
-    /// Axial force (N).
-    pub force_n: Vec<f64>,
-}
-
-/// Everything that can be wrong with a case, a variants file or a record.
-#[derive(Debug, thiserror::Error)]
-pub enum CaseError {
-    #[error("{}: cannot read the file: {source}", path.display())]
-    /// Reading or writing failed.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// Where the values come from (a citation), if given.
-        source: std::io::Error,
-    },
-    #[error("{}:{line}:{column}: invalid JSON: {message}", path.display())]
-    /// A file that is not valid JSON.
-    Syntax {
-        /// The file.
-        path: PathBuf,
-        /// Its line (1-based).
-        line: usize,
-        /// Its column (1-based).
-        column: usize,
-        /// What is wrong and what was expected.
-        message: String,
-    },
-    #[error(transparent)]
-    /// A field missing or out of range.
-    Field(#[from] FieldError),
-    /// An input outside its limits or its folder (docs/files.md).
-    #[error(transparent)]
-    Input(#[from] coil_io::ConfineError),
-    /// A record file (decay) that the post-processor cannot read.
-    #[error(transparent)]
-    Record(#[from] coil_postproc::PostError),
-    /// A decay record whose columns or time stamps are wrong.
-    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
-    DecayRecord {
-        /// The file.
-        path: PathBuf,
-        /// Its line (1-based).
-        line: usize,
-        /// What is wrong.
-        problem: String,
-        /// What was expected.
-        expected: String,
-    },
-    /// A static record that cannot be read.
-    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
-    StaticRecord {
-        /// The file.
-        path: PathBuf,
-        /// Its line (1-based).
-        line: usize,
-        /// What is wrong.
-        problem: String,
-        /// What was expected.
-        expected: String,
-    },
-}
-
-/// A bounded read's error: an unreadable file stays [`CaseError::Io`].
-fn input(e: coil_io::ConfineError) -> CaseError {
-    match e {
-        coil_io::ConfineError::Io { path, source } => CaseError::Io { path, source },
-        other => CaseError::Input(other),
-    }
-}
-
 /// Reads a JSON input (bounded in size) into a located tree; errors name the file,
 /// line and column.
 pub fn read_json(path: &Path) -> Result<(String, json::Node), CaseError> {
-    let text =
-        coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input").map_err(input)?;
+    let text = coil_io::read_bounded(path, coil_io::MAX_JSON_BYTES, "a JSON input")
+        .map_err(CaseError::input)?;
     let node = json::parse(&text).map_err(|e| CaseError::Syntax {
         path: path.to_path_buf(),
         line: e.line,
@@ -678,13 +612,6 @@ impl MeasuredCase {
     }
 }
 
-/// The format note of a record for the report: `None` for coil's own CSV (comma, decimal
-/// point), else the dialect or format detected (`coil_postproc::record`).
-pub fn format_note(file: &Path, format: &str) -> Option<String> {
-    (!format.starts_with("CSV: delimiter ',', decimal point"))
-        .then(|| format!("{}: read as {format}", file.display()))
-}
-
 impl MeasuredCase {
     /// A warning when a decay's size is implausible for its stated unit (the classic
     /// silent error: a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2
@@ -739,171 +666,27 @@ impl MeasuredCase {
     }
 }
 
-/// The least-squares slope of a static record's force against its compression, N/m
-/// (`None` when it is not positive).
-fn static_slope_n_m(r: &StaticRecord) -> Option<f64> {
-    let n = r.displacement_mm.len().min(r.force_n.len()) as f64;
-    if n < 2.0 {
-        return None;
+/// The longest variant name, characters.
+pub const MAX_NAME_CHARS: usize = 100;
+
+/// A variant's name: one printable line of 1 to [`MAX_NAME_CHARS`] characters (it
+/// reaches tables, reports, figure labels and deck titles; commas and quotes are fine,
+/// tables quote them).
+pub fn check_name(name: &str) -> std::result::Result<(), String> {
+    let printable = !name.chars().any(|c| {
+        c.is_control()
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    });
+    let count = name.chars().count();
+    if printable && (1..=MAX_NAME_CHARS).contains(&count) && name.trim() == name {
+        Ok(())
+    } else {
+        Err(format!(
+            "variant name `{}`; expected one printable line of 1 to {MAX_NAME_CHARS} characters, without blanks at its ends",
+            coil_io::excerpt(name)
+        ))
     }
-    let mx = r.displacement_mm.iter().sum::<f64>() / n;
-    let my = r.force_n.iter().sum::<f64>() / n;
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (x, y) in r.displacement_mm.iter().zip(&r.force_n) {
-        sxy += (x - mx) * (y - my);
-        sxx += (x - mx) * (x - mx);
-    }
-    let k = 1e3 * sxy / sxx;
-    (k.is_finite() && k > 0.0).then_some(k)
-}
-
-/// What a decay record measures (the spec's decay.csv columns), shared with the record
-/// reader.
-pub use coil_postproc::record::Quantity;
-
-/// A decay record as written: its one measured column (converted to SI) and its time
-/// stamps exactly as read (increasing, finite; whether they are uniform is for the
-/// diagnosis to judge, `diagnose::data`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeasuredDecay {
-    /// The file it was read from.
-    pub file: PathBuf,
-    /// What the column measures.
-    pub quantity: Quantity,
-    /// Time stamps (s).
-    pub time_s: Vec<f64>,
-    /// The measured quantity in SI (m/s^2, m/s or m).
-    pub values: Vec<f64>,
-    /// The file's line of each sample (for messages).
-    pub lines: Vec<u64>,
-    /// The printed resolution of the time stamps (s): the decimal grid they were written
-    /// on (median over the cells).
-    pub time_resolution_s: f64,
-}
-
-/// Reads a decay record named by a plain file name: [`read_decay`] with the file's own
-/// channel and units (coil's CSV: `time_s` and exactly one of `accel_m_s2`,
-/// `velocity_m_s`, `displacement_mm`; two of them is an error naming both).
-pub fn read_decay_record(path: &Path) -> Result<MeasuredDecay, CaseError> {
-    Ok(read_decay(&RecordSpec::file(path))?.0)
-}
-
-/// Reads a decay record in any format `coil_postproc::record` reads (UFF 58/58b,
-/// MAT-file, CSV dialects), converted to SI, with its format in words. Every cell is
-/// checked (finite number) and the time stamps must increase; their uniformity is checked
-/// by the diagnosis, which resamples small jitter.
-pub fn read_decay(spec: &RecordSpec) -> Result<(MeasuredDecay, String), CaseError> {
-    let r = coil_postproc::record::read_record(spec)?;
-    Ok((
-        MeasuredDecay {
-            file: r.file,
-            quantity: r.quantity,
-            time_s: r.time_s,
-            values: r.values,
-            lines: r.lines,
-            time_resolution_s: r.time_resolution_s,
-        },
-        r.format,
-    ))
-}
-
-/// Reads a static record: header `displacement_mm,force_n` (in either order, padded cells
-/// allowed, `#` comment lines and blank lines skipped), finite numbers, at least 2 rows.
-pub fn read_static_record(path: &Path) -> Result<StaticRecord, CaseError> {
-    let text =
-        coil_io::read_bounded(path, coil_io::MAX_RECORD_BYTES, "a record (CSV)").map_err(input)?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    let fail = |line: usize, problem: String, expected: &str| CaseError::StaticRecord {
-        path: path.to_path_buf(),
-        line,
-        problem,
-        expected: expected.to_string(),
-    };
-    let mut rows = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (header_line, header) = rows.next().ok_or_else(|| {
-        fail(
-            1,
-            "the file is empty".into(),
-            "a header `displacement_mm,force_n` and data rows",
-        )
-    })?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |name: &str| -> Result<usize, CaseError> {
-        let hits: Vec<usize> = (0..names.len()).filter(|&i| names[i] == name).collect();
-        match hits.as_slice() {
-            [one] => Ok(*one),
-            [] => Err(fail(
-                header_line,
-                format!(
-                    "no column `{name}` in the header (columns: {})",
-                    coil_io::excerpt(&names.join(", "))
-                ),
-                "the header `displacement_mm,force_n`",
-            )),
-            _ => Err(fail(
-                header_line,
-                format!("column `{name}` appears more than once"),
-                "unique column names",
-            )),
-        }
-    };
-    let (di, fi) = (find("displacement_mm")?, find("force_n")?);
-    let (mut displacement_mm, mut force_n) = (Vec::new(), Vec::new());
-    for (line, row) in rows {
-        let cells: Vec<&str> = row.split(',').map(str::trim).collect();
-        if cells.len() != names.len() {
-            return Err(fail(
-                line,
-                format!("{} fields", cells.len()),
-                &format!("{} fields as in the header", names.len()),
-            ));
-        }
-        for (index, column, out) in [
-            (di, "displacement_mm", &mut displacement_mm),
-            (fi, "force_n", &mut force_n),
-        ] {
-            let cell = cells[index];
-            match cell.parse::<f64>() {
-                Ok(x) if x.is_finite() => out.push(x),
-                Ok(_) => {
-                    return Err(fail(
-                        line,
-                        format!(
-                            "column `{column}`: `{}` is not finite",
-                            coil_io::excerpt(cell)
-                        ),
-                        "a finite number",
-                    ))
-                }
-                Err(_) => {
-                    return Err(fail(
-                        line,
-                        format!(
-                            "column `{column}`: `{}` is not a number",
-                            coil_io::excerpt(cell)
-                        ),
-                        "a number",
-                    ))
-                }
-            }
-        }
-    }
-    if displacement_mm.len() < 2 {
-        return Err(fail(
-            header_line,
-            format!("{} data rows", displacement_mm.len()),
-            "at least 2 rows of displacement and force",
-        ));
-    }
-    Ok(StaticRecord {
-        file: path.to_path_buf(),
-        displacement_mm,
-        force_n,
-    })
 }
 
 /// One alternative spring of a variants file (Table 4), with the paper's figures if given.
@@ -950,7 +733,7 @@ pub fn read_variants(path: &Path) -> Result<VariantsFile, CaseError> {
         let o = item.object("a spring variant")?;
         let name_field = o.require("name", "the variant's name")?;
         let name = name_field.string("the variant's name")?.to_string();
-        if let Err(e) = crate::study::check_name(&name) {
+        if let Err(e) = check_name(&name) {
             return Err(name_field
                 .error(
                     e,
@@ -986,232 +769,4 @@ pub fn read_variants(path: &Path) -> Result<VariantsFile, CaseError> {
         source,
         variants,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const GOOD: &str = r#"{
-  "name": "spring 3, rig B",
-  "spring": {
-    "active_coils": 14.0,
-    "mean_diameter_mm": 24.0,
-    "wire_diameter_mm": 3.0,
-    "pitch_mm": 6.2
-  },
-  "material": {
-    "youngs_modulus_mpa": 206000.0,
-    "poisson_ratio": 0.3,
-    "density_kg_m3": 7850.0
-  },
-  "mass_kg": 5.3,
-  "gravity_m_s2": 9.81,
-  "records": { "static": ["static.csv"], "decay": ["decay.csv"] },
-  "future_field": {"anything": [1, 2]}
-}"#;
-
-    fn folder_with(case: &str) -> tempfile::TempDir {
-        let dir = tempfile::tempdir().unwrap();
-        std::fs::write(dir.path().join("case.json"), case).unwrap();
-        std::fs::write(
-            dir.path().join("static.csv"),
-            "displacement_mm,force_n\n0,0\n1,3.9\n2,7.9\n",
-        )
-        .unwrap();
-        let mut decay = String::from("time_s,accel_m_s2\n");
-        for i in 0..100 {
-            let t = i as f64 * 1e-3;
-            decay.push_str(&format!("{t},{}\n", (27.3 * t).sin()));
-        }
-        std::fs::write(dir.path().join("decay.csv"), decay).unwrap();
-        dir
-    }
-
-    /// The spec's example, verbatim plus an unknown member, is read from the folder.
-    #[test]
-    fn the_spec_example_is_read() {
-        let dir = folder_with(GOOD);
-        let case = read_case(dir.path()).unwrap();
-        assert_eq!(case.name, "spring 3, rig B");
-        assert_eq!(case.spring.pitch_mm, 6.2);
-        assert_eq!(case.material.poisson_ratio, 0.3);
-        assert_eq!(case.mass_kg, 5.3);
-        assert_eq!(case.static_files, vec![dir.path().join("static.csv")]);
-        assert_eq!(case.targets, Targets::default());
-        let statics = case.static_records().unwrap();
-        assert_eq!(statics[0].force_n, vec![0.0, 3.9, 7.9]);
-        let decays = case.decay_records().unwrap();
-        assert_eq!(decays[0].values().len(), 100);
-    }
-
-    /// Each broken field is named with its line and what was expected.
-    #[test]
-    fn broken_fields_are_located() {
-        for (from, to, field, line) in [
-            ("\"mass_kg\": 5.3,", "\"mass_kg\": -5.3,", "mass_kg", 14),
-            ("\"mass_kg\": 5.3,", "", "mass_kg", 1),
-            (
-                "\"pitch_mm\": 6.2",
-                "\"pitch_mm\": \"6.2\"",
-                "spring.pitch_mm",
-                7,
-            ),
-            (
-                "\"wire_diameter_mm\": 3.0",
-                "\"wire_diameter_mm\": 30.0",
-                "spring.wire_diameter_mm",
-                6,
-            ),
-            (
-                "\"poisson_ratio\": 0.3",
-                "\"poisson_ratio\": 0.5",
-                "material.poisson_ratio",
-                11,
-            ),
-            ("\"decay.csv\"", "\"nope.csv\"", "records.decay[0]", 16),
-            ("\"active_coils\": 14.0,", "", "spring.active_coils", 3),
-        ] {
-            let dir = folder_with(&GOOD.replacen(from, to, 1));
-            match read_case(dir.path()) {
-                Err(CaseError::Field(e)) => {
-                    assert_eq!(e.field, field, "{e}");
-                    assert_eq!(e.line, line, "{e}");
-                    let shown = e.to_string();
-                    assert!(
-                        shown.contains("case.json:") && shown.contains("expected"),
-                        "{shown}"
-                    );
-                }
-                other => panic!("{field}: {other:?}"),
-            }
-        }
-    }
-
-    #[test]
-    fn syntax_errors_and_missing_files() {
-        let dir = folder_with("{\"name\": \"x\",\n \"spring\": }");
-        match read_case(dir.path()) {
-            Err(CaseError::Syntax { line, .. }) => assert_eq!(line, 2),
-            other => panic!("{other:?}"),
-        }
-        let empty = tempfile::tempdir().unwrap();
-        assert!(matches!(read_case(empty.path()), Err(CaseError::Io { .. })));
-    }
-
-    #[test]
-    fn static_record_errors_name_the_line() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("static.csv");
-        for (text, line, needle) in [
-            ("displacement_mm,force\n0,1\n", 1, "force_n"),
-            ("displacement_mm,force_n\n0,1\n1,NaN\n", 3, "not finite"),
-            ("# rig B\ndisplacement_mm,force_n\n0,1\n\n1\n", 5, "fields"),
-            ("displacement_mm,force_n\n0,x\n", 2, "not a number"),
-            ("displacement_mm,force_n\n0,1\n", 1, "at least 2 rows"),
-        ] {
-            std::fs::write(&path, text).unwrap();
-            match read_static_record(&path) {
-                Err(CaseError::StaticRecord {
-                    line: l, problem, ..
-                }) => {
-                    assert_eq!(l, line, "{text}");
-                    let all = format!("{problem} {}", read_static_record(&path).unwrap_err());
-                    assert!(all.contains(needle), "{all}");
-                }
-                other => panic!("{text}: {other:?}"),
-            }
-        }
-    }
-
-    /// Decay records: one of the three columns (SI once read), two at once refused
-    /// with both names and the header line, none refused with the header listed, time
-    /// stamps that go back refused with their line.
-    #[test]
-    fn decay_record_columns() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("decay.csv");
-        let rows = |header: &str| {
-            let mut s = format!("# rig B\n{header}\n");
-            for i in 0..10 {
-                s.push_str(&format!("{},{}\n", i as f64 * 0.01, 1.5 + i as f64));
-            }
-            s
-        };
-        for (column, quantity, first) in [
-            ("accel_m_s2", Quantity::Acceleration, 1.5),
-            ("velocity_m_s", Quantity::Velocity, 1.5),
-            ("displacement_mm", Quantity::Displacement, 1.5e-3),
-        ] {
-            std::fs::write(&path, rows(&format!("time_s,{column}"))).unwrap();
-            let r = read_decay_record(&path).unwrap();
-            assert_eq!(r.quantity, quantity);
-            assert_eq!(r.values[0], first);
-            assert_eq!(r.lines[0], 3);
-        }
-        std::fs::write(
-            &path,
-            rows("time_s,displacement_mm,accel_m_s2").replace(",1", ",1,2"),
-        )
-        .unwrap();
-        let e = read_decay_record(&path).unwrap_err().to_string();
-        assert!(
-            e.contains("decay.csv:2:") && e.contains("`accel_m_s2` and `displacement_mm`"),
-            "{e}"
-        );
-        std::fs::write(&path, rows("time_s,accel")).unwrap();
-        let e = read_decay_record(&path).unwrap_err().to_string();
-        assert!(
-            e.contains("decay.csv:2:") && e.contains("columns: time_s, accel"),
-            "{e}"
-        );
-        std::fs::write(&path, "time_s,accel_m_s2\n0,1\n0.01,2\n0.005,3\n0.02,1\n").unwrap();
-        let e = read_decay_record(&path).unwrap_err().to_string();
-        assert!(e.contains("decay.csv:4:") && e.contains("increase"), "{e}");
-    }
-
-    /// The paper's case and Table 4 as shipped under `cases/160ect`.
-    #[test]
-    fn the_paper_case_and_table4_are_read() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/160ect");
-        let case = read_case(&root).unwrap();
-        assert_eq!(case.targets.stiffness_n_mm, Some(3.9275));
-        assert_eq!(case.targets.period_s, Some(0.23));
-        assert_eq!(case.tested_springs.len(), 4);
-        let mean: f64 = case
-            .tested_springs
-            .iter()
-            .map(|s| s.stiffness_n_mm)
-            .sum::<f64>()
-            / 4.0;
-        assert!(
-            (mean - 3.9275).abs() < 1e-12,
-            "Table 1's mean is the target"
-        );
-        let paper = case.paper.unwrap();
-        assert_eq!(paper.youngs_modulus_mpa, Some(190708.0));
-        assert_eq!(paper.rayleigh_beta, Some(0.00012));
-        let table4 = read_variants(&root.join("table4.json")).unwrap();
-        assert_eq!(table4.variants.len(), 6);
-        assert_eq!(table4.variants[5].spring.active_coils, 16.0);
-        assert_eq!(table4.variants[1].paper_damping_ratio, Some(0.00246));
-    }
-
-    #[test]
-    fn variants_need_unique_names() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("v.json");
-        let one = r##"{"name": "#1", "active_coils": 14, "mean_diameter_mm": 28, "wire_diameter_mm": 3, "pitch_mm": 6.2}"##;
-        std::fs::write(&path, format!("{{\"variants\": [{one},\n{one}]}}")).unwrap();
-        match read_variants(&path) {
-            Err(CaseError::Field(e)) => {
-                assert_eq!((e.field.as_str(), e.line), ("variants[1].name", 2))
-            }
-            other => panic!("{other:?}"),
-        }
-        std::fs::write(&path, format!("{{\"variants\": [{one}]}}")).unwrap();
-        let v = read_variants(&path).unwrap();
-        assert_eq!(v.variants[0].spring.mean_diameter_mm, 28.0);
-        assert_eq!(v.variants[0].paper_stiffness_n_mm, None);
-    }
 }

@@ -1,62 +1,12 @@
 //! The banded and sparse engines against a dense reference: a helix-like chain with a
 //! hub, scrambled numberings and wide patterns, and the paper's spring on the banded path.
 
-use faer::sparse::SparseColMat;
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 
-use super::tests::{chain_with_hub, lower, mul, sparse, Mck};
+use super::tests::{helix_like, relative_differences, Mck, COMPARED};
 use super::*;
-
-/// A helix-like system: 6-DOF nodes in a chain (full 12x12 coupling blocks, `K` from
-/// [`chain_with_hub`]) and a hub DOF 0 (a weight tied to the far end) coupled to the
-/// last node. Light rotational inertia (1e-4) puts those modes at `w dt ~ 5` at the
-/// test's `dt`, translations near `w dt ~ 0.05`. Lumped or consistent mass, Rayleigh
-/// damping without the weight's mass term (as coil's `DAMPING` on the wire only).
-fn helix_like(nodes: usize, lumped: bool) -> Mck {
-    let k = chain_with_hub(nodes, 21);
-    let n = k.nrows();
-    let inertia = |i: usize| match i {
-        0 => 10.0,
-        i if (i - 1) % 6 < 3 => 1.0,
-        _ => 1e-4,
-    };
-    let mut m_t: Vec<Triplet<usize, usize, f64>> =
-        (0..n).map(|i| Triplet::new(i, i, inertia(i))).collect();
-    if !lumped {
-        // A small SPD coupling on the same pattern (diagonally dominant, scaled).
-        let coupling = chain_with_hub(nodes, 5);
-        for j in 0..n {
-            for (&i, &v) in coupling
-                .symbolic()
-                .row_idx_of_col_raw(j)
-                .iter()
-                .zip(coupling.val_of_col(j))
-            {
-                let scale = 1e-2 * (inertia(i) * inertia(j)).sqrt();
-                m_t.push(Triplet::new(i, j, scale * v));
-            }
-        }
-    }
-    let m = SparseColMat::try_new_from_triplets(n, n, &m_t).unwrap();
-    let (alpha, beta) = (0.3, 0.01);
-    let mut c_t = Vec::new();
-    for (a, factor, skip_weight) in [(&m, alpha, true), (&k, beta, false)] {
-        for j in 0..n {
-            for (&i, &v) in a
-                .symbolic()
-                .row_idx_of_col_raw(j)
-                .iter()
-                .zip(a.val_of_col(j))
-            {
-                if !(skip_weight && i == 0 && j == 0) {
-                    c_t.push(Triplet::new(i, j, factor * v));
-                }
-            }
-        }
-    }
-    let c = SparseColMat::try_new_from_triplets(n, n, &c_t).unwrap();
-    (m, c, k)
-}
 
 /// The unreduced generalised-alpha step (stepper's module docs) on dense matrices
 /// with a dense Cholesky: an independent reference for the stepper. Returns the
@@ -135,50 +85,6 @@ fn dense_reference(
         std::mem::swap(&mut f_n, &mut f_next);
     }
     out
-}
-
-/// The three schemes of the comparisons.
-const COMPARED: [Scheme; 3] = [
-    Scheme::AverageAcceleration,
-    Scheme::Hht { alpha: -0.05 },
-    Scheme::GeneralizedAlpha { rho_inf: 0.8 },
-];
-
-/// Runs `stepper` like [`dense_reference`] and returns the largest differences of
-/// `u`, `v`, `a` from `reference`, each relative to the largest value in the reference.
-fn relative_differences(
-    stepper: &mut Stepper,
-    reference: &[State],
-    u0: &[f64],
-    v0: &[f64],
-    load: &dyn Fn(f64, &mut [f64]),
-) -> [f64; 3] {
-    let n = u0.len();
-    let mut f0 = vec![0.0; n];
-    load(0.0, &mut f0);
-    let mut state = stepper.initial_state(0.0, u0, v0, &f0).unwrap();
-    let mut history = Vec::new();
-    stepper
-        .run(
-            &mut state,
-            reference.len() - 1,
-            &mut |t, f| load(t, f),
-            &mut |_, s| history.push(s.clone()),
-        )
-        .unwrap();
-    let pick: [fn(&State) -> &[f64]; 3] = [|s| &s.u, |s| &s.v, |s| &s.a];
-    pick.map(|get| {
-        let scale = reference
-            .iter()
-            .flat_map(|s| get(s).iter())
-            .fold(0.0f64, |m, x| m.max(x.abs()));
-        let diff = history
-            .iter()
-            .zip(reference)
-            .flat_map(|(s, r)| get(s).iter().zip(get(r)).map(|(x, y)| (x - y).abs()))
-            .fold(0.0f64, f64::max);
-        diff / scale
-    })
 }
 
 /// Both are exact solutions of the same discrete recursion: only round-off

@@ -1,3 +1,7 @@
+//! coil-catenary owns the pantograph-catenary: its model, the head stages, the runs and
+//! EN 50318's statistics. It may import coil-io, coil-solver, coil-mesher, coil-postproc and
+//! coil-tuner; only the command line and the tests sit above it.
+//!
 //! coil-catenary: pantograph-catenary runs (`coil-tune catenary CASE --out DIR`,
 //! docs/catenary.md, "Runs").
 //!

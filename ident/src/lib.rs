@@ -1,3 +1,7 @@
+//! coil-ident owns identification from measured records: `diagnose` and which damping law.
+//! It may import coil-io, coil-solver, coil-mesher, coil-postproc and coil-tuner; only the
+//! command line, Python and the tests sit above it.
+//!
 //! coil-ident: identification from measured records, above the paper's calibration.
 //!
 //! - [`diagnose`]: fits the paper's model to a measured case, shows what it misses, names

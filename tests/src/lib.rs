@@ -1,3 +1,7 @@
+//! coil-tests owns the end-to-end tests, the independent truth generators and their scoring.
+//! It may import every library crate; its truth models use none of coil's numerics, so
+//! agreement with them is evidence; nothing imports it.
+//!
 //! Shared helpers for the end-to-end and verification tests: models built in code
 //! (no deck text), in the model's units (mm, N, t, s).
 

@@ -1,3 +1,7 @@
+//! coil-tuner owns the paper's procedure: cases and records, the FE spring model, the loops,
+//! the Rayleigh grids, studies and the damping-law band. It may import coil-io, coil-solver,
+//! coil-mesher and coil-postproc; identification, design and the catenary sit above it.
+//!
 //! coil-tuner: the paper's Figure 6 validation procedure on coil's own solver.
 //!
 //! - [`band`]: the damping laws and what each predicts for a geometry (the band beside

@@ -16,10 +16,10 @@
 //! cannot be met by the wire alone.
 
 use super::target::{DampingReference, IdentifiedLaw};
-use coil_tuner::band::{mode_coefficients, Coefficients, Law, BAND_LAWS};
 use crate::case::DecayMode;
 use crate::error::Result;
 use crate::fe::{FeSettings, SpringState};
+use coil_tuner::band::{mode_coefficients, Coefficients, Law, BAND_LAWS};
 use std::collections::BTreeMap;
 
 /// The calibrated laws of the band.

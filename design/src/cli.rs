@@ -111,4 +111,3 @@ fn check_command(
     }
     Ok(())
 }
-

@@ -7,8 +7,8 @@
 use super::verify::{candidate_settings, candidate_state, Verified};
 use super::{zeta_line, Design};
 use crate::error::{Result, TuneError};
-use coil_tuner::output::OutDir;
 use coil_mesher::AnalysisKind;
+use coil_tuner::output::OutDir;
 use std::fmt::Write as _;
 
 /// `design.json`'s text.

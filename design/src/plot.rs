@@ -129,4 +129,3 @@ pub fn design_figure(figure: &DesignPlot<'_>, path: &Path) -> Result<()> {
         message: source.to_string(),
     })
 }
-

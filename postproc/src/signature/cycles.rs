@@ -203,7 +203,7 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
         }
         None => 1.0,
     };
-    let band_noise = in_band_noise(noise, band_hz.map(|(_, high)| high), step_s, &gain);
+    let band_noise = in_band_noise(noise, band_hz.map(|(_, high)| high), step_s, gain);
 
     let largest = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let hysteresis = (3.0 * band_noise).max(1e-3 * largest);

@@ -350,3 +350,4 @@ impl Spring {
 pub mod scoring;
 pub mod truth;
 pub mod truth_damping;
+pub mod truth_forced;

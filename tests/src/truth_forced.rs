@@ -8,6 +8,9 @@
 //! up and down, and stepped sines (dwells at frequencies through the resonance). The
 //! measured output is the displacement plus white noise of a given fraction of its RMS.
 
+// The generator indexes samples and sub-steps as the textbook recurrence does.
+#![allow(clippy::needless_range_loop)]
+
 use crate::truth::Rng;
 use std::f64::consts::TAU;
 use std::path::Path;

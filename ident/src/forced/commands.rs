@@ -6,7 +6,7 @@ use super::model::{ForcedModel, OutputQuantity};
 use super::records::{read_record, ForcedEntry, ForcedRecord};
 use super::simulate::{self, Grid};
 use crate::error::{Result, TuneError};
-use crate::output::OutDir;
+use crate::output::{csv, OutDir};
 use std::path::{Path, PathBuf};
 
 /// Reads and checks a model file (`model.json` of a forced diagnosis).
@@ -170,21 +170,31 @@ pub fn frc_of(model: &ForcedModel, settings: &FrcSettings) -> Result<FrcResult> 
 /// Writes `frc.csv` (`frequency_hz,amplitude,stable`) and `backbone.csv`
 /// (`frequency_hz,amplitude,peak_displacement`).
 pub fn write_frc(result: &FrcResult, out: &OutDir) -> Result<()> {
-    let mut text = String::from("frequency_hz,amplitude,stable\n");
-    for p in &result.points {
-        text.push_str(&format!(
-            "{},{:e},{}\n",
-            p.frequency_hz, p.amplitude, p.stable
-        ));
-    }
-    out.write("frc.csv", text.as_bytes())?;
-    let mut text = String::from("frequency_hz,amplitude,peak_displacement\n");
-    for p in &result.backbone {
-        text.push_str(&format!(
-            "{},{:e},{:e}\n",
-            p.frequency_hz, p.amplitude, p.peak_displacement
-        ));
-    }
-    out.write("backbone.csv", text.as_bytes())?;
+    let curve = result.points.iter().map(|p| {
+        vec![
+            p.frequency_hz.to_string(),
+            format!("{:e}", p.amplitude),
+            p.stable.to_string(),
+        ]
+    });
+    out.write(
+        "frc.csv",
+        csv(&["frequency_hz", "amplitude", "stable"], curve).as_bytes(),
+    )?;
+    let backbone = result.backbone.iter().map(|p| {
+        vec![
+            p.frequency_hz.to_string(),
+            format!("{:e}", p.amplitude),
+            format!("{:e}", p.peak_displacement),
+        ]
+    });
+    out.write(
+        "backbone.csv",
+        csv(
+            &["frequency_hz", "amplitude", "peak_displacement"],
+            backbone,
+        )
+        .as_bytes(),
+    )?;
     out.commit()
 }

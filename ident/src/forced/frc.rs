@@ -30,6 +30,10 @@
 //! SIAM 2003, chapter 2; T. Detroux et al., "The harmonic balance method for bifurcation
 //! analysis of large-scale nonlinear mechanical systems", CMAME 296 (2015) 18-38.
 
+// Harmonic and sample indices are the formulation's own (x_n, tau_j, line k): the kernels
+// keep them rather than zipping five slices.
+#![allow(clippy::needless_range_loop)]
+
 use super::hb::{self, Basis};
 use super::model::{ForcedModel, InputQuantity, Lumped, OutputQuantity};
 use nalgebra::{DMatrix, DVector};

@@ -21,6 +21,10 @@
 //! Source: J. S. Bendat, A. G. Piersol, *Random Data*, 4th ed., Wiley 2010, sections 9.2
 //! (H1) and 11.5 (Welch).
 
+// Harmonic and sample indices are the formulation's own (x_n, tau_j, line k): the kernels
+// keep them rather than zipping five slices.
+#![allow(clippy::needless_range_loop)]
+
 use super::model::ForcedModel;
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;

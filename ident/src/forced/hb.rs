@@ -20,6 +20,10 @@
 //! (1989) 149-154; M. Krack, J. Gross, *Harmonic Balance for Nonlinear Vibration Problems*,
 //! Springer 2019, chapters 2-3.
 
+// Harmonic and sample indices are the formulation's own (x_n, tau_j, line k): the kernels
+// keep them rather than zipping five slices.
+#![allow(clippy::needless_range_loop)]
+
 use super::model::Lumped;
 
 /// The harmonic basis sampled at the AFT points.

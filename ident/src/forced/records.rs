@@ -315,21 +315,20 @@ fn check_uniform(
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
     let rounding = coil_postproc::stats::median(resolution).unwrap_or(0.0);
-    for i in 1..n {
-        let step = t[i] - t[i - 1];
+    for (i, w) in t.windows(2).enumerate() {
+        let step = w[1] - w[0];
         if step <= 0.0 {
             return Err((
-                lines[i],
+                lines[i + 1],
                 format!(
                     "time {} does not increase (the previous row has {})",
-                    t[i],
-                    t[i - 1]
+                    w[1], w[0]
                 ),
             ));
         }
         if (step - dt).abs() > 0.01 * dt + rounding {
             return Err((
-                lines[i],
+                lines[i + 1],
                 format!("a time step of {step:.6e} s against the record's {dt:.6e} s"),
             ));
         }

@@ -148,13 +148,8 @@ fn effective_count(fitted: &Fitted) -> f64 {
         .iter()
         .map(|r| {
             let n = r.len() as f64;
-            let (mut c0, mut c1) = (0.0, 0.0);
-            for i in 0..r.len() {
-                c0 += r[i] * r[i];
-                if i > 0 {
-                    c1 += r[i] * r[i - 1];
-                }
-            }
+            let c0: f64 = r.iter().map(|x| x * x).sum();
+            let c1: f64 = r.windows(2).map(|w| w[0] * w[1]).sum();
             let rho = if c0 > 0.0 {
                 (c1 / c0).clamp(0.0, 0.999)
             } else {
@@ -411,15 +406,18 @@ fn fit_refined(
     max_iterations: usize,
 ) -> std::result::Result<Fitted, String> {
     let mut scales = baseline.scales;
-    for _ in 0..3 {
-        let f = fit::fit(
+    let run = |scales: &fit::Scales| {
+        fit::fit(
             series,
             &baseline.model,
             &baseline.initial,
-            &scales,
+            scales,
             effects,
             max_iterations,
-        )?;
+        )
+    };
+    for _ in 0..3 {
+        let f = run(&scales)?;
         let z_max = series
             .iter()
             .map(|s| s.output.iter().fold(0.0f64, |m, y| m.max(y.abs())))
@@ -433,14 +431,7 @@ fn fit_refined(
         }
         scales.substeps = needed;
     }
-    fit::fit(
-        series,
-        &baseline.model,
-        &baseline.initial,
-        &scales,
-        effects,
-        max_iterations,
-    )
+    run(&scales)
 }
 
 /// The signature test (module docs, test 4) and its words.

@@ -60,13 +60,13 @@ pub fn states(
     let (mut z, mut v) = initial;
     let h = grid.dt / grid.substeps as f64;
     let f = |z: f64, v: f64, u: f64| model.acceleration(z, v, u);
-    for i in 0..n {
-        zs.push(z);
-        vs.push(v);
-        if i + 1 == n {
-            break;
-        }
-        let (u0, u1) = (input[i], input[i + 1]);
+    if n == 0 {
+        return Ok((zs, vs));
+    }
+    zs.push(z);
+    vs.push(v);
+    for (i, pair) in input.windows(2).enumerate() {
+        let (u0, u1) = (pair[0], pair[1]);
         let du = (u1 - u0) / grid.substeps as f64;
         for s in 0..grid.substeps {
             let ua = u0 + du * s as f64;
@@ -90,6 +90,8 @@ pub fn states(
                 i + 2
             ));
         }
+        zs.push(z);
+        vs.push(v);
     }
     Ok((zs, vs))
 }

@@ -225,12 +225,15 @@ fn residuals_of(
         .collect()
 }
 
+/// A fit's starting point: the model, each record's initial state `(z0, v0)`, the scales.
+pub type Start = (ForcedModel, Vec<(f64, f64)>, Scales);
+
 /// The linear start (module docs, step 1).
 pub fn linear_start(
     series: &[Series<'_>],
     setup: &Setup,
     units: (&str, &str),
-) -> Result<(ForcedModel, Vec<(f64, f64)>, Scales), String> {
+) -> Result<Start, String> {
     let longest = series
         .iter()
         .max_by_key(|s| s.output.len())
@@ -413,9 +416,9 @@ pub fn forecast(
                 substeps: fitted.scales.substeps,
             };
             let y = simulate::output(&head_fit.model, grid, &s.input[..b], x0, bound)?;
-            for i in a..b {
-                err2 += (y[i] - s.output[i]).powi(2);
-                ref2 += s.output[i].powi(2);
+            for (yi, mi) in y[a..b].iter().zip(&s.output[a..b]) {
+                err2 += (yi - mi).powi(2);
+                ref2 += mi.powi(2);
             }
         }
     }

@@ -443,7 +443,7 @@ pub fn backbone(
                 break;
             }
         }
-        if !ok || !(w > 0.0) {
+        if !ok || w.is_nan() || w <= 0.0 {
             return Err(format!(
                 "the backbone stopped at amplitude {a1:.4e} (no free periodic solution found)"
             ));

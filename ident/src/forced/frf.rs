@@ -175,7 +175,7 @@ pub fn signature(
         n += 1;
     }
     let det = sxx * sll - sxl * sxl;
-    if !(det > 0.0) || n < 4 {
+    if det.is_nan() || det <= 0.0 || n < 4 {
         return (0.0, 0.0);
     }
     let coef = (sll * sxq - sxl * slq) / det;

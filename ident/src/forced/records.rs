@@ -161,7 +161,7 @@ fn entry(folder: &Path, item: &Field<'_>) -> std::result::Result<ForcedEntry, Fi
         &o,
         "input_quantity",
         "\"force\" or \"base_acceleration\"",
-        |n| InputQuantity::from_name(n),
+        InputQuantity::from_name,
     )?;
     let output_quantity = quantity(
         &o,

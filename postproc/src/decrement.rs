@@ -557,6 +557,23 @@ mod tests {
         }
     }
 
+    /// 20 s at 1 kHz of the paper's decay (4.35 Hz, unit amplitude, random phase) about
+    /// `offset`, with white noise of deviation `noise`.
+    fn noisy_paper_decay(rng: &mut Rng, zeta: f64, offset: f64, noise: f64) -> Signal {
+        let sine = DampedSine {
+            frequency_hz: 4.35,
+            zeta,
+            amplitude: 1.0,
+            phase: rng.uniform() * TAU,
+            offset,
+        };
+        let (time, mut x) = damped_sine(&sine, 1000.0, 20.0);
+        for v in &mut x {
+            *v += noise * rng.normal();
+        }
+        sig(&time, &x)
+    }
+
     /// The stated standard error of `zeta_fit` against Monte Carlo: over `TRIALS` records
     /// of the paper's decay (4.35 Hz, zeta 0.00175, 20 s at 1 kHz, random phase) with
     /// white noise at two levels, the interval `zeta_fit +- k se` holds the true zeta in
@@ -582,18 +599,8 @@ mod tests {
             let (mut within_1, mut within_2) = (0usize, 0usize);
             let (mut sum_z, mut sum_se) = (0.0, 0.0);
             for _ in 0..TRIALS {
-                let sine = DampedSine {
-                    frequency_hz: 4.35,
-                    zeta,
-                    amplitude: 1.0,
-                    phase: rng.uniform() * TAU,
-                    offset: 0.0,
-                };
-                let (time, mut x) = damped_sine(&sine, 1000.0, 20.0);
-                for v in &mut x {
-                    *v += noise * rng.normal();
-                }
-                let report = analyze(&sig(&time, &x), &DecrementOptions::default()).unwrap();
+                let signal = noisy_paper_decay(&mut rng, zeta, 0.0, noise);
+                let report = analyze(&signal, &DecrementOptions::default()).unwrap();
                 let z = (report.zeta_fit - zeta) / report.zeta_fit_std_error;
                 within_1 += usize::from(z.abs() <= 1.0);
                 within_2 += usize::from(z.abs() <= 2.0);
@@ -635,22 +642,12 @@ mod tests {
             let (mut mean_sq, mut fit_sq, mut se_sq) = (0.0, 0.0, 0.0);
             let trials = 40;
             for _ in 0..trials {
-                let sine = DampedSine {
-                    frequency_hz: 4.35,
-                    zeta,
-                    amplitude: 1.0,
-                    phase: rng.uniform() * TAU,
-                    offset,
-                };
-                let (time, mut x) = damped_sine(&sine, 1000.0, 20.0);
-                for v in &mut x {
-                    *v += 1e-3 * rng.normal();
-                }
+                let signal = noisy_paper_decay(&mut rng, zeta, offset, 1e-3);
                 let options = DecrementOptions {
                     detrend,
                     ..DecrementOptions::default()
                 };
-                let report = analyze(&sig(&time, &x), &options).unwrap();
+                let report = analyze(&signal, &options).unwrap();
                 mean_sq += (report.zeta_mean - zeta).powi(2);
                 fit_sq += (report.zeta_fit - zeta).powi(2);
                 se_sq += report.zeta_fit_std_error.powi(2);

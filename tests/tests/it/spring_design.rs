@@ -6,13 +6,13 @@
 //! (E to K, mass to T, seconds) with the paper's Rayleigh pair, written as the
 //! calibration.json `coil-tune calibrate` writes (its `state`, `targets`, `settings`).
 
+use coil_design::sheet::{check, input::read_spring};
+use coil_design::target::{read_target, MaterialSource};
+use coil_design::{design, output, DesignSettings};
 use coil_tuner::case::{read_case, read_variants};
-use coil_tuner::design::target::{read_target, MaterialSource};
-use coil_tuner::design::{design, output, DesignSettings};
 use coil_tuner::fe::{self, FeSettings, SpringState};
 use coil_tuner::loops::{tune_mass, tune_youngs_modulus};
 use coil_tuner::output::OutDir;
-use coil_tuner::sheet::{check, input::read_spring};
 use std::path::{Path, PathBuf};
 
 fn cases() -> PathBuf {

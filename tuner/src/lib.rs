@@ -3,8 +3,6 @@
 //! - [`band`]: the damping laws and what each predicts for a geometry (the band beside
 //!   Table 4); identification from measured records is the `coil-ident` crate above this one.
 //!
-//! - [`sheet`]: the EN 13906-1 sheet of a spring beside the FE values (`coil-tune
-//!   check`); [`design`]: design to a target (`coil-tune design`).
 //! - [`head_stage`]: the pantograph head stage (K of four springs in parallel, the damping
 //!   band's zeta and dashpots) per spring, for a catenary run.
 //! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
@@ -27,7 +25,6 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
-pub mod design;
 pub mod grid;
 pub mod head_stage;
 pub mod head_stage_reduced;
@@ -35,7 +32,6 @@ pub mod paper;
 pub mod plots;
 pub mod procedure;
 pub mod report;
-pub mod sheet;
 pub mod study;
 pub mod sweep;
 pub mod tolerance;

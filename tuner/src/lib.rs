@@ -5,8 +5,6 @@
 //!
 //! - [`sheet`]: the EN 13906-1 sheet of a spring beside the FE values (`coil-tune
 //!   check`); [`design`]: design to a target (`coil-tune design`).
-//! - [`head_stage`]: the pantograph head stage (K of four springs in parallel, the damping
-//!   band's zeta and dashpots) per spring, for a catenary run.
 //! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
@@ -29,8 +27,6 @@ pub mod damping;
 pub mod decay;
 pub mod design;
 pub mod grid;
-pub mod head_stage;
-pub mod head_stage_reduced;
 pub mod paper;
 pub mod plots;
 pub mod procedure;

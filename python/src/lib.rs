@@ -612,12 +612,12 @@ fn catenary(
 #[pyo3(signature = (spring, elements_per_coil=24))]
 fn check(py: Python<'_>, spring: PathBuf, elements_per_coil: u32) -> PyResult<String> {
     guarded(py, || {
-        let input = coil_tuner::sheet::input::read_spring(&spring).map_err(fail)?;
+        let input = coil_design::sheet::input::read_spring(&spring).map_err(fail)?;
         let settings = coil_tuner::fe::FeSettings {
             elements_per_coil,
             ..Default::default()
         };
-        let report = coil_tuner::sheet::check(&input, &settings).map_err(fail)?;
+        let report = coil_design::sheet::check(&input, &settings).map_err(fail)?;
         report.json().map_err(fail)
     })
 }
@@ -634,7 +634,7 @@ fn design(
     short_list: Option<usize>,
     plots: bool,
 ) -> PyResult<String> {
-    use coil_tuner::design::{self, target::Objective};
+    use coil_design::{self as design, target::Objective};
     let objective = match objective.as_deref() {
         None => None,
         Some("lightest") => Some(Objective::Lightest),

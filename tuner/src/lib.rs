@@ -3,8 +3,6 @@
 //! - [`band`]: the damping laws and what each predicts for a geometry (the band beside
 //!   Table 4); identification from measured records is the `coil-ident` crate above this one.
 //!
-//! - [`sheet`]: the EN 13906-1 sheet of a spring beside the FE values (`coil-tune
-//!   check`); [`design`]: design to a target (`coil-tune design`).
 //! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
@@ -25,13 +23,11 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
-pub mod design;
 pub mod grid;
 pub mod paper;
 pub mod plots;
 pub mod procedure;
 pub mod report;
-pub mod sheet;
 pub mod study;
 pub mod sweep;
 pub mod tolerance;

@@ -389,7 +389,7 @@ fn calibration_spring(path: &Path) -> Result<Spring> {
 }
 
 fn sheet_spring(path: &Path) -> Result<Spring> {
-    let spring = coil_tuner::sheet::input::read_spring(path)?;
+    let spring = coil_design::sheet::input::read_spring(path)?;
     let sheet = spring.sheet();
     if !sheet.passes() {
         let failed: Vec<String> = sheet
@@ -407,7 +407,7 @@ fn sheet_spring(path: &Path) -> Result<Spring> {
     Ok(Spring {
         name: stem(path),
         source: format!("SPRING.json {}", path.display()),
-        state: coil_tuner::sheet::fe::state_of(&spring, &sheet),
+        state: coil_design::sheet::fe::state_of(&spring, &sheet),
         rayleigh: ASSUMED_RAYLEIGH,
         rayleigh_note: format!(
             "assumed: the 160ECT's calibrated Rayleigh law (alpha = {} 1/s, beta = {:e} s), the SPRING.json names none",

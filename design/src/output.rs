@@ -7,8 +7,8 @@
 use super::verify::{candidate_settings, candidate_state, Verified};
 use super::{zeta_line, Design};
 use crate::error::{Result, TuneError};
-use crate::output::OutDir;
 use coil_mesher::AnalysisKind;
+use coil_tuner::output::OutDir;
 use std::fmt::Write as _;
 
 /// `design.json`'s text.
@@ -46,8 +46,8 @@ pub fn write(design: &Design, out: &OutDir, figure: bool) -> Result<()> {
             .map(|v| (v.spring_mass_kg, v.rate_n_mm, v.fe_rate_n_mm, v.fe_verified))
             .collect();
         let rate = design.target.rate_n_mm / f64::from(design.target.springs_in_parallel);
-        crate::plots::design_figure(
-            &crate::plots::DesignPlot {
+        crate::plot::design_figure(
+            &crate::plot::DesignPlot {
                 feasible: &design.feasible_points,
                 short_list: &short,
                 rate_n_mm: rate,

@@ -1,23 +1,38 @@
-//! `coil-tune design TARGET.json --out DIR`: which springs give this rate (and this
-//! zeta) inside this envelope, safe under these loads (docs/spring-design.md).
+//! coil-design: which spring? The EN 13906-1 sheet of a helical compression spring and
+//! design to a target (docs/spring-design.md). It owns the standards' tables, the sheet,
+//! the search, the FE verification and the design's files; it imports the tuner's FE
+//! model, case fields and damping band (`coil_tuner`), nothing imports it but the CLI
+//! and Python.
 //!
-//! 1. [`target`]: the target and its material (a grade, or a calibration with its E,
-//!    mesh and damping);
-//! 2. [`search`]: the handbook search over standard wires, mean diameters, quarter
-//!    turns and the pitch, every EN 13906-1 check and the envelope, ranked;
-//! 3. [`verify`]: the short list through the FE model (rate within the tolerance,
-//!    surge mode clear of a band), in parallel;
-//! 4. [`band`]: each candidate's zeta under every damping law calibrated to the same
-//!    decay, and what the geometry can and cannot buy;
-//! 5. [`output`]: `design.json`, `report.md`, `design.png` and the short list's decks.
+//! - [`sheet`]: `coil-tune check SPRING.json`, the sheet beside coil's FE values;
+//! - [`target`]: the target and its material (a grade, or a calibration with its E,
+//!   mesh and damping);
+//! - [`search`]: the handbook search over standard wires, mean diameters, quarter
+//!   turns and the pitch, every EN 13906-1 check and the envelope, ranked;
+//! - [`verify`]: the short list through the FE model (rate within the tolerance,
+//!   surge mode clear of a band), in parallel;
+//! - [`band`]: each candidate's zeta under every damping law calibrated to the same
+//!   decay, and what the geometry can and cannot buy;
+//! - [`output`]: `design.json`, `report.md` and the short list's decks; [`plot`]:
+//!   `design.png`;
+//! - [`cli`]: the `check` and `design` commands of `coil-tune`.
+
+#![warn(missing_docs)]
+
+// The tuner's modules the spring design builds on, under the names the modules here use.
+pub(crate) use coil_tuner::{case, error, fe, fields};
 
 pub mod band;
+pub mod cli;
 pub mod output;
+pub mod plot;
 pub mod search;
+pub mod sheet;
 pub mod target;
 pub mod verify;
 
-use crate::error::Result;
+pub use coil_tuner::error::{Result, TuneError};
+
 use serde::Serialize;
 use std::collections::BTreeMap;
 use target::{Material, Objective, Target};

@@ -1,11 +1,11 @@
 //! The zeta band of a design's candidates: each damping law calibrated to the same
 //! measured decay (the calibration's spring at its weight) and carried to a candidate
-//! at the target's weight with first-order modal damping (`crate::band`'s formulation:
+//! at the target's weight with first-order modal damping (`coil_tuner::band`'s formulation:
 //! `rayleigh` `alpha d / (2 w) + beta w / 2`, `hysteretic` `eta / 2`, `external_viscous`
 //! `c phi_w^2 / (2 w)`, from coil's FE weight mode).
 //!
 //! Laws: the calibration's own Rayleigh pair (`calibrated_rayleigh`), the four of
-//! `crate::band::BAND_LAWS` (Rayleigh with beta alone, with alpha alone, a loss factor, a
+//! `coil_tuner::band::BAND_LAWS` (Rayleigh with beta alone, with alpha alone, a loss factor, a
 //! dashpot at the weight), each fitted to the reference zeta alone, and, when a
 //! damping.json of `coil-tune damping` identified one, that law with its fitted
 //! parameters (`identified_<law>`).
@@ -16,10 +16,10 @@
 //! cannot be met by the wire alone.
 
 use super::target::{DampingReference, IdentifiedLaw};
-use crate::band::{mode_coefficients, Coefficients, Law, BAND_LAWS};
 use crate::case::DecayMode;
 use crate::error::Result;
 use crate::fe::{FeSettings, SpringState};
+use coil_tuner::band::{mode_coefficients, Coefficients, Law, BAND_LAWS};
 use std::collections::BTreeMap;
 
 /// The calibrated laws of the band.
@@ -62,7 +62,7 @@ fn zetas(band: &LawBand, c: &Coefficients) -> BTreeMap<String, f64> {
 /// A damping.json's law by name with its parameters in [`Law::parameters`] order.
 fn identified_law(found: &IdentifiedLaw) -> Result<(Law, Vec<f64>)> {
     let (name, parameters) = found;
-    let law = crate::band::LAWS
+    let law = coil_tuner::band::LAWS
         .into_iter()
         .find(|l| l.name() == name)
         .ok_or_else(|| {

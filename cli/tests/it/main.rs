@@ -8,3 +8,4 @@ mod damping_cli;
 mod diagnose_cli;
 mod forced_cli;
 mod fuzz;
+mod mesh_cli;

@@ -290,6 +290,8 @@ fn cargo_run(
     let bin = match after("--bin") {
         Some(bin) => bin.clone(),
         None if package_bins.len() == 1 => package_bins[0].clone(),
+        // A package with several binaries names its `default-run` (coil-tune does).
+        None if package_bins.iter().any(|b| b.as_str() == package.as_str()) => package.to_string(),
         None => {
             return Err(format!(
                 "README: `{command}`: package {package} has binaries {package_bins:?}; cargo needs --bin"

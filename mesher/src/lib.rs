@@ -41,7 +41,6 @@
 
 #![warn(missing_docs)]
 
-pub mod catenary;
 pub mod closed_form;
 
 use coil_solver::model::{
@@ -258,7 +257,9 @@ pub struct SpecError {
     pub expected: &'static str,
 }
 
-pub(crate) fn check(
+/// `Ok` when `ok` holds and `value` is finite, else the [`SpecError`] naming `field`, the
+/// value and what was `expected` (the one check of every spec field).
+pub fn check(
     ok: bool,
     field: &'static str,
     value: f64,

@@ -19,9 +19,6 @@
 //! - [`peaks`]: crests to sub-sample accuracy.
 //! - [`decrement`]: the paper's Eqs. 2-3 and an exponential envelope fit.
 //! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
-//! - [`en50318`]: EN 50318 contact-force statistics of a pantograph-catenary run (mean,
-//!   scatter, extremes, support uplift, loss of contact), their figures and the table
-//!   against reference ranges.
 //! - [`differentiate`]: velocity and acceleration from a position record (low-pass and
 //!   sixth-order central differences, with their closed-form gain).
 //! - [`noise`]: the noise floor of a record whose noise need not be white (Welch spectrum
@@ -40,7 +37,6 @@
 
 pub mod decrement;
 pub mod differentiate;
-pub mod en50318;
 pub mod envelope;
 pub mod error;
 pub mod filter;

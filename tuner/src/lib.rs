@@ -7,8 +7,6 @@
 //! - [`band`]: the damping laws and what each predicts for a geometry (the band beside
 //!   Table 4); identification from measured records is the `coil-ident` crate above this one.
 //!
-//! - [`head_stage`]: the pantograph head stage (K of four springs in parallel, the damping
-//!   band's zeta and dashpots) per spring, for a catenary run.
 //! - [`case`]: reading a measured case (`docs/measured-case.md`) and a variants file.
 //! - [`study`]: a sweep as independent tasks, its shards and their merge; [`tolerance`]:
 //!   the tolerance study of the Table 4 springs.
@@ -30,8 +28,6 @@ pub mod cli;
 pub mod damping;
 pub mod decay;
 pub mod grid;
-pub mod head_stage;
-pub mod head_stage_reduced;
 pub mod paper;
 pub mod plots;
 pub mod procedure;

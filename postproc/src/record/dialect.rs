@@ -140,10 +140,9 @@ fn rewrite(path: &std::path::Path, text: &str, dialect: &Dialect) -> Result<Stri
     Ok(out)
 }
 
-/// Reads the channel `spec` names from a CSV file's bytes (any dialect).
-pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
-    super::spec::no_time_variable(spec)?;
-    let path = spec.file.as_path();
+/// A CSV file's bytes as coil's own CSV (comma, decimal point, `#` comments) and the dialect
+/// they were written in.
+fn normalise(path: &std::path::Path, bytes: Vec<u8>) -> Result<(String, Dialect)> {
     let raw = match String::from_utf8(bytes) {
         Ok(text) => text,
         // Latin-1 exports (a `°` or `µ` in a header) are read as such.
@@ -157,6 +156,14 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
     } else {
         rewrite(path, text, &dialect)?
     };
+    Ok((normalised, dialect))
+}
+
+/// Reads the channel `spec` names from a CSV file's bytes (any dialect).
+pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
+    super::spec::no_time_variable(spec)?;
+    let path = spec.file.as_path();
+    let (normalised, dialect) = normalise(path, bytes)?;
     let (header, header_line) =
         crate::signal::read_header_in(path, normalised.clone().into_bytes())?;
     let fail_at =
@@ -280,6 +287,19 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
         lines: fields.lines,
         time_resolution_s: resolution,
     })
+}
+
+/// Reads the columns `names` of a CSV file of any dialect as written (no unit conversion),
+/// empty cells as `None`: the input and output histories of a forced record, whose units
+/// (volts, newtons) the case states. Returns the cells and the dialect in words.
+pub fn read_columns(
+    path: &std::path::Path,
+    names: &[&str],
+) -> Result<(crate::signal::OptionalFields, String)> {
+    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_RECORD_BYTES, "a record")?;
+    let (normalised, dialect) = normalise(path, bytes)?;
+    let fields = crate::signal::read_optional_fields_in(path, normalised.into_bytes(), names)?;
+    Ok((fields, dialect.describe()))
 }
 
 /// The measured column when the case names none (module docs, "Which column").

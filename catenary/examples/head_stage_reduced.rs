@@ -1,8 +1,8 @@
 //! The head stage alone, lumped against reduced: for each of the paper's springs (the
 //! 160ECT and Table 4's #1-#6), the 7.2 kg collector head (EN 50318's m1) on four
-//! springs in parallel, either the lumped stage of `coil_tuner::head_stage` (K = 4 k,
+//! springs in parallel, either the lumped stage of `coil_catenary::head_stage::springs` (K = 4 k,
 //! the dashpot of the paper's damping law carried over to the head, `zeta_mid`) or
-//! the Craig-Bampton stage of `coil_tuner::head_stage_reduced` (the same calibrated
+//! the Craig-Bampton stage of `coil_catenary::head_stage::reduced` (the same calibrated
 //! springs, their surge modes kept, Rayleigh damping on the wire with the same law).
 //!
 //! Two frequency responses, 0-100 Hz, computed exactly from the dense matrices
@@ -15,12 +15,12 @@
 //! `sqrt(K / (m + m_s / 3))`, reduced), the first surge, and the largest relative
 //! difference `|H_r - H_l| / |H_l|` inside the 20 Hz band that EN 50318 keeps (and
 //! outside the resonance's half-power band), then the 160ECT's responses at a few
-//! frequencies. Run: `cargo run --release -p coil-tuner --example head_stage_reduced`
+//! frequencies. Run: `cargo run --release -p coil-catenary --example head_stage_reduced`
 //! (about 1 s).
 
+use coil_catenary::head_stage::reduced::{reduced_stage, ReducedStage, FRAME, HEAD};
+use coil_catenary::head_stage::springs::{head_stages_of_files, HeadStageSettings};
 use coil_tuner::case::read_variants;
-use coil_tuner::head_stage::{head_stages_of_files, HeadStageSettings};
-use coil_tuner::head_stage_reduced::{reduced_stage, ReducedStage, FRAME, HEAD};
 use nalgebra::{Complex, DMatrix};
 use std::f64::consts::TAU;
 use std::path::Path;

@@ -7,7 +7,7 @@
 //! `coil-solve` run of a catenary deck or a measured record) and has no idea of the model.
 //!
 //! # Inputs and conventions
-//! - **Time** `time_s` (s): uniformly sampled (the [`crate::signal::Signal`] check: every
+//! - **Time** `time_s` (s): uniformly sampled (the [`coil_postproc::signal::Signal`] check: every
 //!   step within 5 % of the median).
 //! - **Contact force** `force_n` (N), one sample per time: positive presses the head on the
 //!   wire; a sample with force `<= 0` is a sample without contact (a penalty contact's force
@@ -20,13 +20,13 @@
 //!   the modelled section, away from the ends where the pantograph runs onto and off the
 //!   line; the case says which spans (for the 2002 reference model of 10 spans of 60 m, e.g.
 //!   the two central spans, 240 to 360 m from the first support).
-//! - **Low-pass**: zero-phase Butterworth ([`crate::filter::lowpass_zero_phase`]), order
+//! - **Low-pass**: zero-phase Butterworth ([`coil_postproc::filter::lowpass_zero_phase`]), order
 //!   [`DEFAULT_ORDER`] per pass, forward then backward, so the magnitude is
 //!   `|H(f)|^2 = 1 / (1 + (tan(pi f / f_s) / tan(pi f_c / f_s))^8)` (half amplitude, -6 dB,
 //!   at the cutoff `f_c`, [`DEFAULT_CUTOFF_HZ`] = 20 Hz unless the case says otherwise) and
 //!   no phase shift. It is applied to the **whole record before windowing**: the
 //!   filter's start-up transients live at the record's ends, within
-//!   `14 / (2 pi f_c sin(pi / 8))` s (0.29 s at 20 Hz, see [`crate::filter`]), and
+//!   `14 / (2 pi f_c sin(pi / 8))` s (0.29 s at 20 Hz, see [`coil_postproc::filter`]), and
 //!   [`Evaluation::clear_of_ends`] says whether the window stays outside them.
 //! - **Supports** ([`Support`]): the vertical displacement history (mm, **positive up**) of
 //!   each steady arm or messenger support, with its static value and its position along
@@ -45,7 +45,7 @@
 //!
 //! Sources: EN 50318:2002 clause 5 (the statistics and the 20 Hz filter, as summarised in
 //! S. Bruni et al., "The results of the pantograph-catenary interaction benchmark", Vehicle
-//! System Dynamics 53(3), 2015, 412-435); the filter's design in [`crate::filter`].
+//! System Dynamics 53(3), 2015, 412-435); the filter's design in [`coil_postproc::filter`].
 
 pub mod figures;
 pub mod report;
@@ -55,15 +55,15 @@ use std::ops::RangeInclusive;
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PostError, Result};
-use crate::filter::{Band, Butterworth};
-use crate::signal::Signal;
+use coil_postproc::error::{PostError, Result};
+use coil_postproc::filter::{Band, Butterworth};
+use coil_postproc::signal::Signal;
 
 /// The usual low-pass cutoff of EN 50318's statistics (Hz).
 pub const DEFAULT_CUTOFF_HZ: f64 = 20.0;
 
 /// Butterworth order of each of the two passes of the zero-phase low-pass.
-pub const DEFAULT_ORDER: usize = crate::filter::DEFAULT_ORDER;
+pub const DEFAULT_ORDER: usize = coil_postproc::filter::DEFAULT_ORDER;
 
 /// The statistics' keys, in the order of [`Statistics`] (the JSON contract).
 pub const KEYS: [&str; 9] = [

@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 use serde::{Deserialize, Serialize};
 
 use super::{speed_label, Statistics, KEYS};
-use crate::error::{PostError, Result};
+use coil_postproc::error::{PostError, Result};
 
 /// Reference ranges per speed (km/h, as text) and statistic key (module doc).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -11,8 +11,8 @@
 //!   spring has the measured `k` (Table 3: 3.9275 N/mm, the paper's FE 3.927506) within the
 //!   loop's tolerance, loop 2 sets the test weight's mass to the measured period, and each
 //!   variant keeps that material and changes only its geometry: the same static run as the
-//!   Table 4 sweep ([`crate::sweep`]), so `k` of a variant is coil's Table 4 value.
-//! - **zeta's band.** One decay does not say which damping law acts ([`crate::band`]):
+//!   Table 4 sweep ([`coil_tuner::sweep`]), so `k` of a variant is coil's Table 4 value.
+//! - **zeta's band.** One decay does not say which damping law acts ([`coil_tuner::band`]):
 //!   each law calibrated to the same measured zeta of the test's weight mode predicts a
 //!   different zeta for another geometry. `zeta_low` and `zeta_high` are the smallest and
 //!   largest of the band's laws (Rayleigh beta only, Rayleigh alpha only, hysteretic, a
@@ -34,11 +34,11 @@
 //! Cost: a few static and modal runs per spring (no decay integration): 0.1 s for the
 //! paper's seven springs in a release build.
 
-use crate::band::{band, mode_coefficients, Band};
-use crate::case::{read_case, read_variants, DecayMode, MeasuredCase, VariantsFile};
-use crate::error::{Result, TuneError};
-use crate::fe::{static_stiffness, FeSettings, SpringState};
-use crate::loops::{tune_mass, tune_youngs_modulus};
+use crate::{Result, TuneError};
+use coil_tuner::band::{band, mode_coefficients, Band};
+use coil_tuner::case::{read_case, read_variants, DecayMode, MeasuredCase, VariantsFile};
+use coil_tuner::fe::{static_stiffness, FeSettings, SpringState};
+use coil_tuner::loops::{tune_mass, tune_youngs_modulus};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -181,7 +181,7 @@ struct Common<'a> {
 }
 
 impl Common<'_> {
-    /// The stage of `spring` whose band's laws give `laws` ([`crate::band::BAND_LAWS`]
+    /// The stage of `spring` whose band's laws give `laws` ([`coil_tuner::band::BAND_LAWS`]
     /// order), beside the paper's `(k, zeta)`.
     fn stage(
         &self,
@@ -369,7 +369,7 @@ mod tests {
     /// c = 2 zeta sqrt(K m). Table 4's springs: k within 0.4 % of the paper's (measured
     /// 0.34 % at most, #2), zeta mid (the paper's law) within 5.1 % of its printed zeta
     /// (measured -5.0 % at most, #4) and inside the band. The whole of it takes 0.1 s
-    /// (release): `cargo test --release -p coil-tuner --lib head_stage -- --nocapture`
+    /// (release): `cargo test --release -p coil-catenary --lib head_stage::springs -- --nocapture`
     /// prints the table.
     #[test]
     fn the_160ect_stage_is_four_times_table_3_and_table_4_follows() {

@@ -2,7 +2,7 @@
 //! parallel between the frame end and the head end, Craig-Bampton reduced so that the
 //! surge modes stay in, written as a `DMIG` matrix element (the solver's
 //! `deck::cards::superelement`) for given node numbers. The lumped stage beside it
-//! ([`crate::head_stage`]) keeps only `K = 4 k` and a dashpot.
+//! ([`super::springs`]) keeps only `K = 4 k` and a dashpot.
 //!
 //! # Formulation
 //! - **One spring, both ends guided.** The calibrated spring ([`SpringState`], loops 1
@@ -33,23 +33,24 @@
 //!   the largest shares) and the coil's bending modes that the helix couples to the
 //!   axis (109.6 Hz, 3.5 % of the first surge's share; 244.8 Hz, 5 %). The lowest held
 //!   mode is such a coupled bending mode, not the surge; the surge is the mode with the
-//!   largest share, the one [`crate::head_stage`] reports. The statics stay exact
+//!   largest share, the one [`super::springs`] reports. The statics stay exact
 //!   whatever is dropped (the constraint modes carry them).
 //! - **Damping.** Rayleigh on the spring's wire, `C = alpha M_wire + beta K`, the
-//!   calibrated law's alpha and beta ([`crate::head_stage::HeadStages::rayleigh_mid`]):
+//!   calibrated law's alpha and beta ([`super::springs::HeadStages::rayleigh_mid`]):
 //!   the reduced `C` is the projection of the full one (the basis is fixed).
 //!
 //! Units: the deck's (mm, N, t, s). A modal coordinate is the amplitude of a
 //! mass-normalised mode (sqrt(t) mm); in a deck it is DOF 1 of an extra node whose other
 //! DOFs are held.
 
-use crate::error::{Result, TuneError};
-use crate::fe::{FeSettings, SpringState};
-use crate::head_stage::SPRINGS_IN_PARALLEL;
+use super::springs::SPRINGS_IN_PARALLEL;
+use crate::model::{StageMatrix, StageSpec};
+use crate::{Result, TuneError};
 use coil_mesher::{AnalysisKind, BASE_NODE, WEIGHT_NODE};
 use coil_solver::deck::dmig_card;
 use coil_solver::model::{MatrixElement, NodeId};
 use coil_solver::reduce::{craig_bampton, generalized_eigenvalues};
+use coil_tuner::fe::{FeSettings, SpringState};
 use nalgebra::DMatrix;
 
 /// Fixed-interface modes computed to find the surge modes among.
@@ -259,10 +260,28 @@ impl ReducedStage {
     }
 }
 
+fn row_major(a: &DMatrix<f64>) -> Vec<f64> {
+    a.transpose().as_slice().to_vec()
+}
+
+/// The stage spec of `stage` under a mass of `mass_kg` (module doc).
+pub fn reduced_stage_spec(stage: &ReducedStage, mass_kg: f64) -> StageSpec {
+    StageSpec {
+        mass_kg,
+        stiffness_n_m: stage.static_stiffness_n_mm() * 1e3,
+        damping_n_s_m: 0.0,
+        matrix: Some(StageMatrix {
+            stiffness: row_major(&stage.k),
+            mass: row_major(&stage.m),
+            damping: Some(row_major(&stage.c)),
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::super::springs::{head_stages_of_files, HeadStageSettings};
     use super::*;
-    use crate::head_stage::{head_stages_of_files, HeadStageSettings};
     use std::path::Path;
 
     #[test]

@@ -1,8 +1,11 @@
 //! Figures of EN 50318 evaluations (PNG or SVG by the extension, the embedded font and the
-//! temp-file-and-rename writing of [`crate::plot`]):
+//! temp-file-and-rename writing of [`coil_postproc::plot`]):
 //!
-//! - [`contact_force`]: the raw and the filtered contact force along the track, the
-//!   evaluation window shaded, the supports as vertical lines, the window's mean.
+//! - [`contact_force`]: the raw and the filtered contact force along the track (the raw
+//!   trace drawn over the filtered one, both visible), the evaluation window shaded, the
+//!   supports as dashed orange verticals (the grid is a faint grey), the window's mean and
+//!   mean +- 3 std, the legend in headroom above the traces.
+//! - [`speeds`]: the statistics against speed for a speed sweep.
 //! - [`uplift`]: each support's displacement from its static position against the
 //!   pantograph's position (supports in the window in colour, the others grey), each
 //!   support's own position marked.
@@ -19,14 +22,120 @@ use plotters::prelude::*;
 use super::study;
 pub use super::study::SpringStudyRow;
 use super::{speed_label, Evaluation, Record, Settings};
-use crate::error::Result;
-use crate::plot::{
+use coil_postproc::error::Result;
+use coil_postproc::plot::{
     axes, decimate, legend, padded_range, render, text, tick_physical, Draw, Figure, FONT, PALETTE,
     POST_AXES,
 };
 
 const SHADE: RGBColor = RGBColor(225, 225, 225);
 const GREY: RGBColor = RGBColor(150, 150, 150);
+/// The supports' colour: not the grid's grey.
+const SUPPORT: RGBColor = RGBColor(230, 120, 20);
+/// The grid's colour.
+const GRID: RGBColor = RGBColor(238, 238, 238);
+
+/// A dashed vertical (or any straight) line from `a` to `b` as short segments.
+fn dashed(a: (f64, f64), b: (f64, f64), style: ShapeStyle) -> Vec<PathElement<(f64, f64)>> {
+    const PIECES: usize = 24;
+    (0..PIECES)
+        .step_by(2)
+        .map(|k| {
+            let at = |s: f64| (a.0 + (b.0 - a.0) * s, a.1 + (b.1 - a.1) * s);
+            let s0 = k as f64 / PIECES as f64;
+            let s1 = (k + 1) as f64 / PIECES as f64;
+            PathElement::new(vec![at(s0), at(s1)], style)
+        })
+        .collect()
+}
+
+/// The statistics against speed (a speed sweep): the mean, mean +- 3 std and the actual
+/// extremes in one panel, the standard deviation and the loss of contact in another.
+pub fn speeds(path: &Path, runs: &[super::Statistics]) -> Result<()> {
+    render(path, &SpeedFigure { runs })
+}
+
+struct SpeedFigure<'a> {
+    runs: &'a [super::Statistics],
+}
+
+type Pick = fn(&super::Statistics) -> f64;
+
+impl Figure for SpeedFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        root.fill(&WHITE).map_err(text)?;
+        let root = root
+            .titled("Contact force statistics against speed", (FONT, 26))
+            .map_err(text)?;
+        let mut runs = self.runs.to_vec();
+        runs.sort_by(|a, b| a.speed_km_h.total_cmp(&b.speed_km_h));
+        let (x0, x1) = padded_range(runs.iter().map(|r| r.speed_km_h), 0.05);
+        let panels: [(&str, Vec<(&str, Pick)>); 2] = [
+            (
+                "contact force [N]",
+                vec![
+                    ("mean", |s| s.mean_n),
+                    ("mean + 3 std", |s| s.stat_max_n),
+                    ("mean - 3 std", |s| s.stat_min_n),
+                    ("actual max", |s| s.max_n),
+                    ("actual min", |s| s.min_n),
+                ],
+            ),
+            (
+                "std [N], loss of contact [%]",
+                vec![
+                    ("std", |s| s.std_n),
+                    ("loss of contact", |s| s.loss_percent),
+                ],
+            ),
+        ];
+        let areas = root.split_evenly((2, 1));
+        for (area, (y_desc, lines)) in areas.iter().zip(panels) {
+            let (y0, y1) = padded_range(
+                runs.iter()
+                    .flat_map(|r| lines.iter().map(move |(_, f)| f(r)))
+                    .chain([0.0]),
+                0.1,
+            );
+            let mut chart = ChartBuilder::on(area)
+                .margin(10)
+                .margin_right(36)
+                .x_label_area_size(50)
+                .y_label_area_size(90)
+                .build_cartesian_2d(x0..x1, y0..(y1 + 0.3 * (y1 - y0)))
+                .map_err(text)?;
+            axes(
+                &mut chart.configure_mesh(),
+                "speed [km/h]",
+                y_desc,
+                POST_AXES,
+            )
+            .x_label_formatter(&tick_physical)
+            .y_label_formatter(&tick_physical)
+            .bold_line_style(GRID)
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(text)?;
+            for (k, (name, f)) in lines.iter().enumerate() {
+                let colour =
+                    PALETTE[k % PALETTE.len()].mix(if k < PALETTE.len() { 1.0 } else { 0.5 });
+                let points: Vec<(f64, f64)> = runs.iter().map(|r| (r.speed_km_h, f(r))).collect();
+                chart
+                    .draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                    .map_err(text)?;
+                chart
+                    .draw_series(LineSeries::new(points, colour.stroke_width(2)))
+                    .map_err(text)?
+                    .label(*name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                    });
+            }
+            legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        }
+        Ok(())
+    }
+}
 
 /// The contact force along the track (raw and filtered), window shaded, supports marked.
 pub fn contact_force(
@@ -130,7 +239,9 @@ fn track_chart<'a, DB: DrawingBackend>(
         y_desc,
         POST_AXES,
     )
+    .x_label_formatter(&tick_physical)
     .y_label_formatter(&tick_physical)
+    .bold_line_style(GRID)
     .light_line_style(WHITE.mix(0.0))
     .draw()
     .map_err(text)?;
@@ -141,7 +252,7 @@ fn track_chart<'a, DB: DrawingBackend>(
 /// A chart of two `f64` axes.
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
-/// The window as a shaded band and the supports as thin vertical lines.
+/// The window as a shaded band and the supports as dashed orange vertical lines.
 fn window_and_supports<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     record: &Record<'_>,
@@ -159,15 +270,16 @@ fn window_and_supports<DB: DrawingBackend>(
         .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], SHADE.filled()));
     if !record.supports.is_empty() {
         chart
-            .draw_series(record.supports.iter().map(|s| {
-                PathElement::new(
-                    vec![(s.position_m, y0), (s.position_m, y1)],
-                    GREY.stroke_width(1),
+            .draw_series(record.supports.iter().flat_map(|s| {
+                dashed(
+                    (s.position_m, y0),
+                    (s.position_m, y1),
+                    SUPPORT.stroke_width(1),
                 )
             }))
             .map_err(text)?
-            .label("supports")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], GREY.stroke_width(1)));
+            .label("supports (steady arms)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], SUPPORT.stroke_width(2)));
     }
     Ok(())
 }
@@ -190,14 +302,15 @@ impl RunFigure<'_> {
             .map_err(text)?;
         let (x0, x1) = track_range(e);
         let (y0, y1) = padded_range(
-            record
-                .force_n
-                .iter()
-                .chain(&e.filtered_n)
-                .copied()
-                .chain([0.0]),
+            record.force_n.iter().chain(&e.filtered_n).copied().chain([
+                0.0,
+                s.stat_min_n,
+                s.stat_max_n,
+            ]),
             0.05,
         );
+        // Headroom above the traces for the legend, so that it covers no peak.
+        let y1 = y1 + 0.45 * (y1 - y0);
         let mut chart = track_chart(
             &root,
             (x0, x1),
@@ -206,15 +319,7 @@ impl RunFigure<'_> {
             record,
             self.settings,
         )?;
-        let raw = PALETTE[0].mix(0.4);
-        chart
-            .draw_series(LineSeries::new(
-                decimate(&e.position_m, record.force_n),
-                raw.stroke_width(1),
-            ))
-            .map_err(text)?
-            .label("raw")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], raw.stroke_width(3)));
+        // The filtered line first, the raw one thin and translucent over it: both show.
         let filtered = PALETTE[1];
         chart
             .draw_series(LineSeries::new(
@@ -229,6 +334,15 @@ impl RunFigure<'_> {
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 24, y)], filtered.stroke_width(3))
             });
+        let raw = PALETTE[0].mix(0.55);
+        chart
+            .draw_series(LineSeries::new(
+                decimate(&e.position_m, record.force_n),
+                raw.stroke_width(1),
+            ))
+            .map_err(text)?
+            .label("raw")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], raw.stroke_width(3)));
         let w = self.settings.window;
         chart
             .draw_series(LineSeries::new(
@@ -236,8 +350,20 @@ impl RunFigure<'_> {
                 BLACK.stroke_width(2),
             ))
             .map_err(text)?
-            .label("mean in the window")
+            .label(format!("mean in the window, {:.1} N", s.mean_n))
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(2)));
+        chart
+            .draw_series(
+                [s.stat_max_n, s.stat_min_n]
+                    .into_iter()
+                    .flat_map(|f| dashed((w.start_m, f), (w.end_m, f), BLACK.stroke_width(2))),
+            )
+            .map_err(text)?
+            .label(format!(
+                "mean +- 3 std: {:.1} / {:.1} N",
+                s.stat_max_n, s.stat_min_n
+            ))
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 10, y)], BLACK.stroke_width(2)));
         legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 
@@ -261,6 +387,7 @@ impl RunFigure<'_> {
             .collect();
         let (x0, x1) = track_range(e);
         let (y0, y1) = padded_range(uplifts.iter().flatten().copied().chain([0.0]), 0.05);
+        let y1 = y1 + 0.45 * (y1 - y0);
         let mut chart = track_chart(
             &root,
             (x0, x1),

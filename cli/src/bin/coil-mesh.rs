@@ -3,7 +3,8 @@
 //! Settings come from an optional JSON spec file (the fields of
 //! `coil_mesher::SpringSpec`), then from flags, which override the file.
 //! `coil-mesh catenary SPEC.json -o DECK` meshes a pantograph-catenary model instead
-//! (`coil_mesher::catenary`, docs/catenary.md).
+//! (`coil_catenary::model`, docs/catenary.md). The binary sits in the command-line crate
+//! because that subcommand calls coil-catenary, which is above the mesher.
 
 use clap::{Parser, ValueEnum};
 use coil_mesher::{AnalysisKind, SpringSpec, Top, TransientScheme, VelocityField};
@@ -279,9 +280,9 @@ fn catenary(
     output: &std::path::Path,
     state: Option<&std::path::Path>,
 ) -> Result<(), String> {
-    let spec: coil_mesher::catenary::CatenaryDeckSpec =
-        coil_mesher::catenary::read_json(spec).map_err(|e| e.to_string())?;
-    let built = coil_mesher::catenary::build(&spec).map_err(|e| e.to_string())?;
+    let spec: coil_catenary::model::CatenaryDeckSpec =
+        coil_catenary::model::read_json(spec).map_err(|e| e.to_string())?;
+    let built = coil_catenary::model::build(&spec).map_err(|e| e.to_string())?;
     let deck = coil_solver::deck::write(&built.model);
     coil_io::write_file(output, deck.as_bytes()).map_err(|e| e.to_string())?;
     if let Some(path) = state {

@@ -2,7 +2,7 @@
 //! time, with the confusion table and parameter errors:
 //! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|loss|outside|slow|large|all] [NAME...]`
 //!
-//! `loss` is the damping classes (`coil_tests::truth_loss::loss_cases`: friction that
+//! `loss` is the damping classes (`coil_tests::truth::loss::loss_cases`: friction that
 //! sticks after 8-17 cycles, drag beside a mild backbone, drag with a slow component,
 //! friction with drag); `outside` the laws outside the catalogue (scored against the
 //! hidden `none`: a named cause there shows as a miss in the table; the test
@@ -26,7 +26,7 @@
 
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
-use coil_tests::truth_loss::{loss_cases, outside_cases, slow_mode_cases};
+use coil_tests::truth::loss::{loss_cases, outside_cases, slow_mode_cases};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;

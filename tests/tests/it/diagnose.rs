@@ -20,7 +20,7 @@
 //!   stopping after 12-20 cycles, a 10-cycle null decay, softening sweeping the
 //!   frequency by 10-15 % and 21 %, hardening sweeping it by 19 %, a hanging weight with
 //!   110 mm of static deflection with each effect) and the damping classes of
-//!   `truth_loss::loss_cases` (friction that sticks after 8-17 cycles, drag carrying
+//!   `truth::loss::loss_cases` (friction that sticks after 8-17 cycles, drag carrying
 //!   60-95 % of the loss beside a 0.5-3 % backbone, drag with a drifting offset,
 //!   friction with drag). It asserts every case named with all its parts, `none` on the
 //!   null cases, every parameter within [`CLAIMED_WORST_PARAMETER_ERROR`] (the figure
@@ -38,7 +38,7 @@
 use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
 use coil_tests::truth::{self, TruthCase};
-use coil_tests::truth_loss;
+use coil_tests::truth::loss;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -126,7 +126,7 @@ fn full_confusion_table() {
     let mut cases = truth::standard_cases();
     cases.extend(truth::extended_cases());
     cases.extend(truth::hard_cases());
-    cases.extend(truth_loss::loss_cases());
+    cases.extend(loss::loss_cases());
     let scores = run(&cases);
     let needs: [(&str, usize); 4] = [
         ("none", 18),
@@ -152,15 +152,15 @@ fn full_confusion_table() {
 }
 
 /// The damping classes of the round on short and mixed damping
-/// (`truth_loss::loss_cases`) alone, for iterating on them:
+/// (`truth::loss::loss_cases`) alone, for iterating on them:
 /// `cargo test --release -p coil-tests --test it diagnose::loss_classes -- --ignored --nocapture`.
 #[test]
 #[ignore = "about a minute: the damping classes alone (also in full_confusion_table)"]
 fn loss_classes() {
-    assert_scores(&run(&truth_loss::loss_cases()));
+    assert_scores(&run(&loss::loss_cases()));
 }
 
-/// Truth outside the catalogue (`truth_loss::outside_cases`: a backlash gap, a bilinear
+/// Truth outside the catalogue (`truth::loss::outside_cases`: a backlash gap, a bilinear
 /// spring, Bouc-Wen friction, a close second mode, a clipped sensor): `diagnose` must
 /// refuse the record, call it unexplained, stay `none` within the noise, or name a
 /// cause and report the misfit it leaves; a confident wrong cause is a failure. The
@@ -168,7 +168,7 @@ fn loss_classes() {
 #[test]
 #[ignore = "a minute: the out-of-catalogue table; not yet measured, so not in the second CI stage"]
 fn outside_catalogue() {
-    let cases = truth_loss::outside_cases();
+    let cases = loss::outside_cases();
     let dir = tempfile::tempdir().expect("temp dir");
     let queue = Mutex::new(cases.iter());
     let scores = Mutex::new(Vec::new());
@@ -186,7 +186,7 @@ fn outside_catalogue() {
                 let start = Instant::now();
                 let outcome = diagnose::diagnose(&folder, &settings);
                 let runtime_s = start.elapsed().as_secs_f64();
-                let law = truth_loss::outside_law(case);
+                let law = loss::outside_law(case);
                 let score = match outcome {
                     Ok(o) => {
                         let json = serde_json::to_value(&o.diagnosis).expect("serialises");

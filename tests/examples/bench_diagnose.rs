@@ -25,8 +25,8 @@
 //! temporary folder, to profile one case.
 
 use coil_tests::scoring::{self, Score};
-use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
 use coil_tests::truth::loss::{loss_cases, outside_cases, slow_mode_cases};
+use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;

@@ -37,8 +37,8 @@
 
 use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
-use coil_tests::truth::{self, TruthCase};
 use coil_tests::truth::loss;
+use coil_tests::truth::{self, TruthCase};
 use std::sync::Mutex;
 use std::time::Instant;
 

@@ -45,6 +45,7 @@ pub mod select;
 pub mod signatures;
 
 pub use outcome::{summary, Outcome};
+pub use report::UNEXPLAINED_NOISE;
 pub use run::{parameters, CandidateRun, Joint, ModelRun};
 pub use search::MAX_COMBINED;
 
@@ -370,10 +371,6 @@ fn compute(
         joint_records: joint.others(),
     })
 }
-
-/// The reference's residual RMS beyond which, with no cause named, the misfit is
-/// reported as unexplained: three times the noise floor.
-pub const UNEXPLAINED_NOISE: f64 = 3.0;
 
 /// The linear model on every record: the baseline (the paper's calibration on the whole
 /// record and on its first half, only the initial states fitted) and the reference (the

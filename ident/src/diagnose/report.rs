@@ -12,6 +12,10 @@ use crate::fe::SpringState;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// The reference's residual RMS beyond which, with no cause named, the misfit is
+/// reported as unexplained: three times the noise floor.
+pub const UNEXPLAINED_NOISE: f64 = 3.0;
+
 /// The paper's model calibrated to the records.
 #[derive(Debug, Clone, Serialize)]
 pub struct Baseline {
@@ -364,7 +368,7 @@ pub fn assemble(
     );
     let remaining_misfit = extended
         .as_ref()
-        .filter(|e| e.residual_rms > super::UNEXPLAINED_NOISE * floor)
+        .filter(|e| e.residual_rms > UNEXPLAINED_NOISE * floor)
         .map(|e| {
             format!(
                 "the extended model ({}) still misses the records by a residual RMS of {:.4},                  {:.1} times the noise floor of {:.4}; it leaves {:.0} % of the linear model's                  error (model error ratio {:.3}): the named cause explains part of the misfit,                  and something the catalogue does not hold may remain",

@@ -24,6 +24,7 @@
 use serde::{Deserialize, Serialize};
 
 pub mod check;
+pub mod line;
 pub mod units;
 
 pub use check::{ModelError, Site};

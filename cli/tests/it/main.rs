@@ -7,3 +7,4 @@ mod cli;
 mod damping_cli;
 mod diagnose_cli;
 mod fuzz;
+mod fuzz_surfaces;

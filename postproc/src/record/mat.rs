@@ -99,9 +99,7 @@ impl Variable {
 
     /// The number of values its dimensions announce (saturating).
     pub fn len(&self) -> usize {
-        self.dims
-            .iter()
-            .fold(1usize, |n, &d| n.saturating_mul(d))
+        self.dims.iter().fold(1usize, |n, &d| n.saturating_mul(d))
     }
 
     /// No values.
@@ -144,7 +142,11 @@ fn tag(little: bool, b: &[u8]) -> Option<std::result::Result<(u32, usize, usize,
         return Some(Ok((first & 0xffff, n, 4, 8)));
     }
     let n = word(4)? as usize;
-    let whole = if first == 15 { 8 + n } else { 8 + n.div_ceil(8) * 8 };
+    let whole = if first == 15 {
+        8 + n
+    } else {
+        8 + n.div_ceil(8) * 8
+    };
     Some(Ok((first, n, 8, whole)))
 }
 
@@ -469,17 +471,17 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             }
         }
     };
-    let channel = match &spec.channel {
-        Some(c) => c.clone(),
-        None => {
-            let others: Vec<&Variable> = vars
-                .iter()
-                .filter(|v| v.name != time_name && v.is_numeric_vector())
-                .collect();
-            match others.as_slice() {
-                [one] => one.name.clone(),
-                _ => {
-                    return Err(fail(
+    let channel =
+        match &spec.channel {
+            Some(c) => c.clone(),
+            None => {
+                let others: Vec<&Variable> = vars
+                    .iter()
+                    .filter(|v| v.name != time_name && v.is_numeric_vector())
+                    .collect();
+                match others.as_slice() {
+                    [one] => one.name.clone(),
+                    _ => return Err(fail(
                         path,
                         "1",
                         format!(
@@ -487,11 +489,10 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
                             listing(&vars)
                         ),
                         "the record entry's `channel`: the variable holding the measured signal",
-                    ))
+                    )),
                 }
             }
-        }
-    };
+        };
     let time = find(&time_name, "time")?;
     let signal = find(&channel, "channel")?;
     let at = format!("variable `{}`", coil_io::excerpt(&channel));

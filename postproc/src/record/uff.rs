@@ -350,7 +350,8 @@ fn read_ascii(
     };
     // Reserved for what the rest of the file can hold (13 bytes a value at least), not
     // for what record 7 announces.
-    let mut values = Vec::with_capacity(count.min((c.bytes.len() - c.pos.min(c.bytes.len())) / 13 + 1));
+    let mut values =
+        Vec::with_capacity(count.min((c.bytes.len() - c.pos.min(c.bytes.len())) / 13 + 1));
     loop {
         let Some((line, number)) = c.next_line() else {
             return Err(fail(

@@ -652,7 +652,11 @@ fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 "a stiffness > 0 (N/mm) and a finite slack (mm)",
             );
         }
-        let pair = (l.nodes[0].min(l.nodes[1]), l.nodes[0].max(l.nodes[1]), l.dof);
+        let pair = (
+            l.nodes[0].min(l.nodes[1]),
+            l.nodes[0].max(l.nodes[1]),
+            l.dof,
+        );
         if let Some(first) = linked.insert(pair, i) {
             return fail(
                 site,

@@ -16,8 +16,6 @@
 //!   test when they are apart across the axis; nodes of one straight line that are not
 //!   joined one to the next fail the last test.
 
-use super::NodeId;
-
 /// Off-axis spread over the spread along the axis under which nodes count as
 /// collinear: far above the rounding of printed coordinates (1e-15 relative for
 /// Mentat's 16 digits), far below any deliberate offset (a contact wire's 1 mm
@@ -42,9 +40,9 @@ pub type LineProblem = (String, String);
 /// Resolves the line of `nodes` (`(id, xyz)` each, at least two) for a contact along
 /// `dof` (1..=3); `joined(a, b)` says whether an element joins nodes `a` and `b`.
 pub fn contact_axis(
-    nodes: &[(NodeId, [f64; 3])],
+    nodes: &[(u32, [f64; 3])],
     dof: u8,
-    joined: impl Fn(NodeId, NodeId) -> bool,
+    joined: impl Fn(u32, u32) -> bool,
 ) -> Result<ContactAxis, LineProblem> {
     let d = usize::from(dof.clamp(1, 3) - 1);
     let Some(&(_, first)) = nodes.first() else {
@@ -115,15 +113,15 @@ pub fn contact_axis(
 mod tests {
     use super::*;
 
-    fn line(points: &[[f64; 3]]) -> Vec<(NodeId, [f64; 3])> {
+    fn line(points: &[[f64; 3]]) -> Vec<(u32, [f64; 3])> {
         points
             .iter()
             .enumerate()
-            .map(|(i, p)| (i as NodeId + 1, *p))
+            .map(|(i, p)| (i as u32 + 1, *p))
             .collect()
     }
 
-    fn chain(a: NodeId, b: NodeId) -> bool {
+    fn chain(a: u32, b: u32) -> bool {
         a.abs_diff(b) == 1
     }
 

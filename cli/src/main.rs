@@ -1,4 +1,9 @@
-//! `coil-tune`: the paper's commands (`coil_tuner::cli`), the identification commands
+//! coil-tune (cli/) owns the command line only: it parses arguments, runs a command of
+//! coil-tuner, coil-design, coil-ident or coil-catenary and maps errors to exit codes. It
+//! may import those crates and coil-io; nothing imports it.
+//!
+//! `coil-tune`: the paper's commands (`coil_tuner::cli`), the spring sheet and design
+//! (`coil_design::cli`), the identification commands
 //! (`coil_ident::cli`) and the pantograph-catenary command (`coil_catenary::cli`) on one
 //! command line. It parses the arguments, runs the command and
 //! maps errors to the exit code: 1 for an error in the data or a run (the message on
@@ -30,6 +35,8 @@ enum Command {
     #[command(flatten)]
     Paper(coil_tuner::cli::Command),
     #[command(flatten)]
+    Design(coil_design::cli::Command),
+    #[command(flatten)]
     Ident(coil_ident::cli::Command),
     #[command(flatten)]
     Catenary(coil_catenary::cli::Command),
@@ -38,6 +45,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let result = match Cli::parse().command {
         Command::Paper(command) => coil_tuner::cli::run(command),
+        Command::Design(command) => coil_design::cli::run(command),
         Command::Ident(command) => coil_ident::cli::run(command),
         Command::Catenary(command) => coil_catenary::cli::run(command),
     };

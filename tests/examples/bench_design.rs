@@ -4,7 +4,7 @@
 //! calibration, and prints the best candidate and the wall time (the acceptance asks
 //! under 30 s on 2 cores).
 //!
-//! `cargo build --release -p coil-tuner && cargo run --release -p coil-tests --example bench_design`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_design`
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -15,7 +15,7 @@ fn run(binary: &Path, args: &[&str]) -> (f64, String) {
     let output = Command::new(binary)
         .args(args)
         .output()
-        .expect("coil-tune runs (build it first: cargo build --release -p coil-tuner)");
+        .expect("coil-tune runs (build it first: cargo build --release -p coil-tune)");
     let seconds = clock.elapsed().as_secs_f64();
     assert!(
         output.status.success(),

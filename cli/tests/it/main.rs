@@ -6,5 +6,7 @@ mod catenary_cli;
 mod cli;
 mod damping_cli;
 mod diagnose_cli;
+mod forced_cli;
 mod fuzz;
 mod fuzz_surfaces;
+mod mesh_cli;

@@ -28,7 +28,8 @@
 
 use std::path::Path;
 
-use super::{fail, units, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units;
 use crate::error::Result;
 
 /// Bytes of a compressed array's stream inflated to read its header: flags (16),
@@ -511,10 +512,10 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "a time stamp for every sample",
         ));
     }
-    let file_unit = super::stated_unit(spec, &at, units::split_name(&channel).1.as_deref())?;
-    let unit = super::resolve_unit(spec, &at, file_unit)?;
+    let file_unit = super::spec::stated_unit(spec, &at, units::split_name(&channel).1.as_deref())?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit)?;
     let time_s = file.values(time)?;
-    super::check_increasing(
+    super::spec::check_increasing(
         path,
         &format!("variable `{}`", coil_io::excerpt(&time_name)),
         &time_s,
@@ -538,7 +539,7 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
         values,
         time_resolution_s: 0.0,
     };
-    super::finish(record, &at)
+    super::spec::finish(record, &at)
 }
 
 /// The bytes of a level 5 MAT-file (little-endian) of real row vectors, each

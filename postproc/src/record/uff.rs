@@ -28,7 +28,8 @@
 
 use std::path::Path;
 
-use super::{fail, units, Quantity, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units::{self, Quantity};
 use crate::error::Result;
 
 /// One axis description (records 8 to 11).
@@ -530,7 +531,7 @@ fn file_unit(
 ) -> Result<Option<units::Unit>> {
     let record_9 = (d.line + 9).to_string();
     if let Some(l) = label(&d.ordinate.unit) {
-        return super::stated_unit(spec, &record_9, Some(l));
+        return super::spec::stated_unit(spec, &record_9, Some(l));
     }
     let quantity = match d.ordinate.kind {
         8 => Quantity::Displacement,
@@ -552,7 +553,7 @@ fn file_unit(
 
 /// Reads the channel `spec` names from a UFF file's bytes.
 pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
-    super::no_time_variable(spec)?;
+    super::spec::no_time_variable(spec)?;
     let path = &spec.file;
     let file = read_file(path, bytes)?;
     if file.datasets.is_empty() {
@@ -590,14 +591,14 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "time as the abscissa (data type 17, unit `s`)",
         ));
     };
-    let unit = super::resolve_unit(spec, &at, file_unit(spec, d, file.length_factor)?)?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit(spec, d, file.length_factor)?)?;
     let time_s: Vec<f64> = if time_factor == 1.0 {
         d.x.clone()
     } else {
         d.x.iter().map(|t| t * time_factor).collect()
     };
     if !d.even {
-        super::check_uniform(path, &at, &time_s)?;
+        super::spec::check_uniform(path, &at, &time_s)?;
     }
     let values = if unit.to_si == 1.0 {
         d.y.clone()
@@ -628,7 +629,7 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
         values,
         time_resolution_s: 0.0,
     };
-    super::finish(record, &at)
+    super::spec::finish(record, &at)
 }
 
 #[cfg(test)]

@@ -1,0 +1,113 @@
+//! The spring-design commands of `coil-tune`: `check` (the EN 13906-1 sheet) and `design`
+//! (design to a target), docs/spring-design.md. Their arguments and dispatch; the binary
+//! joins them with the tuner's, the identification and the catenary commands.
+
+use crate::error::Result;
+use clap::Subcommand;
+use coil_tuner::cli::{say, text};
+use coil_tuner::output::OutDir;
+use std::path::PathBuf;
+
+/// The spring-design commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The EN 13906-1 sheet of a compression spring (SPRING.json, docs/spring-design.md)
+    /// beside coil's FE values on the same spring: rate, surge mode, peak wire shear.
+    Check {
+        /// The spring (e.g. cases/spring-design/160ect_spring.json).
+        spring: PathBuf,
+        /// Print the sheet as JSON (snake_case keys with units) instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Also write DIR/sheet.json and DIR/sheet.md (one output set).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Beams per coil of the FE helix.
+        #[arg(long, default_value_t = 24)]
+        elements_per_coil: u32,
+    },
+    /// Design to a target (TARGET.json, docs/spring-design.md): search standard wires,
+    /// mean diameters, quarter turns and the pitch through every EN 13906-1 check and
+    /// the envelope, verify the short list by FE, predict each one's zeta per damping
+    /// law; writes DIR/design.json, report.md, design.png and decks/.
+    Design {
+        /// The target (e.g. cases/spring-design/160ect_target.json).
+        target: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out/design")]
+        out: PathBuf,
+        /// Rank by this instead of the target's `objective`.
+        #[arg(long, value_enum)]
+        objective: Option<crate::target::Objective>,
+        /// Verify this many of the best handbook candidates by FE (default: the
+        /// target's `short_list`, else 8).
+        #[arg(long)]
+        short_list: Option<usize>,
+        /// No figure.
+        #[arg(long)]
+        no_plots: bool,
+    },
+}
+
+/// Runs the parsed command.
+pub fn run(command: Command) -> Result<()> {
+    match command {
+        Command::Check {
+            spring,
+            json,
+            out,
+            elements_per_coil,
+        } => check_command(&spring, json, out, elements_per_coil),
+        Command::Design {
+            target,
+            out,
+            objective,
+            short_list,
+            no_plots,
+        } => {
+            let out = OutDir::create(out)?;
+            let target = crate::target::read_target(&target)?;
+            let settings = crate::DesignSettings {
+                objective,
+                short_list,
+            };
+            let design = crate::design(&target, &settings)?;
+            crate::output::write(&design, &out, !no_plots)?;
+            out.commit()?;
+            text(&crate::output::summary(&design))?;
+            say(&format!("design in {}", out.path("design.json").display()))?;
+            Ok(())
+        }
+    }
+}
+
+/// `coil-tune check`: the EN 13906-1 sheet beside coil's FE values.
+fn check_command(
+    spring: &std::path::Path,
+    json: bool,
+    out: Option<PathBuf>,
+    elements_per_coil: u32,
+) -> Result<()> {
+    let out = out.map(OutDir::create).transpose()?;
+    let input = crate::sheet::input::read_spring(spring)?;
+    let settings = coil_tuner::fe::FeSettings {
+        elements_per_coil,
+        ..Default::default()
+    };
+    let report = crate::sheet::check(&input, &settings)?;
+    let json_text = report.json()?;
+    if let Some(out) = &out {
+        out.write("sheet.json", json_text.as_bytes())?;
+        out.write("sheet.md", report.markdown(spring).as_bytes())?;
+        out.commit()?;
+    }
+    if json {
+        say(&json_text)?;
+    } else {
+        text(&report.table())?;
+        if let Some(out) = &out {
+            say(&format!("sheet in {}", out.path("sheet.md").display()))?;
+        }
+    }
+    Ok(())
+}

@@ -110,8 +110,8 @@ pub(crate) const UNIT: Keyword = Keyword {
 fn parse_unit(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     Err(c.err(
         c.loc(),
-        "a UNIT card, which coil does not read: it may state a unit system other than \
-         coil's (mm, N, t, s), and coil converts nothing",
+        "UNIT is not supported: the card may state a unit system other than coil's \
+         (mm, N, t, s), and coil converts nothing",
         "a deck in mm, N, t, s without the card (remove it when the deck is in mm, N, \
          t, s; otherwise convert the deck)",
     ))

@@ -515,7 +515,7 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
     let file_unit = super::spec::stated_unit(spec, &at, units::split_name(&channel).1.as_deref())?;
     let unit = super::spec::resolve_unit(spec, &at, file_unit)?;
     let time_s = file.values(time)?;
-    super::spec::check_increasing(
+    super::spec::check_uniform(
         path,
         &format!("variable `{}`", coil_io::excerpt(&time_name)),
         &time_s,

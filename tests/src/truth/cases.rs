@@ -9,18 +9,18 @@ pub const NOMINAL_YOUNGS_MODULUS_MPA: f64 = 206_000.0;
 
 /// A spring with its true modulus and weight (the catalogue's building block).
 #[derive(Debug, Clone, Copy)]
-struct Rig {
-    spring: Helix,
-    youngs_modulus_mpa: f64,
-    mass_kg: f64,
+pub(crate) struct Rig {
+    pub(crate) spring: Helix,
+    pub(crate) youngs_modulus_mpa: f64,
+    pub(crate) mass_kg: f64,
 }
 
-const PAPER_RIG: Rig = Rig {
+pub(crate) const PAPER_RIG: Rig = Rig {
     spring: Helix::PAPER,
     youngs_modulus_mpa: 194_000.0,
     mass_kg: 5.24,
 };
-const RIG_G1: Rig = Rig {
+pub(crate) const RIG_G1: Rig = Rig {
     spring: Helix {
         active_coils: 12.0,
         mean_diameter_mm: 26.0,
@@ -30,7 +30,7 @@ const RIG_G1: Rig = Rig {
     youngs_modulus_mpa: 196_000.0,
     mass_kg: 5.75,
 };
-const RIG_G2: Rig = Rig {
+pub(crate) const RIG_G2: Rig = Rig {
     spring: Helix {
         active_coils: 9.0,
         mean_diameter_mm: 18.0,
@@ -40,7 +40,7 @@ const RIG_G2: Rig = Rig {
     youngs_modulus_mpa: 200_000.0,
     mass_kg: 2.8,
 };
-const RIG_G3: Rig = Rig {
+pub(crate) const RIG_G3: Rig = Rig {
     spring: Helix {
         active_coils: 8.0,
         mean_diameter_mm: 30.0,
@@ -50,7 +50,7 @@ const RIG_G3: Rig = Rig {
     youngs_modulus_mpa: 192_000.0,
     mass_kg: 5.4,
 };
-const RIG_G4: Rig = Rig {
+pub(crate) const RIG_G4: Rig = Rig {
     spring: Helix {
         active_coils: 16.0,
         mean_diameter_mm: 22.0,
@@ -61,7 +61,7 @@ const RIG_G4: Rig = Rig {
     mass_kg: 6.8,
 };
 /// A steeper helix (pitch angle 8 degrees): a stronger axial-torsional coupling.
-const RIG_G5: Rig = Rig {
+pub(crate) const RIG_G5: Rig = Rig {
     spring: Helix {
         active_coils: 10.0,
         mean_diameter_mm: 20.0,
@@ -74,20 +74,20 @@ const RIG_G5: Rig = Rig {
 
 /// Measurement settings of one catalogue entry.
 #[derive(Debug, Clone, Copy)]
-struct Test {
-    sample_rate_hz: f64,
-    record_s: f64,
-    noise_fraction: f64,
-    damping_ratio: f64,
+pub(crate) struct Test {
+    pub(crate) sample_rate_hz: f64,
+    pub(crate) record_s: f64,
+    pub(crate) noise_fraction: f64,
+    pub(crate) damping_ratio: f64,
     /// Initial amplitude of the axial motion (m).
-    amplitude_m: f64,
+    pub(crate) amplitude_m: f64,
     /// Nominal mass over the true one (0.9 or 1.1).
-    nominal_mass_ratio: f64,
-    seed: u64,
+    pub(crate) nominal_mass_ratio: f64,
+    pub(crate) seed: u64,
 }
 
 /// A linear case (no effect yet) of `rig` under `test`.
-fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
+pub(crate) fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
     let mut case = TruthCase {
         name: name.to_string(),
         spring: rig.spring,
@@ -111,6 +111,7 @@ fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
         seed: test.seed,
         also: Vec::new(),
         recording: Recording::default(),
+        anomaly: Anomaly::None,
     };
     case.impulse_velocity_m_s = test.amplitude_m * TAU / rayleigh_period_s(&case);
     case
@@ -120,7 +121,7 @@ fn linear_case(name: &str, rig: Rig, test: Test) -> TruthCase {
 /// linear decay alone. Per cycle `dA/dn = -delta A - 4F/k` (delta = 2 pi zeta) gives
 /// `A(n) = (A0 + c) e^(-delta n) - c`, `c = 4F / (k delta)`, so the loss against the
 /// linear decay after n cycles is `c (e^(delta n) - 1) / A0`.
-fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
+pub(crate) fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
     let mut case = linear_case(name, rig, test);
     let cycles = test.record_s / rayleigh_period_s(&case);
     let delta = TAU * test.damping_ratio;
@@ -134,7 +135,7 @@ fn friction_case(name: &str, rig: Rig, test: Test, fraction: f64) -> TruthCase {
 
 /// Velocity-squared drag whose equivalent viscous coefficient at the initial amplitude,
 /// `8 c2 w A / (3 pi)`, is `ratio` times the linear one `2 zeta m w`.
-fn quadratic_case(name: &str, rig: Rig, test: Test, ratio: f64) -> TruthCase {
+pub(crate) fn quadratic_case(name: &str, rig: Rig, test: Test, ratio: f64) -> TruthCase {
     let mut case = linear_case(name, rig, test);
     let c2 = ratio * 3.0 * PI * test.damping_ratio * case.mass_kg / (4.0 * test.amplitude_m);
     case.effect = Effect::QuadraticDamping {
@@ -320,7 +321,13 @@ pub const SHIPPED: [&str; 5] = [
 /// ([`backbone_shift`]) is `shift`: without gravity `k3 = 8 k shift / (3 A^2)`; with the
 /// preload, `eps` of [`cubic_case`] by bisection on [-0.3, 0.05] (the shift rises with
 /// eps there).
-fn cubic_shift_case(name: &str, rig: Rig, test: Test, gravity_m_s2: f64, shift: f64) -> TruthCase {
+pub(crate) fn cubic_shift_case(
+    name: &str,
+    rig: Rig,
+    test: Test,
+    gravity_m_s2: f64,
+    shift: f64,
+) -> TruthCase {
     if gravity_m_s2 == 0.0 {
         let mut case = linear_case(name, rig, test);
         case.gravity_m_s2 = 0.0;
@@ -344,20 +351,20 @@ fn cubic_shift_case(name: &str, rig: Rig, test: Test, gravity_m_s2: f64, shift: 
 
 /// `case` with the effect of `other` (built on the same rig and test) acting as well;
 /// the rig's orientation (gravity) is `other`'s, which its effect was sized for.
-fn with(mut case: TruthCase, other: TruthCase) -> TruthCase {
+pub(crate) fn with(mut case: TruthCase, other: TruthCase) -> TruthCase {
     case.also.push(other.effect);
     case.gravity_m_s2 = other.gravity_m_s2;
     case
 }
 
 /// `case` recorded by `recording`.
-fn recorded_by(mut case: TruthCase, recording: Recording) -> TruthCase {
+pub(crate) fn recorded_by(mut case: TruthCase, recording: Recording) -> TruthCase {
     case.recording = recording;
     case
 }
 
 /// A position sensor with steps of `step_mm` (offset 37.5 mm, sign as mounted).
-fn position(step_mm: f64) -> Recording {
+pub(crate) fn position(step_mm: f64) -> Recording {
     Recording {
         sensor: Sensor::Position {
             step_mm,
@@ -619,7 +626,7 @@ fn extended_recording_cases() -> Vec<TruthCase> {
 
 /// A soft spring for a hanging weight: about 110 mm of static deflection under its
 /// 3.2 kg, 1.5 Hz, 160 mm of free travel between the coils.
-const RIG_SOFT: Rig = Rig {
+pub(crate) const RIG_SOFT: Rig = Rig {
     spring: Helix {
         active_coils: 20.0,
         mean_diameter_mm: 30.0,
@@ -635,7 +642,7 @@ const RIG_SOFT: Rig = Rig {
 /// `n = ln(1 + A0 / c) / delta`, `c = 4F / (k delta)`; so `c = A0 / (e^(delta n) - 1)`
 /// and `F = c k delta / 4`, `n` counted from the start of the simulation. The record runs on for a third of that time while the weight
 /// rests in its dead band.
-fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> TruthCase {
+pub(crate) fn friction_stop_case(name: &str, rig: Rig, mut test: Test, cycles: f64) -> TruthCase {
     let probe = linear_case(name, rig, test);
     test.record_s = 1.35 * cycles * rayleigh_period_s(&probe);
     let mut case = linear_case(name, rig, test);

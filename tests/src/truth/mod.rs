@@ -76,9 +76,11 @@
 //! Units: SI inside (m, N, kg, s, rad); the files carry the spec's units (mm, N, MPa).
 //!
 //! [`model`]: the spring, its effects and the chain integrated here; [`record`]: the
-//! records and files a case is written as; [`cases`]: the catalogue of cases.
+//! records and files a case is written as; [`cases`]: the catalogue of cases; [`loss`]:
+//! the damping classes the records show and the laws outside the catalogue.
 
 pub mod cases;
+pub mod loss;
 pub mod model;
 pub mod record;
 

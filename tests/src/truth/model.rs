@@ -98,6 +98,93 @@ impl Effect {
     }
 }
 
+/// A law at the weight that the diagnosis catalogue does not hold (out-of-catalogue
+/// truth): the diagnosis must call its misfit unexplained, or name a cause and report
+/// the misfit it leaves, never a confident wrong cause. `y` is the weight's axial
+/// displacement from its static equilibrium (m), `k` the spring's linear stiffness.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Anomaly {
+    None,
+    /// A stop of stiffness `stiffness_ratio k` that engages beyond `+-gap_m`: the force
+    /// `-stiffness_ratio k (y - gap_m sign y)` for `|y| > gap_m` (a backlash gap
+    /// between the weight and a stiff guide).
+    Backlash {
+        gap_m: f64,
+        stiffness_ratio: f64,
+    },
+    /// A spring stiffer on one side of the equilibrium: `-stiffness_ratio k y` for
+    /// `y > 0` only (a bilinear spring, a stop that closes on extension).
+    Bilinear {
+        stiffness_ratio: f64,
+    },
+    /// Hysteretic friction of the Bouc-Wen form (Wen, J. Eng. Mech. 102, 1976):
+    /// force `-force_n z`, `dz/dt = (v / yield_m) (1 - (0.5 sign(v z) + 0.5) |z|)`
+    /// (n = 1, beta = gamma = 0.5): a smooth stick-slip whose loss per cycle is
+    /// neither constant nor a power of the amplitude.
+    BoucWen {
+        force_n: f64,
+        yield_m: f64,
+    },
+}
+
+impl Anomaly {
+    /// The spec-style name of the anomaly (`none` for none).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Anomaly::None => "none",
+            Anomaly::Backlash { .. } => "backlash",
+            Anomaly::Bilinear { .. } => "bilinear_spring",
+            Anomaly::BoucWen { .. } => "bouc_wen_friction",
+        }
+    }
+
+    /// The force on the weight (N) at displacement `y` from equilibrium and velocity
+    /// `v`, with the Bouc-Wen state `z` advanced over `dt` (explicit Euler, clamped to
+    /// `|z| <= 1`, its bound).
+    fn force(&self, k: f64, y: f64, v: f64, z: &mut f64, dt: f64) -> f64 {
+        match *self {
+            Anomaly::None => 0.0,
+            Anomaly::Backlash {
+                gap_m,
+                stiffness_ratio,
+            } => {
+                if y.abs() > gap_m {
+                    -stiffness_ratio * k * (y - gap_m * y.signum())
+                } else {
+                    0.0
+                }
+            }
+            Anomaly::Bilinear { stiffness_ratio } => {
+                if y > 0.0 {
+                    -stiffness_ratio * k * y
+                } else {
+                    0.0
+                }
+            }
+            Anomaly::BoucWen { force_n, yield_m } => {
+                let f = -force_n * *z;
+                let shape = 0.5 * (v * *z).signum() + 0.5;
+                *z += dt * v / yield_m * (1.0 - shape * z.abs());
+                *z = z.clamp(-1.0, 1.0);
+                f
+            }
+        }
+    }
+}
+
+/// A second decaying oscillation added to the recorded quantity: a slow mode of the
+/// rig (a frame, a pendulum sway) or a second mode close to the axial one. Its
+/// amplitude is `amplitude_fraction` of the free decay's peak (in the recorded
+/// quantity), its frequency `frequency_ratio` times the axial one, its damping ratio
+/// `damping_ratio`, its phase `phase_rad`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExtraMode {
+    pub frequency_ratio: f64,
+    pub amplitude_fraction: f64,
+    pub damping_ratio: f64,
+    pub phase_rad: f64,
+}
+
 /// One generated case: the truth, what the case file claims (nominal values), the test
 /// and the measurement settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -139,6 +226,8 @@ pub struct TruthCase {
     /// How the decay is recorded (sensor and imperfections); the default is the
     /// accelerometer of the measurement model above.
     pub recording: Recording,
+    /// A law outside the catalogue acting at the weight ([`Anomaly`]).
+    pub anomaly: Anomaly,
 }
 
 /// What measures the weight's axial motion.
@@ -194,6 +283,10 @@ pub struct Recording {
     pub offset_fraction: f64,
     pub drift_fraction: f64,
     pub impulse: Option<Impulse>,
+    /// A second oscillation in the record ([`ExtraMode`]).
+    pub extra_mode: Option<ExtraMode>,
+    /// A sensor that saturates at this fraction of the free decay's peak.
+    pub clip_fraction: Option<f64>,
 }
 
 impl Default for Recording {
@@ -205,6 +298,8 @@ impl Default for Recording {
             offset_fraction: 0.0,
             drift_fraction: 0.0,
             impulse: None,
+            extra_mode: None,
+            clip_fraction: None,
         }
     }
 }
@@ -617,6 +712,8 @@ fn simulate_chain(
     let c2 = case.quadratic();
     let k3 = case.cubic();
     let weight_force = -case.mass_kg * case.gravity_m_s2;
+    let k_linear = case.linear_stiffness_n_m();
+    let mut bouc_wen = 0.0;
 
     // Static equilibrium: every segment carries the tip load; with the rotation held the
     // reaction moment cancels each segment's twist, with it free each twists C_zt F / N.
@@ -682,7 +779,10 @@ fn simulate_chain(
                 0.0
             }
         });
-        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs() + hammer;
+        let anomaly = case
+            .anomaly
+            .force(k_linear, u[n] - tip_u, v, &mut bouc_wen, dt);
+        let other = fu[n] + weight_force - k3 * u[n].powi(3) - c2 * v * v.abs() + hammer + anomaly;
         // The weight's kick with friction (explicit stick-slip).
         let (v_new, a_tip) = if F == 0.0 {
             (v + dt * other / m_tip, other / m_tip)

@@ -110,6 +110,7 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
             .collect(),
     };
     let n = clean.len();
+    let clean = with_extra_mode(case, clean);
     // Time stamps: uniform plus jitter (all >= 0); values at those times by cubic
     // Lagrange interpolation of the uniformly sampled truth (error about
     // 0.2 (w/fs)^4 / 24 of the amplitude: 1e-4 at 16 samples per cycle).
@@ -142,6 +143,10 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
     if let Some(fc) = rec.band_limit_hz {
         values = butterworth_zero_phase(&values, fc, fs);
     }
+    if let Some(clip) = rec.clip_fraction {
+        let level = clip * peak;
+        values.iter_mut().for_each(|v| *v = v.clamp(-level, level));
+    }
     let duration = n as f64 / fs;
     for (v, t) in values.iter_mut().zip(&stamps) {
         *v += peak * (rec.offset_fraction + rec.drift_fraction * t / duration);
@@ -159,6 +164,31 @@ fn recorded(case: &TruthCase, trajectory: &Trajectory, rng: &mut Rng) -> Record 
         .map(|(&t, &v)| (t, (v / lsb).round() * lsb))
         .collect();
     (decay, peak, lsb, free_decay_start)
+}
+
+/// `clean` (the recorded quantity at the sample times) with the recording's
+/// [`ExtraMode`] added: `a f e^(-zeta w t) cos(w t + phase)`, `f` the fraction of the
+/// clean record's peak, `w` the given ratio of the axial frequency.
+fn with_extra_mode(case: &TruthCase, mut clean: Vec<f64>) -> Vec<f64> {
+    let Some(mode) = case.recording.extra_mode else {
+        return clean;
+    };
+    let peak = clean.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+    let mean = clean.iter().sum::<f64>() / clean.len().max(1) as f64;
+    let peak = if matches!(case.recording.sensor, Sensor::Position { .. }) {
+        clean.iter().fold(0.0f64, |p, v| p.max((v - mean).abs()))
+    } else {
+        peak
+    };
+    let w = TAU * mode.frequency_ratio / rayleigh_period_s(case);
+    for (i, v) in clean.iter_mut().enumerate() {
+        let t = i as f64 / case.sample_rate_hz;
+        *v += mode.amplitude_fraction
+            * peak
+            * (-mode.damping_ratio * w * t).exp()
+            * (w * t + mode.phase_rad).cos();
+    }
+    clean
 }
 
 /// Cubic Lagrange interpolation of uniformly sampled `y` at the fractional index `p`

@@ -25,6 +25,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
+pub mod en15800;
 pub mod grid;
 pub mod head_stage;
 pub mod head_stage_reduced;

@@ -1,12 +1,12 @@
 //! The spring study: the EN 50318 reference catenary and pantograph with the head stage
 //! replaced by each of coil's springs (the 160ECT and Table 4's #1-#6, four in parallel:
-//! `coil_tuner::head_stage`), at each damping value of the spring's zeta band (low, mid,
+//! `coil_catenary::head_stage::springs`), at each damping value of the spring's zeta band (low, mid,
 //! high: `c = 2 zeta sqrt(K m_head)`) and each speed of the case; the reference head stage
 //! (4200 N/m, 10 N s/m) runs beside them. Each spring also runs with its reduced stage
 //! (`coil_catenary::head_stage`: the four springs Craig-Bampton reduced, surge modes,
 //! own mass and the paper's Rayleigh law on the wire) beside its lumped stage at mid
 //! zeta. Prints the head stages, every run's statistics, the study's table
-//! (`coil_postproc::en50318::study`) and the reduced-against-lumped table, and draws the
+//! (`coil_catenary::en50318::study`) and the reduced-against-lumped table, and draws the
 //! study's figure (lumped stages).
 //!
 //! `cargo run --release -p coil-catenary --example spring_study [CATENARY_CASE] [SPRING_CASE] [FIGURE] [--lumped-only]`
@@ -15,12 +15,12 @@
 //! speed (22 with `--lumped-only`), in parallel.
 
 use coil_catenary::case::read_case;
+use coil_catenary::en50318::study::{markdown, SpringStudyRow};
+use coil_catenary::en50318::Statistics;
+use coil_catenary::head_stage::springs::{head_stages_of_files, HeadStageSettings, ZetaLevel};
 use coil_catenary::head_stage::{reduced_head_stages, with_reduced_head};
 use coil_catenary::run::run_speed;
-use coil_postproc::en50318::study::{markdown, SpringStudyRow};
-use coil_postproc::en50318::Statistics;
 use coil_tuner::case::read_variants;
-use coil_tuner::head_stage::{head_stages_of_files, HeadStageSettings, ZetaLevel};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -131,7 +131,7 @@ fn main() {
     if let Some(parent) = figure.parent() {
         std::fs::create_dir_all(parent).unwrap_or_else(|e| fail(e));
     }
-    coil_postproc::en50318::figures::spring_study(&figure, &rows).unwrap_or_else(|e| fail(e));
+    coil_catenary::en50318::figures::spring_study(&figure, &rows).unwrap_or_else(|e| fail(e));
     println!("figure: {}", figure.display());
 }
 

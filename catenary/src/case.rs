@@ -12,18 +12,20 @@
 //!   "reference": { "250": { "mean_n": [110, 120] } }
 //! }
 //! ```
-//! `catenary` and `pantograph` are the objects of `coil_mesher::catenary` (a
+//! `catenary` and `pantograph` are the objects of `crate::model` (a
 //! [`CatenarySpec`] and a [`PantographSpec`]) or the names of JSON files holding them,
 //! inside the case folder. Optional: `title`, `end_m` (where each run stops, default the
 //! last support), `output_every` (default 1), `cutoff_hz` (default 20), `filter_order`
 //! (Butterworth order per pass of the zero-phase filter, default 4) and `reference`
-//! (`coil_postproc::en50318::report::Reference`). Unknown fields are errors; errors name
+//! (`crate::en50318::report::Reference`). Unknown fields are errors; errors name
 //! the file, its line and the field.
 
+use crate::assess::AssessmentSpec;
+use crate::en50318::report::Reference;
+use crate::en50318::{Settings, Window, DEFAULT_CUTOFF_HZ, DEFAULT_ORDER};
+use crate::head_stage::from_spring::{split_name, HeadSpringSpec};
+use crate::model::{CatenarySpec, PantographSpec, RunSpec};
 use crate::{Result, TuneError};
-use coil_mesher::catenary::{CatenarySpec, PantographSpec, RunSpec};
-use coil_postproc::en50318::report::Reference;
-use coil_postproc::en50318::{Settings, Window, DEFAULT_CUTOFF_HZ, DEFAULT_ORDER};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -65,7 +67,12 @@ struct CaseFile {
     filter_order: usize,
     #[serde(default)]
     reference: Reference,
+    #[serde(default)]
+    assessment: AssessmentSpec,
 }
+
+/// Longest case title (characters).
+pub const MAX_TITLE_CHARS: usize = 200;
 
 /// A read and checked case.
 #[derive(Debug, Clone, Serialize)]
@@ -90,6 +97,17 @@ pub struct Case {
     pub settings: Settings,
     /// Reference ranges.
     pub reference: Reference,
+    /// The design criteria's settings.
+    pub assessment: AssessmentSpec,
+    /// The head stage from a spring (`pantograph.head_spring`), if the case names one.
+    pub head_spring: Option<HeadSpringSpec>,
+    /// Its source resolved inside the case folder.
+    pub head_spring_source: Option<PathBuf>,
+    /// Runs at or above the contact wire's wave speed are allowed
+    /// (`--allow-supercritical`).
+    pub allow_supercritical: bool,
+    /// Runs above the transient work limit are allowed (`--allow-large`).
+    pub allow_large: bool,
 }
 
 impl Case {
@@ -101,6 +119,7 @@ impl Case {
             start_m: 0.0,
             end_m: self.end_m,
             output_every: self.output_every,
+            allow_supercritical: self.allow_supercritical,
         }
     }
 }
@@ -114,32 +133,114 @@ fn json_error(path: &Path, e: &serde_json::Error, what: &str) -> TuneError {
 }
 
 /// Reads `field` of the case: the object itself or a file named by a string, inside the
-/// case folder.
+/// case folder; `take` removes a key from the object first and returns it beside.
 fn part<T: serde::de::DeserializeOwned>(
     folder: &Path,
     case_path: &Path,
     field: &str,
     value: serde_json::Value,
-) -> Result<T> {
-    match value {
+    take: Option<&str>,
+) -> Result<(T, Option<serde_json::Value>)> {
+    let (mut value, file) = match value {
         serde_json::Value::String(entry) => {
             let path = coil_io::resolve_inside(folder, &entry)?;
             let text = coil_io::read_bounded(&path, MAX_CASE_BYTES, "catenary spec")?;
-            serde_json::from_str(&text)
-                .map_err(|e| json_error(&folder.join(&entry), &e, &format!("the {field} spec")))
+            let value: serde_json::Value = serde_json::from_str(&text)
+                .map_err(|e| json_error(&folder.join(&entry), &e, &format!("the {field} spec")))?;
+            (value, folder.join(&entry))
         }
-        other => serde_json::from_value(other).map_err(|e| {
-            TuneError::Invalid(format!(
-                "{}: field `{field}`: {e}; expected the {field} spec or the name of a JSON file \
-                 holding it (docs/catenary.md)",
-                case_path.display()
-            ))
-        }),
+        other => (other, case_path.to_path_buf()),
+    };
+    let taken = match (take, value.as_object_mut()) {
+        (Some(key), Some(object)) => object.remove(key),
+        _ => None,
+    };
+    let parsed = serde_json::from_value(value).map_err(|e| {
+        TuneError::Invalid(format!(
+            "{}: field `{field}`: {e}; expected the {field} spec or the name of a JSON file \
+             holding it (docs/catenary.md)",
+            file.display()
+        ))
+    })?;
+    Ok((parsed, taken))
+}
+
+/// `pantograph.head_spring` read and checked, with its source resolved inside `folder`.
+fn head_spring(
+    folder: &Path,
+    file: &Path,
+    value: Option<serde_json::Value>,
+) -> Result<(Option<HeadSpringSpec>, Option<PathBuf>)> {
+    let Some(value) = value else {
+        return Ok((None, None));
+    };
+    let spec: HeadSpringSpec = serde_json::from_value(value).map_err(|e| {
+        TuneError::Invalid(format!(
+            "{}: field `pantograph.head_spring`: {e}; expected `source`, `springs_in_parallel`, \
+             `head_mass_kg`, `damping`, `mass_share`, `reduced`, `rayleigh_alpha`, \
+             `rayleigh_beta` (docs/catenary.md, \"The head stage from a spring\")",
+            file.display()
+        ))
+    })?;
+    spec.check()
+        .map_err(|e| TuneError::Invalid(format!("{}: {e}", file.display())))?;
+    let source = match &spec.source {
+        None => None,
+        Some(entry) => {
+            let (path, name) = split_name(entry);
+            let mut resolved = coil_io::resolve_inside(folder, path)?.into_os_string();
+            if let Some(name) = name {
+                resolved.push(":");
+                resolved.push(name);
+            }
+            Some(PathBuf::from(resolved))
+        }
+    };
+    Ok((Some(spec), source))
+}
+
+/// Refuses a title that is not one printable line of at most [`MAX_TITLE_CHARS`]: a
+/// terminal escape in it would reach the terminal and report.md.
+fn check_title(file: &Path, title: &str) -> Result<()> {
+    if coil_io::confine::excerpt_n(title, MAX_TITLE_CHARS) == title {
+        Ok(())
+    } else {
+        Err(TuneError::Invalid(format!(
+            "{}: title `{title}`: expected one printable line of at most {MAX_TITLE_CHARS} \
+             characters (no control characters or terminal escapes)",
+            file.display()
+        )))
     }
+}
+
+/// What the command line allows beyond the case's limits.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CaseOptions {
+    /// Run at or above the contact wire's wave speed (`--allow-supercritical`).
+    pub allow_supercritical: bool,
+    /// Run a transient above the work limit (`--allow-large`).
+    pub allow_large: bool,
 }
 
 /// Reads a case: a folder holding `case.json`, or the file itself.
 pub fn read_case(path: &Path) -> Result<Case> {
+    read_case_with(path, CaseOptions::default())
+}
+
+/// The transient's work estimated from the spec before anything is built: steps times
+/// the DOFs of two wires of two DOFs per node (docs/files.md, "a transient case").
+fn estimated_work(case: &Case, speed_km_h: f64) -> (f64, f64, f64) {
+    let c = &case.catenary;
+    let per_span =
+        (c.span_length_m / c.element_length_m).ceil() + c.droppers.positions_m.len() as f64;
+    let dofs = 4.0 * (f64::from(c.spans) * per_span + 1.0);
+    let length = case.end_m.unwrap_or(c.length_m());
+    let steps = (length / (speed_km_h / 3.6) / case.time_step_s).ceil();
+    (steps, dofs, steps * dofs)
+}
+
+/// [`read_case`] with the command line's permissions.
+pub fn read_case_with(path: &Path, options: CaseOptions) -> Result<Case> {
     let file = if path.is_dir() {
         path.join("case.json")
     } else {
@@ -149,9 +250,18 @@ pub fn read_case(path: &Path) -> Result<Case> {
     let text = coil_io::read_bounded(&file, MAX_CASE_BYTES, "case file")?;
     let raw: CaseFile =
         serde_json::from_str(&text).map_err(|e| json_error(&file, &e, "a catenary case"))?;
-    let catenary: CatenarySpec = part(&folder, &file, "catenary", raw.catenary)?;
-    let pantograph: PantographSpec = part(&folder, &file, "pantograph", raw.pantograph)?;
+    let (catenary, _): (CatenarySpec, _) = part(&folder, &file, "catenary", raw.catenary, None)?;
+    let (pantograph, taken): (PantographSpec, _) = part(
+        &folder,
+        &file,
+        "pantograph",
+        raw.pantograph,
+        Some("head_spring"),
+    )?;
+    let (head_spring, head_spring_source) = head_spring(&folder, &file, taken)?;
+    check_title(&file, &raw.title)?;
     let invalid = |what: String| TuneError::Invalid(format!("{}: {what}", file.display()));
+    raw.assessment.check().map_err(invalid)?;
     catenary.validate().map_err(|e| invalid(e.to_string()))?;
     pantograph.validate().map_err(|e| invalid(e.to_string()))?;
     if raw.speeds_km_h.is_empty() || raw.speeds_km_h.len() > MAX_SPEEDS {
@@ -183,11 +293,31 @@ pub fn read_case(path: &Path) -> Result<Case> {
             order: raw.filter_order,
         },
         reference: raw.reference,
+        assessment: raw.assessment,
+        head_spring,
+        head_spring_source,
+        allow_supercritical: options.allow_supercritical,
+        allow_large: options.allow_large,
     };
-    for &v in &case.speeds_km_h {
-        case.run_spec(v)
-            .validate(length)
+    for (k, &v) in case.speeds_km_h.iter().enumerate() {
+        let spec = case.run_spec(v);
+        spec.validate(length).map_err(|e| invalid(e.to_string()))?;
+        if case.speeds_km_h[..k].contains(&v) {
+            return Err(invalid(format!(
+                "speeds_km_h lists {v} km/h twice; expected each speed once"
+            )));
+        }
+        crate::model::check_wave_speed(&case.catenary, &spec)
             .map_err(|e| invalid(e.to_string()))?;
+        let (steps, dofs, work) = estimated_work(&case, v);
+        let limit = coil_solver::analysis::transient::MAX_WORK;
+        if work > limit && !case.allow_large {
+            return Err(invalid(format!(
+                "at {v} km/h about {steps:.0} steps x {dofs:.0} DOFs = {work:.2e}, above the \
+                 transient work limit of {limit:.0e} (docs/files.md); expected a larger \
+                 time_step_s or element_length_m, or pass --allow-large"
+            )));
+        }
     }
     let w = case.settings.window;
     let end = case.end_m.unwrap_or(length);

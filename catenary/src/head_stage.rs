@@ -1,7 +1,7 @@
 //! coil's springs in the pantograph's head stage, reduced: the Craig-Bampton stage of
-//! `coil_tuner::head_stage_reduced` (four calibrated springs in parallel, their surge
+//! [`reduced`] (four calibrated springs in parallel, their surge
 //! modes kept, Rayleigh damping on the wire with the paper's law) as the head stage's
-//! `matrix` in the catenary spec (`coil_mesher::catenary::StageMatrix`, one `DMIG` in
+//! `matrix` in the catenary spec ([`crate::model::StageMatrix`], one `DMIG` in
 //! the deck; docs/catenary.md, "A stage as matrices").
 //!
 //! # Formulation
@@ -15,32 +15,17 @@
 //! static shape (Rayleigh), so the reduced run carries the springs' mass, their damping
 //! law and their surge modes, where the lumped stage has `(K, c)` alone.
 
-use coil_mesher::catenary::{PantographSpec, StageMatrix, StageSpec};
+pub mod from_spring;
+pub mod reduced;
+pub mod springs;
+
+use crate::model::PantographSpec;
+use crate::Result;
 use coil_tuner::case::VariantsFile;
 use coil_tuner::fe::FeSettings;
-use coil_tuner::head_stage::HeadStages;
-use coil_tuner::head_stage_reduced::{reduced_stage, ReducedStage};
-use nalgebra::DMatrix;
-
-use crate::Result;
-
-fn row_major(a: &DMatrix<f64>) -> Vec<f64> {
-    a.transpose().as_slice().to_vec()
-}
-
-/// The stage spec of `stage` under a mass of `mass_kg` (module doc).
-pub fn reduced_stage_spec(stage: &ReducedStage, mass_kg: f64) -> StageSpec {
-    StageSpec {
-        mass_kg,
-        stiffness_n_m: stage.static_stiffness_n_mm() * 1e3,
-        damping_n_s_m: 0.0,
-        matrix: Some(StageMatrix {
-            stiffness: row_major(&stage.k),
-            mass: row_major(&stage.m),
-            damping: Some(row_major(&stage.c)),
-        }),
-    }
-}
+pub use reduced::reduced_stage_spec;
+use reduced::{reduced_stage, ReducedStage};
+use springs::HeadStages;
 
 /// `pantograph` with its head stage (the first) replaced by `stage`, the head's mass
 /// kept.
@@ -69,16 +54,16 @@ pub fn reduced_head_stages(
 
 #[cfg(test)]
 mod tests {
+    use super::springs::{head_stages_of_files, HeadStageSettings};
     use super::*;
-    use coil_mesher::catenary::{CatenaryDeckSpec, CONTACT_FORCE_COLUMN, PANTOGRAPH_BASE};
+    use crate::model::{CatenaryDeckSpec, CONTACT_FORCE_COLUMN, PANTOGRAPH_BASE};
     use coil_solver::analysis::{run, CaseSolution};
     use coil_tuner::case::read_variants;
-    use coil_tuner::head_stage::{head_stages_of_files, HeadStageSettings};
     use std::path::Path;
 
     /// The static pantograph displacements (mm) and the contact force (N) of a run.
     fn static_and_force(spec: &CatenaryDeckSpec) -> (Vec<f64>, Vec<f64>) {
-        let built = coil_mesher::catenary::build(spec).unwrap();
+        let built = crate::model::build(spec).unwrap();
         let results = run(&built.model).unwrap();
         let (CaseSolution::Static(rest), CaseSolution::Transient(moving)) =
             (&results[0].solution, &results[1].solution)

@@ -1,3 +1,7 @@
+//! coil-tune (cli/) owns the command line only: it parses arguments, runs a command of
+//! coil-tuner, coil-design, coil-ident or coil-catenary and maps errors to exit codes. It
+//! may import those crates and coil-io; nothing imports it.
+//!
 //! `coil-tune`: the paper's commands (`coil_tuner::cli`), the spring sheet and design
 //! (`coil_design::cli`), the identification commands
 //! (`coil_ident::cli`) and the pantograph-catenary command (`coil_catenary::cli`) on one

@@ -1,5 +1,6 @@
-//! The identification commands of `coil-tune`: `diagnose` (docs/diagnose.md) and
-//! `damping` (docs/damping.md). Their arguments and dispatch; the binary joins them with the
+//! The identification commands of `coil-tune`: `diagnose` (docs/diagnose.md; forced
+//! records: docs/forced.md), `damping` (docs/damping.md), and `simulate` and `frc` on a
+//! forced diagnosis's model (docs/forced.md). Their arguments and dispatch; the binary joins them with the
 //! paper's commands of `coil_tuner::cli`.
 
 use crate::error::Result;
@@ -37,6 +38,63 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Drive a model (DIR/model.json of a forced diagnosis) with a record's input, from the
+    /// initial state fitted to the first --init output samples (the rest of the output
+    /// column is never read and may be empty). Writes DIR/simulated.csv (time_s,output).
+    Simulate {
+        /// The model file (model.json or model_linear.json of a forced diagnosis).
+        model: PathBuf,
+        /// The record (CSV, any dialect).
+        #[arg(long)]
+        record: PathBuf,
+        /// Its time column (s).
+        #[arg(long, default_value = "time_s")]
+        time: String,
+        /// Its input column.
+        #[arg(long)]
+        input: String,
+        /// Its output column (only the first --init cells are read).
+        #[arg(long)]
+        output: String,
+        /// Output samples the initial state is fitted to.
+        #[arg(long)]
+        init: usize,
+        /// Output folder.
+        #[arg(long, default_value = "out/simulate")]
+        out: PathBuf,
+        /// No progress messages.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Forced response curve of a model (DIR/model.json of a forced diagnosis) under a
+    /// harmonic input of amplitude A from F1 to F2 Hz: harmonic balance continued through
+    /// the folds, each point's stability by Floquet. Writes DIR/frc.csv
+    /// (frequency_hz,amplitude,stable) and DIR/backbone.csv.
+    Frc {
+        /// The model file.
+        model: PathBuf,
+        /// Input amplitude, in the model's input unit.
+        #[arg(long)]
+        amplitude: f64,
+        /// First frequency, Hz.
+        #[arg(long = "from")]
+        from_hz: f64,
+        /// Last frequency, Hz.
+        #[arg(long = "to")]
+        to_hz: f64,
+        /// About how many points across the span.
+        #[arg(long, default_value_t = 400)]
+        points: usize,
+        /// Harmonics kept in the balance.
+        #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u16).range(1..=40))]
+        harmonics: u16,
+        /// Output folder.
+        #[arg(long, default_value = "out/frc")]
+        out: PathBuf,
+        /// No progress messages.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Which damping law? Fits Rayleigh, hysteretic and an external dashpot to all decay
     /// records of a case at once (records at several masses, a surge record, repeats),
     /// judged against the repeat scatter of zeta; names the law when it alone fits or says
@@ -68,6 +126,66 @@ pub enum Command {
 /// Runs the parsed command.
 pub fn run(command: Command) -> Result<()> {
     match command {
+        Command::Simulate {
+            model,
+            record,
+            time,
+            input,
+            output,
+            init,
+            out,
+            quiet: _,
+        } => {
+            let model = crate::forced::commands::read_model(&model)?;
+            let request = crate::forced::commands::SimulateRequest {
+                record,
+                time,
+                input,
+                output,
+                init,
+            };
+            // Everything is read and computed before the folder is touched.
+            let sim = crate::forced::commands::simulate_record(&model, &request)?;
+            let out = OutDir::create(out)?;
+            crate::forced::commands::write_simulated(&sim, &out)?;
+            say(&format!(
+                "{} samples simulated from the state fitted to the first {init}: {}",
+                sim.output.len(),
+                out.path("simulated.csv").display()
+            ))?;
+            Ok(())
+        }
+        Command::Frc {
+            model,
+            amplitude,
+            from_hz,
+            to_hz,
+            points,
+            harmonics,
+            out,
+            quiet: _,
+        } => {
+            let model = crate::forced::commands::read_model(&model)?;
+            let settings = crate::forced::frc::FrcSettings {
+                amplitude,
+                from_hz,
+                to_hz,
+                points,
+                harmonics: usize::from(harmonics),
+            };
+            let result = crate::forced::commands::frc_of(&model, &settings)?;
+            let out = OutDir::create(out)?;
+            crate::forced::commands::write_frc(&result, &out)?;
+            let jumps: Vec<String> = result.jumps.iter().map(|f| format!("{f:.5}")).collect();
+            say(&format!(
+                "{} points, {} unstable; stability changes (folds) at [{}] Hz",
+                result.points.len(),
+                result.points.iter().filter(|p| !p.stable).count(),
+                jumps.join(", ")
+            ))?;
+            say(&format!("frc.csv in {}", out.root().display()))?;
+            Ok(())
+        }
         Command::Damping {
             case,
             out,
@@ -99,6 +217,19 @@ pub fn run(command: Command) -> Result<()> {
             uff,
             quiet,
         } => {
+            if crate::forced::lists_forced(&case)? {
+                let settings = crate::forced::ForcedSettings {
+                    plots: !no_plots,
+                    progress: !quiet,
+                    ..Default::default()
+                };
+                let outcome = crate::forced::diagnose_forced(&case, &settings)?;
+                let out = OutDir::create(out)?;
+                crate::forced::report::write(&outcome, &out, settings.plots)?;
+                say(&crate::forced::report::summary(&outcome))?;
+                say(&format!("report in {}", out.path("report.md").display()))?;
+                return Ok(());
+            }
             let mut settings = crate::diagnose::DiagnoseSettings {
                 fits_uff: uff.map(UffArg::form),
                 ..Default::default()

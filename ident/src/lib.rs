@@ -1,3 +1,7 @@
+//! coil-ident owns identification from measured records: `diagnose` and which damping law.
+//! It may import coil-io, coil-solver, coil-mesher, coil-postproc and coil-tuner; only the
+//! command line, Python and the tests sit above it.
+//!
 //! coil-ident: identification from measured records, above the paper's calibration.
 //!
 //! - [`diagnose`]: fits the paper's model to a measured case, shows what it misses, names
@@ -5,7 +9,10 @@
 //!   (docs/diagnose.md).
 //! - [`law`]: which damping law the decay records of a case support (docs/damping.md);
 //!   [`scatter`]: the repeat scatter of zeta it judges the laws with.
-//! - [`cli`]: the `diagnose` and `damping` commands of `coil-tune`.
+//! - [`forced`]: forced records (input and response histories): their diagnosis, the
+//!   model driven by any input (`simulate`) and forced response curves (`frc`)
+//!   (docs/forced.md).
+//! - [`cli`]: the `diagnose`, `damping`, `simulate` and `frc` commands of `coil-tune`.
 //!
 //! Identification starts from the paper's calibration (the baseline is the tuner's
 //! case, FE model and loops), so this crate stands above `coil-tuner`; the laws' predictions
@@ -18,6 +25,7 @@ pub(crate) use coil_tuner::{case, decay, error, fe, loops, output, plots};
 
 pub mod cli;
 pub mod diagnose;
+pub mod forced;
 pub mod law;
 pub mod scatter;
 

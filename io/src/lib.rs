@@ -1,3 +1,7 @@
+//! coil-io owns the file boundary: confined reads, atomic writes, locked output sets, the UFF
+//! writer, progress and cancellation. It may import no other coil crate (std, thiserror, libc,
+//! sha2); every coil crate may import it.
+//!
 //! coil's file boundary, one implementation for every binary and library of the workspace
 //! (the rules are documented for users in `docs/files.md`).
 //!

@@ -1,8 +1,13 @@
+//! coil-postproc owns signals and records: the record readers (CSV, UFF, MAT), the paper's
+//! estimators, spectra, envelopes, signatures, filters, plots (`coil-post`). It may import
+//! coil-io only, so it stands beside the solver; the tuner and everything above use it.
+//!
 //! coil's post-processor: free-decay signals to period, logarithmic decrement, damping ratio,
 //! spectra, envelopes and plots.
 //!
-//! The crate stands alone (no other coil crate): it reads any CSV with a `time_s` column
-//! ([`signal::read_csv`]) and works on in-memory histories too: every analysis takes a
+//! The crate stands alone (no other coil crate but `coil-io`): it reads any CSV with a
+//! `time_s` column ([`signal::read_csv`]) and every record format labs store
+//! ([`record::read_signal`]), and works on in-memory histories too: every analysis takes a
 //! [`signal::Signal`], checked once when it is made. Each module documents its formulation
 //! and measured accuracy; `docs/postproc.md` gathers them.
 //!
@@ -14,9 +19,6 @@
 //! - [`peaks`]: crests to sub-sample accuracy.
 //! - [`decrement`]: the paper's Eqs. 2-3 and an exponential envelope fit.
 //! - [`filter`]: zero-phase Butterworth low-, high- and band-pass.
-//! - [`en50318`]: EN 50318 contact-force statistics of a pantograph-catenary run (mean,
-//!   scatter, extremes, support uplift, loss of contact), their figures and the table
-//!   against reference ranges.
 //! - [`differentiate`]: velocity and acceleration from a position record (low-pass and
 //!   sixth-order central differences, with their closed-form gain).
 //! - [`noise`]: the noise floor of a record whose noise need not be white (Welch spectrum
@@ -35,7 +37,6 @@
 
 pub mod decrement;
 pub mod differentiate;
-pub mod en50318;
 pub mod envelope;
 pub mod error;
 pub mod filter;

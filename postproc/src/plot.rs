@@ -73,7 +73,8 @@ where
         .label_style((FONT, text.ticks))
 }
 
-pub(crate) const PALETTE: [RGBColor; 4] = [
+/// The figures' line colours, in order.
+pub const PALETTE: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -199,7 +200,8 @@ struct EnvelopeFigure<'a> {
 /// What drawing a [`Figure`] returns: plotters errors as text.
 pub type Draw = std::result::Result<(), String>;
 
-pub(crate) fn text<E: std::fmt::Display>(error: E) -> String {
+/// A plotting error as text (the [`Draw`] error).
+pub fn text<E: std::fmt::Display>(error: E) -> String {
     error.to_string()
 }
 
@@ -253,7 +255,7 @@ pub fn render<F: Figure>(path: &Path, figure: &F) -> Result<()> {
 }
 
 /// Min/max decimation to about [`MAX_POINTS`] points, keeping the visual envelope.
-pub(crate) fn decimate(time_s: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
+pub fn decimate(time_s: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
     let n = time_s.len().min(values.len());
     if n <= MAX_POINTS {
         return time_s.iter().copied().zip(values.iter().copied()).collect();
@@ -301,7 +303,7 @@ fn decimate_max(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
 }
 
 /// A finite, non-empty range that contains `values` with a margin.
-pub(crate) fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> (f64, f64) {
+pub fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> (f64, f64) {
     let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         low = low.min(v);
@@ -320,7 +322,7 @@ pub(crate) fn padded_range(values: impl Iterator<Item = f64>, margin: f64) -> (f
 }
 
 /// A tick label with three significant digits (scientific below 0.01), no "-0".
-pub(crate) fn tick_physical(value: &f64) -> String {
+pub fn tick_physical(value: &f64) -> String {
     let v = *value;
     if v.abs() < 1e-12 {
         "0".to_string()
@@ -355,7 +357,8 @@ fn largest_magnitude(values: &[f64]) -> f64 {
     }
 }
 
-pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+/// Draws the series' legend of `chart` at `position`.
+pub fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
     position: SeriesLabelPosition,
 ) -> Draw {

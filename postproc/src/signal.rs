@@ -480,6 +480,48 @@ pub(crate) fn read_header_in(path: &Path, bytes: Vec<u8>) -> Result<(Vec<String>
 }
 
 fn read_fields_of(source: Source, names: &[&str]) -> Result<Fields> {
+    let cells = read_cells_of(source, names, false)?;
+    Ok(Fields {
+        header: cells.header,
+        header_line: cells.header_line,
+        // Every cell was required, so every cell holds a number.
+        values: cells
+            .values
+            .into_iter()
+            .map(|column| column.into_iter().map(|v| v.unwrap_or(f64::NAN)).collect())
+            .collect(),
+        first_resolution: cells.first_resolution,
+        lines: cells.lines,
+    })
+}
+
+/// Columns read by name where a cell may be left empty (`None`): the measured output of a
+/// forced record given only for its first samples.
+#[derive(Debug, Clone)]
+pub struct OptionalFields {
+    /// Every header name in file order.
+    pub header: Vec<String>,
+    /// Line of the header.
+    pub header_line: u64,
+    /// One vector per requested name, in the order requested; `None` for an empty cell.
+    pub values: Vec<Vec<Option<f64>>>,
+    /// Printed resolution of each cell of the first requested column (0 for an empty one).
+    pub first_resolution: Vec<f64>,
+    /// Line of each row.
+    pub lines: Vec<u64>,
+}
+
+/// [`read_fields_in`] with empty cells allowed (`None`); a cell that holds text must still be
+/// a finite number.
+pub(crate) fn read_optional_fields_in(
+    path: &Path,
+    bytes: Vec<u8>,
+    names: &[&str],
+) -> Result<OptionalFields> {
+    read_cells_of(Source::in_memory(path, bytes), names, true)
+}
+
+fn read_cells_of(source: Source, names: &[&str], allow_empty: bool) -> Result<OptionalFields> {
     let path = source.path.clone();
     let path = path.as_path();
     let mut reader = source.reader();
@@ -518,7 +560,7 @@ fn read_fields_of(source: Source, names: &[&str]) -> Result<Fields> {
 
     let mut first_resolution = Vec::new();
     let mut lines = Vec::new();
-    let mut values: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    let mut values: Vec<Vec<Option<f64>>> = vec![Vec::new(); names.len()];
     let mut record = csv::StringRecord::new();
     loop {
         match reader.read_record(&mut record) {
@@ -533,10 +575,15 @@ fn read_fields_of(source: Source, names: &[&str]) -> Result<Fields> {
             if column == 0 {
                 first_resolution.push(printed_resolution(text));
             }
-            values[column].push(parse_cell(path, line, name, text)?);
+            let cell = if allow_empty && text.is_empty() {
+                None
+            } else {
+                Some(parse_cell(path, line, name, text)?)
+            };
+            values[column].push(cell);
         }
     }
-    Ok(Fields {
+    Ok(OptionalFields {
         header,
         header_line,
         values,

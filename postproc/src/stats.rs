@@ -20,7 +20,7 @@ pub fn noise_rms(y: &[f64]) -> f64 {
 }
 
 /// Median of a slice (`None` when empty).
-pub(crate) fn median(values: &[f64]) -> Option<f64> {
+pub fn median(values: &[f64]) -> Option<f64> {
     if values.is_empty() {
         return None;
     }

@@ -47,6 +47,7 @@ __all__ = [
     "run_shard",
     "merge",
     "diagnose",
+    "catenary",
     "check",
     "design",
     "damping",
@@ -379,6 +380,54 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     """
     return _json.loads(_call(_coil.diagnose, _path(case, "case"), _path(out, "out"),
                             elements_per_coil, modes, plots))
+
+
+def catenary(case, out, springs=None, plots=True, damping=None, mass_share=True, reduced=False,
+             allow_supercritical=False):
+    """A pantograph-catenary case (``coil-tune catenary``, docs/catenary.md): writes
+    catenary.json, report.md, the histories and figures into ``out`` and returns the
+    statistics as a DataFrame, one row per speed (EN 50318's keys, ``wave_speed_ratio``,
+    ``assessment``). With ``springs`` (spring sources: a measured case folder, a variants
+    file or ``"table4.json:#2"``, a calibration.json, a SPRING.json) it runs a spring
+    study and returns one row per spring and speed (column ``spring``).
+
+    >>> cat = {"spans": 2, "span_length_m": 60.0, "system_height_m": 1.2, "presag_mm": 0.0,
+    ...        "contact_wire": {"mass_kg_m": 1.35, "tension_n": 20000.0, "ei_n_m2": 195.0},
+    ...        "messenger_wire": {"mass_kg_m": 1.07, "tension_n": 16000.0, "ei_n_m2": 131.7},
+    ...        "droppers": {"positions_m": [5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0],
+    ...                     "stiffness_n_m": 100000.0, "contact_clamp_mass_kg": 0.195,
+    ...                     "messenger_clamp_mass_kg": 0.165},
+    ...        "steady_arm": {"stiffness_n_m": 300.0, "mass_kg": 1.0},
+    ...        "messenger_support": {"stiffness_n_m": 50000.0, "mass_kg": 0.0},
+    ...        "damping": {"ratio": 0.005, "frequencies_hz": [1.0, 20.0]},
+    ...        "element_length_m": 1.0}
+    >>> panto = {"stages": [{"mass_kg": 7.2, "stiffness_n_m": 4200.0, "damping_n_s_m": 10.0},
+    ...                     {"mass_kg": 15.0, "stiffness_n_m": 50.0, "damping_n_s_m": 90.0}],
+    ...          "uplift_force_n": 120.0, "contact_stiffness_n_m": 50000.0}
+    >>> os.makedirs(tmp / "cat")
+    >>> _ = (tmp / "cat" / "case.json").write_text(json.dumps({"catenary": cat, "pantograph": panto,
+    ...     "speeds_km_h": [200, 250], "time_step_s": 0.002,
+    ...     "window": {"start_m": 30.0, "end_m": 90.0}}))
+    >>> table = coil.catenary(tmp / "cat", tmp / "cat_out", plots=False)
+    >>> table["speed_km_h"].tolist(), bool((table["mean_n"] > 100).all())
+    ([200.0, 250.0], True)
+    >>> round(float(table["wave_speed_ratio"][1]), 3)
+    0.571
+    """
+    import pandas as pd
+
+    springs = [] if springs is None else _paths(springs, "springs")
+    result = _json.loads(_call(_coil.catenary, _path(case, "case"), _path(out, "out"), springs,
+                               plots, damping, mass_share, reduced, allow_supercritical))
+    rows = []
+    entries = result["springs"] if "springs" in result else [{"runs": result["runs"]}]
+    for entry in entries:
+        for run in entry["runs"]:
+            row = {"spring": entry["spring"]} if "spring" in entry else {}
+            row.update({k: v for k, v in run.items() if not isinstance(v, (dict, list))})
+            row["assessment"] = run["assessment_verdict"]
+            rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def _json_file(value, folder):

@@ -1,3 +1,7 @@
+//! coil-python owns the Python binding (`import coil`): argument parsing, the GIL guard, JSON
+//! results, no numerics. It may import coil-io, coil-solver, coil-mesher, coil-postproc,
+//! coil-tuner and coil-ident; nothing imports it.
+//!
 //! `coil._coil`: the native half of the Python package (python/coil/__init__.py is the
 //! other). A thin layer: every function parses its arguments, calls one library function
 //! of coil-mesher, coil-solver, coil-postproc, coil-tuner or coil-ident, and returns its result as
@@ -551,6 +555,61 @@ fn diagnose(
     })
 }
 
+/// A pantograph-catenary case (`coil-tune catenary`, docs/catenary.md): writes its files
+/// into `out` and returns catenary.json's content, or study.json's for a spring study
+/// (`springs` given).
+#[pyfunction]
+#[pyo3(signature = (case, out, springs=Vec::new(), plots=true, damping=None, mass_share=true, reduced=false, allow_supercritical=false))]
+#[allow(clippy::too_many_arguments)]
+fn catenary(
+    py: Python<'_>,
+    case: PathBuf,
+    out: PathBuf,
+    springs: Vec<PathBuf>,
+    plots: bool,
+    damping: Option<String>,
+    mass_share: bool,
+    reduced: bool,
+    allow_supercritical: bool,
+) -> PyResult<String> {
+    use coil_catenary::cli::{execute, DampingArg, Done, Request};
+    let damping = match damping.as_deref() {
+        None => None,
+        Some("rayleigh") => Some(DampingArg::Rayleigh),
+        Some("zeta_low") => Some(DampingArg::ZetaLow),
+        Some("zeta_mid") => Some(DampingArg::ZetaMid),
+        Some("zeta_high") => Some(DampingArg::ZetaHigh),
+        Some(other) => {
+            return Err(fail(format!(
+                "damping `{other}`; expected rayleigh, zeta_low, zeta_mid or zeta_high"
+            )))
+        }
+    };
+    guarded(py, || {
+        let request = Request {
+            case,
+            out: out.clone(),
+            plots,
+            progress: false,
+            springs,
+            damping,
+            no_mass_share: !mass_share,
+            reduced,
+            springs_in_parallel: None,
+            options: coil_catenary::case::CaseOptions {
+                allow_supercritical,
+                allow_large: false,
+            },
+        };
+        let name = match execute(&request, &|_| Ok(())).map_err(fail)? {
+            Done::Case(_) => "catenary.json",
+            Done::Study(_) => "study.json",
+        };
+        let path = out.join(name);
+        std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
+    })
+}
+
 /// The EN 13906-1 sheet of a SPRING.json beside coil's FE values on the same spring
 /// (`coil-tune check --json`): returns the report's JSON.
 #[pyfunction]
@@ -751,6 +810,7 @@ fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_shard, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(catenary, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(damping, m)?)?;

@@ -1,3 +1,7 @@
+//! coil-solver owns the finite-element engine: decks, the validated model, elements, assembly,
+//! analyses, integrators, reduction, result files (`coil-solve`). It may import coil-io only;
+//! the mesher, the tuner and everything above use it.
+//!
 //! coil-solver: a deck-driven finite-element engine in MSC Marc's style for 3D beam
 //! models of helical springs: two-node beams (Marc types 52 and 98), point masses,
 //! rigid ties, static, modal and transient analyses, Rayleigh damping per element set.

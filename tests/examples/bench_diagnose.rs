@@ -1,6 +1,12 @@
 //! Wall-clock benchmark of the whole `coil-tune diagnose` process, one truth case at a
 //! time, with the confusion table and parameter errors:
-//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|large|all] [NAME...]`
+//! `cargo build --release -p coil-tune && cargo run --release -p coil-tests --example bench_diagnose [standard|extended|hard|loss|outside|slow|large|all] [NAME...]`
+//!
+//! `loss` is the damping classes (`coil_tests::truth::loss::loss_cases`: friction that
+//! sticks after 8-17 cycles, drag beside a mild backbone, drag with a slow component,
+//! friction with drag); `outside` the laws outside the catalogue (scored against the
+//! hidden `none`: a named cause there shows as a miss in the table; the test
+//! `claim_outside_catalogue` tells an honest named cause from a false one).
 //!
 //! `large` is every standard case sampled at the rate that gives 30 000 samples over its
 //! record, the largest record the wall-time budget covers.
@@ -19,6 +25,7 @@
 //! temporary folder, to profile one case.
 
 use coil_tests::scoring::{self, Score};
+use coil_tests::truth::loss::{loss_cases, outside_cases, slow_mode_cases};
 use coil_tests::truth::{extended_cases, hard_cases, standard_cases, write_case, TruthCase};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -81,6 +88,7 @@ fn selected() -> Vec<TruthCase> {
             .into_iter()
             .chain(extended_cases())
             .chain(hard_cases())
+            .chain(loss_cases())
     };
     let named = |c: &TruthCase| args.len() == 1 || args.contains(&c.name);
     match args.first().map(String::as_str) {
@@ -88,6 +96,9 @@ fn selected() -> Vec<TruthCase> {
         Some("standard") => standard_cases().into_iter().filter(named).collect(),
         Some("extended") => extended_cases().into_iter().filter(named).collect(),
         Some("hard") => hard_cases().into_iter().filter(named).collect(),
+        Some("loss") => loss_cases().into_iter().filter(named).collect(),
+        Some("outside") => outside_cases().into_iter().filter(named).collect(),
+        Some("slow") => slow_mode_cases().into_iter().filter(named).collect(),
         Some("large") => standard_cases()
             .into_iter()
             .filter(named)
@@ -97,7 +108,10 @@ fn selected() -> Vec<TruthCase> {
                 c
             })
             .collect(),
-        Some(_) => all().filter(|c| args.contains(&c.name)).collect(),
+        Some(_) => all()
+            .chain(outside_cases())
+            .filter(|c| args.contains(&c.name))
+            .collect(),
     }
 }
 

@@ -152,6 +152,9 @@ fn main() {
         }
         for c in &d.candidates {
             println!("  -- {} (named: {})", c.effect, c.significant);
+            for note in &c.bounds {
+                println!("     bound: {note}");
+            }
             match &c.tests {
                 Some(t) => {
                     for (test, v) in t.each() {
@@ -176,6 +179,9 @@ fn main() {
         }
         if let Some(u) = &d.unexplained {
             println!("unexplained: {u}");
+        }
+        if let Some(m) = &d.remaining_misfit {
+            println!("misfit left: {m}");
         }
         let cut = match first_half(case, &tmp.path().join("half").join(name.as_ref())) {
             Ok(p) => p,

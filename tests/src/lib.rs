@@ -1,3 +1,7 @@
+//! coil-tests owns the end-to-end tests, the independent truth generators and their scoring.
+//! It may import every library crate; its truth models use none of coil's numerics, so
+//! agreement with them is evidence; nothing imports it.
+//!
 //! Shared helpers for the end-to-end and verification tests: models built in code
 //! (no deck text), in the model's units (mm, N, t, s).
 
@@ -24,6 +28,30 @@ pub fn paper_spec() -> coil_mesher::SpringSpec {
         youngs_modulus_mpa: PAPER_YOUNGS_MODULUS_MPA,
         ..coil_mesher::SpringSpec::default()
     }
+}
+
+/// How much stiffer a helix of straight beams is than the helix itself: the factor on
+/// the closed-form (Castigliano) stiffness of a coil meshed with `elements_per_coil`
+/// chords, from the chord geometry alone (no FE).
+///
+/// A chord spanning the angle `theta = 2 pi / elements_per_coil` has the length
+/// `c = 2 R sin(theta / 2)` and its midpoint at `R cos(theta / 2)` from the axis. An axial
+/// force `F` on the axis loads a point `s` along the chord from its midpoint with the
+/// torque `F R cos(theta / 2)` about the chord and the bending moment `F s`, so the
+/// chord's complementary energy per `F^2 / 2` is
+/// `c (R^2 cos^2(theta / 2) / GJ + c^2 / (12 EI))`; over the arc `R theta` of the helix
+/// (torsion `F R`) it is `R theta R^2 / GJ`. With `EI = (1 + nu) GJ` for a round wire the
+/// ratio of compliances is
+/// `sin(theta/2)/(theta/2) (cos^2(theta/2) + sin^2(theta/2) / (3 (1 + nu)))`
+/// = `1 - theta^2 (1/24 + 1/4 - 1/(12 (1 + nu))) + O(theta^4)`, and this returns its
+/// inverse. The pitch angle, the direct shear and the bending of the helix itself are left
+/// out: for the paper's spring they change the torsion-dominated compliance by under 1 %,
+/// so they change this factor's excess over 1 by under 1 % of itself.
+pub fn chord_stiffening(elements_per_coil: usize, poisson: f64) -> f64 {
+    let half = std::f64::consts::PI / elements_per_coil as f64;
+    let compliance =
+        half.sin() / half * (half.cos().powi(2) + half.sin().powi(2) / (3.0 * (1.0 + poisson)));
+    1.0 / compliance
 }
 
 /// The model of `spec` written as a deck and read back, so the deck's text path (the
@@ -350,3 +378,4 @@ impl Spring {
 pub mod scoring;
 pub mod truth;
 pub mod truth_damping;
+pub mod truth_forced;

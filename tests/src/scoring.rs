@@ -35,6 +35,10 @@ pub struct Score {
     pub runtime_s: f64,
     /// The report's warnings (the conditioning's cut and resampling among them).
     pub warnings: Vec<String>,
+    /// Combinations whose residual exceeds a part's on the same mount ([`nesting`]).
+    pub nesting: Vec<String>,
+    /// Combinations compared with their parts (for the table's count).
+    pub nested_pairs: usize,
 }
 
 impl Score {
@@ -46,7 +50,7 @@ impl Score {
     /// What is wrong with this case, if anything: the named set, a parameter beyond the
     /// tolerance, and the gain where the baseline stands clear of the noise.
     pub fn failures(&self) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out = self.nesting.clone();
         if !self.named_right() {
             out.push(format!(
                 "{}: named {} for {}",
@@ -123,8 +127,11 @@ pub fn score(case: &TruthCase, diagnosis: &serde_json::Value, runtime_s: f64) ->
     let baseline = diagnosis["baseline"]["residual_rms"]
         .as_f64()
         .unwrap_or(f64::INFINITY);
+    let (nesting, nested_pairs) = nesting(diagnosis);
     Score {
         name: case.name.clone(),
+        nesting,
+        nested_pairs,
         truth,
         named,
         parameter_errors,
@@ -141,6 +148,140 @@ pub fn score(case: &TruthCase, diagnosis: &serde_json::Value, runtime_s: f64) ->
             })
             .unwrap_or_default(),
     }
+}
+
+/// Relative slack of the nesting check: the residuals are computed from the same
+/// simulation of the same point, so equal up to rounding.
+pub const NESTING_SLACK: f64 = 1e-9;
+
+/// The nesting invariant over a diagnosis's candidates: a combination's
+/// `residual_rms` never exceeds that of any of its parts (a candidate whose effects
+/// are a proper subset of it) fitted on the same mount (the coupling frees the
+/// weight's rotation, so a part with it and a part without it are different models).
+/// Returns the violations, in words, and the number of (combination, part) pairs
+/// compared.
+pub fn nesting(diagnosis: &serde_json::Value) -> (Vec<String>, usize) {
+    let Some(list) = diagnosis["candidates"].as_array() else {
+        return (Vec::new(), 0);
+    };
+    let parsed: Vec<(Vec<String>, Option<f64>)> = list
+        .iter()
+        .map(|c| {
+            let effects = c["effects"]
+                .as_array()
+                .map(|e| {
+                    e.iter()
+                        .filter_map(|x| x.as_str().map(str::to_string))
+                        .collect()
+                })
+                .unwrap_or_default();
+            (effects, c["residual_rms"].as_f64())
+        })
+        .collect();
+    let free = |e: &[String]| e.iter().any(|x| x == "axial_torsional_coupling");
+    let mut out = Vec::new();
+    let mut pairs = 0;
+    for (set, rms) in &parsed {
+        if set.len() < 2 {
+            continue;
+        }
+        for (part, part_rms) in &parsed {
+            let proper = part.len() < set.len() && part.iter().all(|e| set.contains(e));
+            if !proper || free(part) != free(set) {
+                continue;
+            }
+            let Some(p) = part_rms else { continue };
+            pairs += 1;
+            match rms {
+                Some(r) if *r <= p * (1.0 + NESTING_SLACK) => {}
+                _ => out.push(format!(
+                    "{}: combination {} has residual {:?} above its part {}'s {p:.6}",
+                    diagnosis["cause"],
+                    set.join("+"),
+                    rms,
+                    part.join("+")
+                )),
+            }
+        }
+    }
+    (out, pairs)
+}
+
+/// How a diagnosis answers a record outside the catalogue (no catalogue effect
+/// hidden): an honest answer is `refused` (the reader's checks stopped it, with the
+/// reason), `unexplained` (cause `none`, the misfit described), `none` (the linear
+/// model fits within three times the noise) or a cause whose `remaining_misfit` is
+/// reported; a cause named without it is a **false cause**.
+#[derive(Debug, Clone)]
+pub struct OutsideScore {
+    pub name: String,
+    /// The law outside the catalogue.
+    pub anomaly: String,
+    /// `refused`, `unexplained`, `none`, `named X, misfit reported` or `FALSE CAUSE X`.
+    pub verdict: String,
+    /// True for a confident wrong cause.
+    pub false_cause: bool,
+    /// The reason given (the error, the unexplained text or the misfit), shortened.
+    pub reason: String,
+    pub runtime_s: f64,
+}
+
+/// Scores the answer to an out-of-catalogue case: `Err` is the run's error text.
+pub fn score_outside(
+    case: &TruthCase,
+    anomaly: &str,
+    diagnosis: Result<&serde_json::Value, &str>,
+    runtime_s: f64,
+) -> OutsideScore {
+    let short = |t: &str| t.chars().take(160).collect::<String>();
+    let (verdict, false_cause, reason) = match diagnosis {
+        Err(e) => ("refused".to_string(), false, short(e)),
+        Ok(d) => {
+            let named = label(named_effects(d));
+            match (
+                named.as_str(),
+                d["unexplained"].as_str(),
+                d["remaining_misfit"].as_str(),
+            ) {
+                ("none", Some(u), _) => ("unexplained".to_string(), false, short(u)),
+                ("none", None, _) => ("none".to_string(), false, String::new()),
+                (x, _, Some(m)) => (format!("named {x}, misfit reported"), false, short(m)),
+                (x, _, None) => (format!("FALSE CAUSE {x}"), true, String::new()),
+            }
+        }
+    };
+    OutsideScore {
+        name: case.name.clone(),
+        anomaly: anomaly.to_string(),
+        verdict,
+        false_cause,
+        reason,
+        runtime_s,
+    }
+}
+
+/// The out-of-catalogue table as text, with the count of false causes.
+pub fn outside_report(scores: &[OutsideScore]) -> String {
+    let mut out = format!(
+        "{:24} {:18} {:48} {:>7}\n",
+        "case", "law", "answer", "time s"
+    );
+    for s in scores {
+        out.push_str(&format!(
+            "{:24} {:18} {:48} {:>7.2}\n",
+            s.name, s.anomaly, s.verdict, s.runtime_s
+        ));
+        if !s.reason.is_empty() {
+            out.push_str(&format!("    {}\n", s.reason));
+        }
+    }
+    let false_causes = scores.iter().filter(|s| s.false_cause).count();
+    let unexplained = scores.iter().filter(|s| s.verdict == "unexplained").count();
+    out.push_str(&format!(
+        "\n{} cases: {false_causes} false causes, {unexplained} unexplained\n",
+        scores.len()
+    ));
+    out
 }
 
 /// The confusion table (rows: hidden effects, columns: named effects; counts), the
@@ -214,6 +355,26 @@ pub fn report(scores: &[Score]) -> String {
             if s.noise_limited { "yes" } else { "no" },
             s.runtime_s,
             if s.named_right() { "" } else { "  *" }
+        ));
+    }
+    let pairs: usize = scores.iter().map(|s| s.nested_pairs).sum();
+    let broken: usize = scores.iter().map(|s| s.nesting.len()).sum();
+    out.push_str(&format!(
+        "\nnesting: {pairs} (combination, part) pairs compared, {broken} with the combination's \
+         residual above its part's\n"
+    ));
+    let worst = scores
+        .iter()
+        .flat_map(|s| {
+            s.parameter_errors
+                .iter()
+                .map(move |(p, e)| (e.abs(), &s.name, p))
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((e, name, p)) = worst {
+        out.push_str(&format!(
+            "worst parameter error: {:.2} % ({name}, {p})\n",
+            100.0 * e
         ));
     }
     let mut times: Vec<f64> = scores.iter().map(|s| s.runtime_s).collect();

@@ -605,7 +605,9 @@ pub fn tolerance_study(
 pub fn write_table(merged: &crate::study::Merged, out: &OutDir, plots: bool) -> Result<String> {
     match &merged.study {
         crate::study::Study::Tolerance(t) => {
-            let summary = crate::tolerance::write(t, merged, out, plots)?;
+            let summary = crate::tolerance::summarize(t, merged.rows())?;
+            stage_table(merged, out)?;
+            crate::tolerance::write(&summary, out, plots)?;
             Ok(summary.table())
         }
         crate::study::Study::Sweep(_) => {

@@ -1,8 +1,79 @@
-//! The tuner's one error type. Each variant says where (file, line, field, loop, grid
-//! point) and what to do next; nothing in the library panics on user data.
+//! The tuner's error types: [`CaseError`] for the case, record and variants readers and
+//! [`TuneError`] for everything a command does. Each variant says where (file, line,
+//! field, loop, grid point) and what to do next; nothing in the library panics on user
+//! data. This module sits at the bottom of the crate: it imports only the field errors
+//! it wraps.
 
-use crate::case::CaseError;
+use crate::fields::FieldError;
 use std::path::PathBuf;
+
+/// Everything that can be wrong with a case, a variants file or a record.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    #[error("{}: cannot read the file: {source}", path.display())]
+    /// Reading or writing failed.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Where the values come from (a citation), if given.
+        source: std::io::Error,
+    },
+    #[error("{}:{line}:{column}: invalid JSON: {message}", path.display())]
+    /// A file that is not valid JSON.
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// Its line (1-based).
+        line: usize,
+        /// Its column (1-based).
+        column: usize,
+        /// What is wrong and what was expected.
+        message: String,
+    },
+    #[error(transparent)]
+    /// A field missing or out of range.
+    Field(#[from] FieldError),
+    /// An input outside its limits or its folder (docs/files.md).
+    #[error(transparent)]
+    Input(#[from] coil_io::ConfineError),
+    /// A record file (decay) that the post-processor cannot read.
+    #[error(transparent)]
+    Record(#[from] coil_postproc::PostError),
+    /// A decay record whose columns or time stamps are wrong.
+    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
+    DecayRecord {
+        /// The file.
+        path: PathBuf,
+        /// Its line (1-based).
+        line: usize,
+        /// What is wrong.
+        problem: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// A static record that cannot be read.
+    #[error("{}:{line}: {problem}; expected {expected}", path.display())]
+    StaticRecord {
+        /// The file.
+        path: PathBuf,
+        /// Its line (1-based).
+        line: usize,
+        /// What is wrong.
+        problem: String,
+        /// What was expected.
+        expected: String,
+    },
+}
+
+impl CaseError {
+    /// A bounded read's error: an unreadable file stays [`CaseError::Io`].
+    pub(crate) fn input(e: coil_io::ConfineError) -> CaseError {
+        match e {
+            coil_io::ConfineError::Io { path, source } => CaseError::Io { path, source },
+            other => CaseError::Input(other),
+        }
+    }
+}
 
 /// Everything that can stop a tuner command.
 #[derive(Debug, thiserror::Error)]

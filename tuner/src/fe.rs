@@ -260,14 +260,14 @@ mod tests {
         }
     }
 
-    /// At 24 elements per coil (E = 190708 MPa, type 98) coil's K was measured at
-    /// 3.8641 N/mm (5 digits); at 96 elements per coil the chord bias is below 0.1%,
-    /// so K must be within 0.5% of Castigliano's guided-end value (about 3.797).
+    /// At 96 elements per coil (E = 190708 MPa, type 98) the chord bias is below 0.1%,
+    /// so K must be within 0.5% of Castigliano's guided-end value (about 3.797); the
+    /// default 24 elements per coil is stiffer by the chords' 1.6 % (the end-to-end test
+    /// `paper_spring` checks it against Castigliano with the chord correction).
     #[test]
-    fn stiffness_matches_the_measured_fe_value_and_castigliano() {
+    fn stiffness_matches_castigliano() {
         let s = paper_state();
         let (k, _) = static_stiffness(&s, &FeSettings::default()).unwrap();
-        assert!((k - 3.8641).abs() < 5e-5, "{k}");
         let fine = FeSettings {
             elements_per_coil: 96,
             ..FeSettings::default()
@@ -280,6 +280,9 @@ mod tests {
             (k96 - castigliano).abs() / castigliano < 5e-3,
             "{k96} vs {castigliano}"
         );
+        // The chords' stiffening from 96 to 24 elements per coil, from their geometry
+        // alone: 1.01573 / 1.00098 = 1.0147 (within its O(theta^4) remainder).
+        assert!((k / k96 - 1.0147).abs() < 5e-4, "{k} / {k96}");
     }
 
     /// T = 2 pi sqrt((m + m_s/3) / K) (Rayleigh) within 0.1%: the FE axial mode is the

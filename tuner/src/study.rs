@@ -47,6 +47,7 @@
 //! byte for byte (numbers are written with all their digits and read back exactly), and
 //! merging needs memory for the merged table only.
 
+pub use crate::case::{check_name, MAX_NAME_CHARS};
 use crate::error::{Result, TuneError};
 pub use crate::output::{csv_table, Cell};
 pub use crate::sweep::VariantSweep;
@@ -337,29 +338,6 @@ impl Study {
 
 /// At most this many variants in a study.
 pub const MAX_VARIANTS: usize = 100_000;
-/// The longest variant name, characters.
-pub const MAX_NAME_CHARS: usize = 100;
-
-/// A variant's name: one printable line of 1 to [`MAX_NAME_CHARS`] characters (it
-/// reaches tables, reports, figure labels and deck titles; commas and quotes are fine,
-/// tables quote them).
-pub fn check_name(name: &str) -> std::result::Result<(), String> {
-    let printable = !name.chars().any(|c| {
-        c.is_control()
-            || ('\u{202a}'..='\u{202e}').contains(&c)
-            || ('\u{2066}'..='\u{2069}').contains(&c)
-    });
-    let count = name.chars().count();
-    if printable && (1..=MAX_NAME_CHARS).contains(&count) && name.trim() == name {
-        Ok(())
-    } else {
-        Err(format!(
-            "variant name `{}`; expected one printable line of 1 to {MAX_NAME_CHARS} characters, without blanks at its ends",
-            coil_io::excerpt(name)
-        ))
-    }
-}
-
 /// Shard `index` of `count` (1-based), written `I/N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Shard {

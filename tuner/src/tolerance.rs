@@ -523,16 +523,10 @@ impl Summary {
     }
 }
 
-/// Writes the files of a tolerance study's table into `out`: `tolerance.csv`,
-/// `tolerance_summary.json`, `tolerance.md` and `tolerance.png`. Returns the summary.
-pub fn write(
-    study: &ToleranceStudy,
-    table: &crate::study::Merged,
-    out: &crate::output::OutDir,
-    plots: bool,
-) -> Result<Summary> {
-    let summary = summarize(study, table.rows())?;
-    crate::cli::stage_table(table, out)?;
+/// Writes a tolerance study's summary files into `out` beside its table
+/// (`tolerance.csv`, staged by the caller): `tolerance_summary.json`, `tolerance.md` and
+/// `tolerance.png`.
+pub fn write(summary: &Summary, out: &crate::output::OutDir, plots: bool) -> Result<()> {
     out.write("tolerance_summary.json", summary.json().as_bytes())?;
     let md = format!(
         "# Tolerance study\n\nseed {}, {} samples per spring ({}), percentiles relative to the nominal spring:\n\n```\n{}```\n",
@@ -544,14 +538,12 @@ pub fn write(
     out.write("tolerance.md", md.as_bytes())?;
     if plots {
         let path = out.staged("tolerance.png")?;
-        plot::render(&path, &SpreadFigure { summary: &summary }).map_err(|source| {
-            TuneError::Plot {
-                path: path.clone(),
-                message: source.to_string(),
-            }
+        plot::render(&path, &SpreadFigure { summary }).map_err(|source| TuneError::Plot {
+            path: path.clone(),
+            message: source.to_string(),
         })?;
     }
-    Ok(summary)
+    Ok(())
 }
 
 /// Percentile bars of K and zeta per spring, relative to the nominal spring (%).

@@ -7,11 +7,11 @@
 //! v2(0))) / T`. Over a long run the bracket's terms vanish like `1 / T`: the mean contact
 //! force is the uplift less the frame spring's mean force.
 
-use coil_catenary::run::run_model;
-use coil_mesher::catenary::{
+use coil_catenary::en50318::{Settings, Window};
+use coil_catenary::model::{
     build_parts, CatenaryDeckSpec, RunSpec, CONTACT_FORCE_COLUMN, PANTOGRAPH_BASE,
 };
-use coil_postproc::en50318::{Settings, Window};
+use coil_catenary::run::run_model;
 use coil_solver::analysis::transient::column_name;
 use coil_solver::model::Quantity;
 
@@ -32,6 +32,7 @@ fn the_mean_contact_force_is_the_uplift_less_the_frame_spring() {
         start_m: 0.0,
         end_m: None,
         output_every: 1,
+        allow_supercritical: false,
     };
     let built = build_parts(&catenary, &pantograph, &run).unwrap();
     let settings = Settings::new(Window {

@@ -6,4 +6,6 @@ mod catenary_cli;
 mod cli;
 mod damping_cli;
 mod diagnose_cli;
+mod forced_cli;
 mod fuzz;
+mod mesh_cli;

@@ -111,6 +111,9 @@ fn headline(o: &Outcome, m: &mut String) {
     if let Some(u) = &d.unexplained {
         m.push_str(&format!("**Unexplained:** {u}\n\n"));
     }
+    if let Some(u) = &d.remaining_misfit {
+        m.push_str(&format!("**Misfit left:** {u}\n\n"));
+    }
     if !d.warnings.is_empty() {
         m.push_str("**Check:**\n\n");
         for w in &d.warnings {
@@ -275,6 +278,9 @@ fn candidates_section(o: &Outcome, m: &mut String) {
     m.push_str("\nThe tests of every candidate (held / failed, with the numbers):\n\n");
     for c in &d.candidates {
         m.push_str(&format!("- **{}** — evidence: {}\n", c.effect, c.evidence));
+        for note in &c.bounds {
+            m.push_str(&format!("  - {note}\n"));
+        }
         match &c.tests {
             Some(t) => {
                 for (name, test) in t.each() {

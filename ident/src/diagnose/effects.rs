@@ -21,7 +21,7 @@
 //!   the two lines give the weight's mass and rotary inertia through
 //!   `w1^2 + w2^2 = kz/m + kt/J` and `w1^2 w2^2 = (kz kt - c^2)/(m J)`.
 
-use super::evidence::{robust_backbone, robust_loss, Signatures};
+use super::evidence::{robust_backbone, robust_loss, LossSummary, Signatures};
 use coil_solver::integrate::PointLaw;
 use coil_solver::model::units;
 
@@ -85,6 +85,9 @@ pub struct BaselineFigures {
     pub amplitude_m: f64,
     /// Static deflection under gravity (m).
     pub preload_m: f64,
+    /// The damping ratio the linear reference gives the axial mode, `beta w / 2` (-):
+    /// all the record's loss, counted as viscous.
+    pub damping_ratio: f64,
     /// Boundary stiffness of the free-rotation model: axial (N/m), coupling (N/rad),
     /// torsional (N m/rad).
     pub kz: f64,
@@ -126,6 +129,30 @@ pub trait Effect: Sync {
     fn propose(&self, s: &Signatures, b: &BaselineFigures) -> Proposal;
     /// Whether the fitted `value` agrees with the effect's own signature.
     fn signature(&self, s: &Signatures, b: &BaselineFigures, value: f64) -> SignatureCheck;
+    /// The magnitude at which the effect matters on this record (the parameter's unit):
+    /// a dissipative effect's viscous equivalent ([`viscous_loss_m`]), a cubic spring's
+    /// `k / A^2`, a rotary inertia's tuned value `k_t / w^2`. A fitted value below
+    /// [`BOUND_SHARE`] of it did not move from its bound, zero.
+    fn scale(&self, s: &Signatures, b: &BaselineFigures) -> f64;
+}
+
+/// The share of an effect's [`Effect::scale`] below which a fitted value is at its
+/// bound (zero): it changes the simulated record by less than a millionth of what the
+/// effect at its scale would.
+pub const BOUND_SHARE: f64 = 1e-6;
+
+/// Whether `value` of effect `e` sits at its bound, and the note the report gives
+/// then (in words, with the reason).
+pub fn at_bound(e: &dyn Effect, value: f64, s: &Signatures, b: &BaselineFigures) -> Option<String> {
+    let scale = e.scale(s, b);
+    (scale.is_finite() && scale > 0.0 && value.abs() < BOUND_SHARE * scale).then(|| {
+        format!(
+            "{} did not move from its bound (0 {}): the fit walked it below {BOUND_SHARE:e} of              the magnitude at which it would matter on this record ({scale:.3e} {}), so the              records give it no support; its standard error is not defined",
+            e.parameter(),
+            e.unit(),
+            e.unit()
+        )
+    })
 }
 
 fn check(value: f64, limit: f64, text: String) -> SignatureCheck {
@@ -137,12 +164,45 @@ fn check(value: f64, limit: f64, text: String) -> SignatureCheck {
     }
 }
 
-fn starts(value: f64, fallback: f64) -> Vec<f64> {
+/// Starts of a dissipative effect: its signature's estimate `value` (and a third and
+/// three times it), or without one a short scan of its magnitude, a quarter, a half and
+/// one times `equivalent`, the value that would carry all the loss the linear model
+/// attributes to viscous damping ([`viscous_loss_m`]).
+fn starts(value: f64, equivalent: f64) -> Vec<f64> {
     if value.is_finite() && value > 0.0 {
         vec![value, 0.3 * value, 3.0 * value]
     } else {
-        vec![fallback, 0.1 * fallback, 10.0 * fallback]
+        SCAN.iter().map(|s| s * equivalent).collect()
     }
+}
+
+/// The shares of the viscous equivalent a dissipative effect without a signature
+/// starts from.
+pub const SCAN: [f64; 3] = [1.0, 0.5, 0.25];
+
+/// The loss per cycle the linear model attributes to viscous damping at the record's
+/// largest amplitude `A`, `2 pi zeta A` (m), from the reference's damping ratio; a
+/// tenth of the amplitude over the record's cycles when that ratio is not positive.
+pub fn viscous_loss_m(s: &Signatures, b: &BaselineFigures) -> f64 {
+    let linear = std::f64::consts::TAU * b.damping_ratio * b.amplitude_m;
+    if linear.is_finite() && linear > 0.0 {
+        linear
+    } else {
+        0.1 * b.amplitude_m / s.cycles.max(1.0)
+    }
+}
+
+/// The largest of a loss term's z-scores over the estimators that formed it: the
+/// windowed per-cycle fit (`loss`), the per-cycle refit without outliers and the
+/// half-cycle fit; NaN when none could.
+fn best_z(s: &Signatures, term: usize, limit: f64) -> f64 {
+    let of = |l: &LossSummary| match term {
+        0 => l.friction_z(limit),
+        _ => l.drag_z(limit),
+    };
+    let windowed = s.loss.as_ref().map_or(f64::NAN, of);
+    let half = s.half_cycle_loss.as_ref().map_or(f64::NAN, of);
+    windowed.max(half).max(robust_z(s, term))
 }
 
 /// `coulomb_friction`: a dry friction force of constant magnitude `friction_force_n` (N).
@@ -163,12 +223,12 @@ impl Effect for CoulombFriction {
     fn apply(&self, value: f64, e: &mut Extension) {
         e.law.friction += value;
     }
+    fn scale(&self, s: &Signatures, b: &BaselineFigures) -> f64 {
+        viscous_loss_m(s, b) * b.stiffness_n_m / 4.0
+    }
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A constant term in the loss per cycle, or the static record's hysteresis.
-        let loss = s
-            .loss
-            .map_or(f64::NAN, |l| l.friction_z(SIGNATURE_Z))
-            .max(robust_z(s, 0));
+        let loss = best_z(s, 0, SIGNATURE_Z);
         let hysteresis = s
             .statics
             .map_or(f64::NAN, |st| st.friction_n / st.friction_se);
@@ -214,13 +274,18 @@ impl Effect for CoulombFriction {
                 text.push_str("; no static hysteresis");
             }
         }
-        // A fallback that loses a tenth of the largest amplitude over the record's
-        // cycles: detectable, not dominant.
-        let fallback = 0.1 * b.amplitude_m * b.stiffness_n_m / 4.0 / s.cycles.max(1.0);
+        // Without a signature: the friction whose constant loss 4F/k equals the viscous
+        // loss at the largest amplitude, scanned.
+        let equivalent = self.scale(s, b);
         let (value, z) = from_loss.unwrap_or((f64::NAN, 0.0));
+        let mut starts = starts(value, equivalent);
+        push_half_start(
+            &mut starts,
+            s.half_cycle_loss.map(|l| l.a0_m * b.stiffness_n_m / 4.0),
+        );
         Proposal {
             evidence: text,
-            starts: starts(value, fallback),
+            starts,
             z_score: z.max(0.0),
         }
     }
@@ -244,12 +309,13 @@ impl Effect for QuadraticDamping {
     fn apply(&self, value: f64, e: &mut Extension) {
         e.law.quadratic += units::quadratic_damping_from_si(value);
     }
+    fn scale(&self, s: &Signatures, b: &BaselineFigures) -> f64 {
+        let amplitude = b.amplitude_m.max(1e-9);
+        3.0 * viscous_loss_m(s, b) * b.mass_kg / (8.0 * amplitude * amplitude)
+    }
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A loss per cycle growing as A^2.
-        let z = s
-            .loss
-            .map_or(f64::NAN, |l| l.drag_z(SIGNATURE_Z))
-            .max(robust_z(s, 2));
+        let z = best_z(s, 2, SIGNATURE_Z);
         check(
             if z.is_nan() { 0.0 } else { z },
             SIGNATURE_Z,
@@ -271,11 +337,19 @@ impl Effect for QuadraticDamping {
             Some((_, z)) => format!("no loss growing with A^2 (a2 <= 0, {z:.1} standard errors)"),
             None => "no per-cycle loss curve".to_string(),
         };
-        let fallback = 0.1 * b.mass_kg / b.amplitude_m.max(1e-9) / s.cycles.max(1.0);
+        // Without a signature: the drag whose loss (8/3) c2 A^2 / m equals the viscous
+        // loss at the largest amplitude A, scanned.
+        let equivalent = self.scale(s, b);
         let (value, z) = from_loss.unwrap_or((f64::NAN, 0.0));
+        let mut starts = starts(value, equivalent);
+        push_half_start(
+            &mut starts,
+            s.half_cycle_loss
+                .map(|l| 3.0 * l.a2_per_m * b.mass_kg / 8.0),
+        );
         Proposal {
             evidence: text,
-            starts: starts(value, fallback),
+            starts,
             z_score: z.max(0.0),
         }
     }
@@ -298,6 +372,9 @@ impl Effect for CubicStiffness {
     }
     fn apply(&self, value: f64, e: &mut Extension) {
         e.law.cubic += units::cubic_stiffness_from_si(value);
+    }
+    fn scale(&self, _s: &Signatures, b: &BaselineFigures) -> f64 {
+        b.stiffness_n_m / b.amplitude_m.max(1e-9).powi(2)
     }
     fn static_force(&self, value: f64, x_m: f64) -> Option<f64> {
         Some(value * x_m * x_m * x_m)
@@ -408,6 +485,10 @@ impl Effect for AxialTorsionalCoupling {
     fn apply(&self, value: f64, e: &mut Extension) {
         e.rotary_inertia_kg_m2 += value;
     }
+    fn scale(&self, _s: &Signatures, b: &BaselineFigures) -> f64 {
+        let w = std::f64::consts::TAU * b.frequency_hz;
+        b.kt / (w * w)
+    }
     fn signature(&self, s: &Signatures, _b: &BaselineFigures, _value: f64) -> SignatureCheck {
         // A second spectral line, or a beating envelope.
         let line = s.second_peak.map_or(0.0, |p| p.z_score);
@@ -487,6 +568,16 @@ impl Effect for AxialTorsionalCoupling {
             ),
             starts,
             z_score: p.z_score,
+        }
+    }
+}
+
+/// The half-cycle fit's estimate as one more start, when it is positive and not
+/// within 20 % of a start already there.
+fn push_half_start(starts: &mut Vec<f64>, half: Option<f64>) {
+    if let Some(v) = half.filter(|v| v.is_finite() && *v > 0.0) {
+        if starts.iter().all(|s| (s / v - 1.0).abs() > 0.2) {
+            starts.push(v);
         }
     }
 }

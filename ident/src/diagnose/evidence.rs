@@ -130,8 +130,12 @@ pub struct Signatures {
     pub noise_rms_m_s2: f64,
     /// Axial cycles the record spans: the axial frequency times the record's duration (-).
     pub cycles: f64,
-    /// The loss per cycle; `None` when it cannot be formed (too few cycles).
+    /// The loss per cycle: the windowed fit over cycles, or on a record too short for
+    /// it the half-cycle fit (`half_cycle_loss`); `None` when neither can be formed.
     pub loss: Option<LossSummary>,
+    /// The loss per cycle from every crest's amplitude (`halfcycle`: 16 points on 8
+    /// cycles, standard errors from their scatter); `None` below 8 crests.
+    pub half_cycle_loss: Option<LossSummary>,
     /// The backbone; `None` when it cannot be identified.
     pub backbone: Option<BackboneSummary>,
     /// The envelope's shape.

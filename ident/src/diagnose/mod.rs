@@ -32,6 +32,7 @@ pub mod document;
 pub mod effects;
 pub mod evidence;
 pub mod fit;
+pub mod halfcycle;
 pub mod law_evidence;
 pub mod lm;
 pub mod model;
@@ -44,6 +45,7 @@ pub mod select;
 pub mod signatures;
 
 pub use outcome::{summary, Outcome};
+pub use report::UNEXPLAINED_NOISE;
 pub use run::{parameters, CandidateRun, Joint, ModelRun};
 pub use search::MAX_COMBINED;
 
@@ -56,6 +58,7 @@ use data::DecayData;
 use effects::{BaselineFigures, Mount};
 use fit::{Knob, Problem, StaticBlock};
 use model::{Physical, ReducedSpring};
+use std::f64::consts::LN_2;
 use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
@@ -224,11 +227,33 @@ fn compute(
     let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
 
     let paper = |range: Range<usize>| paper_calibration(&decay, range, &state, &case, settings);
-    let (base_phys, period_s, zeta) = paper(0..n)?;
+    // A decay that sticks (dry friction) rests after its last crest: the paper's
+    // decrement reads the crests while the weight moves, not the sensor's noise after.
+    let moving = moving_samples(&decay);
+    if moving < n {
+        warnings.push(format!(
+            "the oscillation stops at {:.3} s ({} of {n} samples): the weight rests after its \
+             last crest, and the paper's decrement reads the crests before it",
+            decay.signal.time_s()[moving - 1],
+            moving
+        ));
+    }
+    let (base_phys, period_s, zeta) = paper(0..moving)?;
     // A short record's first half may be too short for the decrement's filter (a 25-cycle
     // video record at 30 Hz): the baseline's forecast then starts from the whole
     // record's calibration, and the run says so.
-    let half_phys = match paper(0..half) {
+    let half_phys = match paper(0..half.min(moving)) {
+        // A first half of a few cycles can give the decrement a negative damping or
+        // a period far from the whole record's: no calibration to forecast from.
+        Ok((p, _, z)) if z <= 0.0 || (p.mass_kg / base_phys.mass_kg).ln().abs() > LN_2 => {
+            warnings.push(format!(
+                "the paper's calibration on the first half gives zeta = {z:.3e} and a mass of \
+                 {:.4} kg against {:.4} kg on the whole record; the baseline's forecast uses \
+                 the whole record's calibration",
+                p.mass_kg, base_phys.mass_kg
+            ));
+            base_phys
+        }
         Ok((p, _, _)) => p,
         Err(e) => {
             warnings.push(format!(
@@ -256,6 +281,7 @@ fn compute(
         // The largest displacement amplitude: peak acceleration over w^2.
         amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs())) / (w_ref * w_ref),
         preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / stiffness_n_m,
+        damping_ratio: 0.5 * reference.full.physical.beta_s * w_ref,
         kz,
         c,
         kt,
@@ -346,10 +372,6 @@ fn compute(
     })
 }
 
-/// The reference's residual RMS beyond which, with no cause named, the misfit is
-/// reported as unexplained: three times the noise floor.
-pub const UNEXPLAINED_NOISE: f64 = 3.0;
-
 /// The linear model on every record: the baseline (the paper's calibration on the whole
 /// record and on its first half, only the initial states fitted) and the reference (the
 /// same model with mass and beta, and the stiffness for records at several weights,
@@ -431,6 +453,25 @@ fn plausibility(
 /// The paper's calibration on `range` of the first record: T and zeta by the
 /// logarithmic decrement, the weight's mass by loop 2 on the FE model of `state`;
 /// returns the linear model (beta = 2 zeta / w), the damped period and zeta.
+/// The samples up to a quarter period after the record's last crest
+/// ([`halfcycle::crests`]) when the motion stopped there (the weight sticks) and rests
+/// for more than two periods after it; else the whole record.
+fn moving_samples(decay: &DecayData) -> usize {
+    let s = &decay.signal;
+    let n = s.values().len();
+    let crests = halfcycle::crests(s.values(), s.step_s(), decay.frequency_hz, decay.noise.rms);
+    let period = 1.0 / (decay.frequency_hz * s.step_s());
+    let Some(&last) = crests.time_s.last() else {
+        return n;
+    };
+    let end = ((last - s.time_s()[0]) / s.step_s() + 0.25 * period).ceil() as usize;
+    if crests.stopped && (n as f64 - end as f64) > 2.0 * period {
+        end.min(n)
+    } else {
+        n
+    }
+}
+
 fn paper_calibration(
     decay: &DecayData,
     range: Range<usize>,
@@ -461,8 +502,22 @@ fn paper_calibration(
                     ..DecaySettings::default()
                 },
             );
-            if attempt.is_ok() {
-                break 'search;
+            // A decrement whose period disagrees with the record's zero-crossing rate
+            // by more than 30 %, or whose damping is not positive, read noise as crests
+            // (a decay that sticks and rests); the next settings are tried.
+            match &attempt {
+                Ok(m) if m.zeta_mean > 0.0 && (m.period_s * f_guess - 1.0).abs() < 0.3 => {
+                    break 'search;
+                }
+                Ok(m) => {
+                    attempt = Err(TuneError::Invalid(format!(
+                        "period {:.4} s against the zero crossings' {:.4} s, zeta {:.3e}",
+                        m.period_s,
+                        1.0 / f_guess,
+                        m.zeta_mean
+                    )))
+                }
+                Err(_) => {}
             }
         }
     }

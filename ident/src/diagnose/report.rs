@@ -12,6 +12,10 @@ use crate::fe::SpringState;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// The reference's residual RMS beyond which, with no cause named, the misfit is
+/// reported as unexplained: three times the noise floor.
+pub const UNEXPLAINED_NOISE: f64 = 3.0;
+
 /// The paper's model calibrated to the records.
 #[derive(Debug, Clone, Serialize)]
 pub struct Baseline {
@@ -123,6 +127,9 @@ pub struct Candidate {
     pub initial_state: Vec<f64>,
     /// Why its fit failed, when it did.
     pub fit_error: Option<String>,
+    /// Its effects that did not move from their bound (zero), with the reason; their
+    /// parameters are reported as 0 and carry no standard error.
+    pub bounds: Vec<String>,
 }
 
 /// Extended over baseline figures.
@@ -149,6 +156,10 @@ pub struct Diagnosis {
     /// When the linear model misses beyond the noise and no candidate passes: what
     /// the records show, in words with numbers.
     pub unexplained: Option<String>,
+    /// When a cause is named but its extended model still misses the records by more
+    /// than `UNEXPLAINED_NOISE` times the noise floor: how much is left, in words with
+    /// numbers (the cause explains part of the misfit, not all of it).
+    pub remaining_misfit: Option<String>,
     /// The quantity the decay record measures; the fit and `residual_rms` compare it.
     pub quantity: Quantity,
     /// The paper's model calibrated to the records.
@@ -222,6 +233,8 @@ fn with_errors(
     rel_se: &[f64],
 ) -> (BTreeMap<String, f64>, BTreeMap<String, f64>) {
     let values = super::run::parameters(set, physical);
+    // A parameter at its bound or not identifiable has no standard error (JSON has no
+    // NaN or infinity): it is left out, and the candidate's `bounds` say why.
     let errors = set
         .iter()
         .zip(rel_se)
@@ -231,6 +244,7 @@ fn with_errors(
                 r * physical.effects[i].abs(),
             )
         })
+        .filter(|(_, se)| se.is_finite() && *se > 0.0)
         .collect();
     (values, errors)
 }
@@ -295,6 +309,7 @@ pub fn assemble(
                 rayleigh_beta: ok.map(|r| r.full.physical.beta_s),
                 initial_state: ok.map(|r| r.full.initial_state.clone()).unwrap_or_default(),
                 fit_error: c.run.as_ref().err().cloned(),
+                bounds: c.bounds.clone(),
             }
         })
         .collect();
@@ -351,10 +366,25 @@ pub fn assemble(
             .sqrt(),
         },
     );
+    let remaining_misfit = extended
+        .as_ref()
+        .filter(|e| e.residual_rms > UNEXPLAINED_NOISE * floor)
+        .map(|e| {
+            format!(
+                "the extended model ({}) still misses the records by a residual RMS of {:.4},                  {:.1} times the noise floor of {:.4}; it leaves {:.0} % of the linear model's                  error (model error ratio {:.3}): the named cause explains part of the misfit,                  and something the catalogue does not hold may remain",
+                e.effect,
+                e.residual_rms,
+                e.residual_rms / floor.max(1e-300),
+                floor,
+                100.0 * gain.model_error_ratio,
+                gain.model_error_ratio
+            )
+        });
     Diagnosis {
         cause: causes.first().map_or("none".into(), |c| c.effect.clone()),
         causes,
         unexplained,
+        remaining_misfit,
         quantity,
         baseline,
         extended,

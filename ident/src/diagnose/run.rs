@@ -40,6 +40,9 @@ pub struct CandidateRun {
     pub signatures: Vec<effects::SignatureCheck>,
     /// Its figures over the records, or why its fit failed.
     pub run: std::result::Result<ModelRun, String>,
+    /// Its effects that did not move from their bound (zero), each with the reason
+    /// (`effects::at_bound`); their values are reported as 0.
+    pub bounds: Vec<String>,
 }
 
 impl CandidateRun {

@@ -11,6 +11,9 @@ use super::run::{model_run, CandidateRun, Joint, ModelRun};
 use super::select;
 use rayon::prelude::*;
 
+/// The share of its proposed start an added effect is seeded with at a part's optimum.
+const NEAR_ZERO: f64 = 0.05;
+
 /// Most effects in one combination.
 pub const MAX_COMBINED: usize = 3;
 
@@ -247,6 +250,37 @@ impl Job<'_> {
         init: Vec<f64>,
     ) -> CandidateRun {
         let run = self.fit(&set, seeds, init);
+        self.finish(set, evidence, run)
+    }
+
+    /// A fitted set as a candidate: every effect that did not move from its bound
+    /// (`effects::at_bound`) is set to its bound, zero, with the note that says so and
+    /// an infinite standard error (it is not identified), and each effect's signature
+    /// is checked at the fitted values.
+    fn finish(
+        &self,
+        set: Vec<usize>,
+        evidence: String,
+        mut run: Result<ModelRun, String>,
+    ) -> CandidateRun {
+        let mut bounds = Vec::new();
+        if let Ok(r) = &mut run {
+            for &i in &set {
+                let value = r.full.physical.effects[i];
+                let Some(note) =
+                    effects::at_bound(CATALOGUE[i], value, self.signatures, self.figures)
+                else {
+                    continue;
+                };
+                bounds.push(note);
+                for fitted in [&mut r.full, &mut r.half] {
+                    fitted.physical.effects[i] = 0.0;
+                    if let Some(k) = fitted.knobs.iter().position(|k| *k == Knob::Effect(i)) {
+                        fitted.knob_rel_errors[k] = f64::INFINITY;
+                    }
+                }
+            }
+        }
         let signatures = run.as_ref().map_or(Vec::new(), |r| {
             set.iter()
                 .map(|&i| {
@@ -263,6 +297,7 @@ impl Job<'_> {
             evidence,
             signatures,
             run,
+            bounds,
         }
     }
 
@@ -337,12 +372,63 @@ impl Job<'_> {
             }
         }
         let proposed = self.with_consistent_mass(proposed);
-        let seeds = if set.iter().any(|&i| CATALOGUE[i].dissipative()) {
+        let mut seeds = if set.iter().any(|&i| CATALOGUE[i].dissipative()) {
             self.with_viscous_seed(vec![seed, proposed])
         } else {
             vec![seed, proposed]
         };
-        self.candidate(set.to_vec(), evidence.join("; "), &seeds, init)
+        // Each part's own optimum (its mass, beta and value) with the added effects
+        // near zero ([`NEAR_ZERO`] of their proposed start): the combination nests
+        // every part, so from there it can only gain.
+        let parts = self.parts_on_mount(set, singles);
+        for part in &parts {
+            let mut p = part.full.physical;
+            for &j in set {
+                if p.effects[j] == 0.0 {
+                    p.effects[j] = NEAR_ZERO * proposed.effects[j];
+                }
+            }
+            seeds.push(self.with_consistent_mass(p));
+        }
+        let evidence = evidence.join("; ");
+        let fitted = self.candidate(set.to_vec(), evidence.clone(), &seeds, init);
+        // Nesting: the combination at its best part's optimum, the added effects at
+        // zero, is one of its own models; a fit that ended above that part's residual
+        // did not converge, and the combination is reported at the part's optimum.
+        let best_part = parts
+            .into_iter()
+            .min_by(|a, b| a.full.rss.total_cmp(&b.full.rss));
+        match (best_part, &fitted.run) {
+            (Some(part), Ok(r)) if r.full.rss <= part.full.rss => fitted,
+            (Some(part), _) => {
+                let mut run = part.clone();
+                for f in [&mut run.full, &mut run.half] {
+                    for &j in set {
+                        if !f.knobs.contains(&Knob::Effect(j)) {
+                            f.knobs.push(Knob::Effect(j));
+                            f.knob_rel_errors.push(f64::INFINITY);
+                            f.n_params += 1;
+                        }
+                    }
+                }
+                self.finish(set.to_vec(), evidence, Ok(run))
+            }
+            (None, _) => fitted,
+        }
+    }
+
+    /// The fitted runs of the set's parts (every candidate fitted so far whose effects
+    /// are a proper subset of the set) that use the set's mount: a part on another
+    /// mount (the guided weight beside the coupling's free one) carries another initial
+    /// state and is no point of the set's model.
+    fn parts_on_mount<'c>(&self, set: &[usize], fitted: &'c [CandidateRun]) -> Vec<&'c ModelRun> {
+        let mount = self.model(set).mount();
+        fitted
+            .iter()
+            .filter(|c| c.effects.len() < set.len() && c.effects.iter().all(|e| set.contains(e)))
+            .filter(|c| self.model(&c.effects).mount() == mount)
+            .filter_map(|c| c.run.as_ref().ok())
+            .collect()
     }
 
     fn fit(
@@ -597,6 +683,16 @@ pub fn candidates(
         for &j in &gaining[a + 1..] {
             sets.push(sorted(vec![i, j]));
         }
+    }
+    // The dissipative effects together are always tried: dry friction's constant loss
+    // and drag's loss growing as A^2 add up to nearly a viscous one over a record, so
+    // each alone may gain nothing (the reference's beta takes the loss) and walk to
+    // zero while the pair explains the record.
+    let dissipative: Vec<usize> = (0..effects::COUNT)
+        .filter(|&i| CATALOGUE[i].dissipative())
+        .collect();
+    if dissipative.len() >= 2 && !sets.contains(&dissipative) {
+        sets.push(dissipative);
     }
     if !sets.is_empty() {
         progress("candidates: pairs of effects");

@@ -280,7 +280,14 @@ pub fn score(ctx: &Context<'_>, candidate: &CandidateRun) -> Option<Score> {
                 .effects
                 .iter()
                 .zip(&rel_se)
-                .map(|(&i, se)| format!("{} {se:.3}", super::effects::CATALOGUE[i].parameter()))
+                .map(|(&i, se)| {
+                    let parameter = super::effects::CATALOGUE[i].parameter();
+                    if se.is_finite() {
+                        format!("{parameter} {se:.3}")
+                    } else {
+                        format!("{parameter} not defined (at its bound or not identifiable)")
+                    }
+                })
                 .collect::<Vec<_>>()
                 .join(", "),
             REL_SE_LIMIT

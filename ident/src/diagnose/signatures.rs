@@ -80,7 +80,9 @@ pub fn compute(
     });
     let series = signature::cycles_in(s, &spectrum, &CycleOptions::default()).ok();
     let cycles = series.as_ref().map_or(&[][..], |c| c.cycles.as_slice());
-    let loss = signature::loss_per_cycle(cycles).ok().map(|l| LossSummary {
+    let crests = super::halfcycle::crests(s.values(), s.step_s(), axial_hz, decay.noise.rms);
+    let half_cycle_loss = super::halfcycle::loss(&crests);
+    let windowed = signature::loss_per_cycle(cycles).ok().map(|l| LossSummary {
         a0_m: l.a0_m.value,
         a0_se: l.a0_m.std_error,
         a1: l.a1.value,
@@ -94,6 +96,8 @@ pub fn compute(
             .a2_without_friction_per_m
             .map_or(f64::NAN, |e| e.value / e.std_error),
     });
+    // A record too short for the windowed fit (about 15 cycles) has its crests.
+    let loss = windowed.or(half_cycle_loss);
     let backbone = signature::backbone(cycles).ok().map(|b| {
         // The backbone bends about the preloaded state: its tangent stiffness is the
         // dynamic one, m w^2, not the static secant.
@@ -123,12 +127,13 @@ pub fn compute(
             r2_linear: e.r2_linear,
             beat_period_s: e.beat_period_s,
         },
-        Err(_) => EnvelopeSummary {
+        // Too few cycles for the post-processor's test: the crests' own.
+        Err(_) => super::halfcycle::envelope(&crests).unwrap_or(EnvelopeSummary {
             kind: "unknown".into(),
             r2_exponential: f64::NAN,
             r2_linear: f64::NAN,
             beat_period_s: None,
-        },
+        }),
     };
     let duration = s.time_s()[s.time_s().len() - 1] - s.time_s()[0];
     Ok((
@@ -137,6 +142,7 @@ pub fn compute(
             noise_rms_m_s2: series.as_ref().map_or(f64::NAN, |c| c.noise_rms),
             cycles: axial_hz * duration,
             loss,
+            half_cycle_loss,
             backbone,
             envelope,
             second_peak,

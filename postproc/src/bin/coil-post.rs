@@ -2,7 +2,7 @@
 //! envelopes and plots. Parses arguments, calls `coil_postproc`, maps errors to exit codes
 //! (0 success, 1 an error in the data or options, 2 a usage error reported by clap).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -12,8 +12,9 @@ use coil_postproc::envelope::EnvelopeOptions;
 use coil_postproc::filter::DEFAULT_ORDER;
 use coil_postproc::offset::Detrend;
 use coil_postproc::peaks::{PeakFit, Polarity};
+use coil_postproc::record::{self, Quantity, RecordSpec};
 use coil_postproc::report::{self, PlotKind, PlotOptions};
-use coil_postproc::signal::{self, Signal};
+use coil_postproc::signal::Signal;
 use coil_postproc::signature::{self, CycleOptions};
 use coil_postproc::spectrum::{SpectrumOptions, Window};
 use coil_postproc::{PostError, Result};
@@ -23,7 +24,7 @@ use coil_postproc::{PostError, Result};
     name = "coil-post",
     version,
     about = "Period, logarithmic decrement, damping ratio, spectra, envelopes and plots of \
-             free-decay records (CSV with a time_s column)",
+             free-decay records (CSV, UFF 58 or MAT-file)",
     after_help = "Files (docs/files.md): records up to 64 MiB; a report with a non-finite number is \
 an error; --out files are written as regular files (an existing symlink, device or FIFO is refused)."
 )]
@@ -73,11 +74,62 @@ struct StaticArgs {
 
 #[derive(Args)]
 struct Input {
-    /// CSV file with a `time_s` column.
+    /// The record: CSV (coil's, with a `time_s` column, or a logger's dialect), UFF
+    /// dataset 58/58b or a MATLAB level 5 MAT-file, recognised by its content.
     file: PathBuf,
-    /// Signal column (may be omitted when the file has only one besides `time_s`).
-    #[arg(long, short)]
+    /// Signal column of a CSV file; a UFF dataset's index (from 1) or `node:direction`;
+    /// a MAT-file variable (the record entry's `channel`). May be omitted when the file
+    /// holds only one.
+    #[arg(long, short, visible_alias = "channel")]
     column: Option<String>,
+    #[command(flatten)]
+    entry: Entry,
+}
+
+/// The other keys of a record entry (docs/measured-case.md): with any of them, or for a
+/// file that is not coil's CSV, the channel is read in SI as `diagnose` reads it.
+#[derive(Args)]
+struct Entry {
+    /// The MAT-file variable holding the time stamps, s (`time_s`, `time` or `t` are
+    /// found without it).
+    #[arg(long, value_name = "VARIABLE")]
+    time: Option<String>,
+    /// What the channel measures.
+    #[arg(long, value_enum)]
+    quantity: Option<QuantityArg>,
+    /// The channel's unit (`m/s^2`, `g`, `mm/s`, `mm`, ...) when the file states none.
+    #[arg(long)]
+    unit: Option<String>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum QuantityArg {
+    Acceleration,
+    Velocity,
+    Displacement,
+}
+
+impl From<QuantityArg> for Quantity {
+    fn from(value: QuantityArg) -> Self {
+        match value {
+            QuantityArg::Acceleration => Quantity::Acceleration,
+            QuantityArg::Velocity => Quantity::Velocity,
+            QuantityArg::Displacement => Quantity::Displacement,
+        }
+    }
+}
+
+impl Entry {
+    /// The record entry of `file` and its `channel` with these keys.
+    fn spec(&self, file: &Path, channel: Option<&str>) -> RecordSpec {
+        RecordSpec {
+            file: file.to_path_buf(),
+            channel: channel.map(str::to_string),
+            time: self.time.clone(),
+            quantity: self.quantity.map(Quantity::from),
+            unit: self.unit.clone(),
+        }
+    }
 }
 
 #[derive(Args)]
@@ -297,7 +349,7 @@ fn main() -> ExitCode {
 }
 
 fn read(input: &Input) -> Result<Signal> {
-    signal::read_signal_or_only(&input.file, input.column.as_deref())
+    record::read_signal(&input.entry.spec(&input.file, input.column.as_deref()))
 }
 
 /// Writes the JSON where `--out` says and prints what is to be printed.
@@ -367,10 +419,11 @@ fn run_envelope(args: &EnvelopeArgs) -> Result<()> {
 fn run_plot(args: &PlotArgs) -> Result<()> {
     let mut signals = vec![read(&args.input)?];
     if let Some(other) = &args.compare {
-        signals.push(signal::read_signal_or_only(
-            other,
-            args.compare_column.as_deref(),
-        )?);
+        let spec = RecordSpec {
+            channel: args.compare_column.clone(),
+            ..RecordSpec::file(other)
+        };
+        signals.push(record::read_signal(&spec)?);
     } else if args.compare_column.is_some() {
         return Err(PostError::InvalidOption(
             "--compare-column needs --compare FILE".to_string(),

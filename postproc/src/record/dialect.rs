@@ -19,7 +19,8 @@
 //! coil's quantity columns; else the only column whose unit is a displacement, velocity
 //! or acceleration; else the only column besides time.
 
-use super::{fail, units, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units;
 use crate::error::Result;
 use crate::signal::TIME_COLUMN;
 
@@ -139,10 +140,9 @@ fn rewrite(path: &std::path::Path, text: &str, dialect: &Dialect) -> Result<Stri
     Ok(out)
 }
 
-/// Reads the channel `spec` names from a CSV file's bytes (any dialect).
-pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
-    super::no_time_variable(spec)?;
-    let path = spec.file.as_path();
+/// A CSV file's bytes as coil's own CSV (comma, decimal point, `#` comments) and the dialect
+/// they were written in.
+fn normalise(path: &std::path::Path, bytes: Vec<u8>) -> Result<(String, Dialect)> {
     let raw = match String::from_utf8(bytes) {
         Ok(text) => text,
         // Latin-1 exports (a `°` or `µ` in a header) are read as such.
@@ -156,6 +156,14 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
     } else {
         rewrite(path, text, &dialect)?
     };
+    Ok((normalised, dialect))
+}
+
+/// Reads the channel `spec` names from a CSV file's bytes (any dialect).
+pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
+    super::spec::no_time_variable(spec)?;
+    let path = spec.file.as_path();
+    let (normalised, dialect) = normalise(path, bytes)?;
     let (header, header_line) =
         crate::signal::read_header_in(path, normalised.clone().into_bytes())?;
     let fail_at =
@@ -223,7 +231,7 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
             ));
         }
     }
-    let unit = super::resolve_unit(spec, &at, file_unit)?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit)?;
     let names = [header[time_index].as_str(), header[column].as_str()];
     let fields = crate::signal::read_fields_in(path, normalised.into_bytes(), &names)?;
     let mut columns = fields.values.into_iter();
@@ -281,6 +289,19 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
     })
 }
 
+/// Reads the columns `names` of a CSV file of any dialect as written (no unit conversion),
+/// empty cells as `None`: the input and output histories of a forced record, whose units
+/// (volts, newtons) the case states. Returns the cells and the dialect in words.
+pub fn read_columns(
+    path: &std::path::Path,
+    names: &[&str],
+) -> Result<(crate::signal::OptionalFields, String)> {
+    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_RECORD_BYTES, "a record")?;
+    let (normalised, dialect) = normalise(path, bytes)?;
+    let fields = crate::signal::read_optional_fields_in(path, normalised.into_bytes(), names)?;
+    Ok((fields, dialect.describe()))
+}
+
 /// The measured column when the case names none (module docs, "Which column").
 fn choose_column(
     header: &[String],
@@ -291,7 +312,11 @@ fn choose_column(
     let coil: Vec<usize> = others
         .iter()
         .copied()
-        .filter(|&i| super::Quantity::ALL.iter().any(|q| q.column() == header[i]))
+        .filter(|&i| {
+            super::units::Quantity::ALL
+                .iter()
+                .any(|q| q.column() == header[i])
+        })
         .collect();
     match coil.as_slice() {
         [one] => return Ok(*one),

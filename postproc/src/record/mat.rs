@@ -18,7 +18,8 @@
 
 use std::path::Path;
 
-use super::{fail, units, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units;
 use crate::error::Result;
 
 /// One array of the file.
@@ -320,13 +321,13 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "a time stamp for every sample",
         ));
     }
-    super::check_increasing(
+    super::spec::check_increasing(
         path,
         &format!("variable `{}`", coil_io::excerpt(&time_name)),
         &time.real,
     )?;
     let file_unit = units::split_name(&channel).1.and_then(|u| units::parse(&u));
-    let unit = super::resolve_unit(spec, &at, file_unit)?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit)?;
     let values = signal.real.iter().map(|v| v * unit.to_si).collect();
     let record = Record {
         file: path.clone(),
@@ -343,5 +344,5 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
         values,
         time_resolution_s: 0.0,
     };
-    super::finish(record, &at)
+    super::spec::finish(record, &at)
 }

@@ -25,7 +25,8 @@
 
 use std::path::Path;
 
-use super::{fail, units, Quantity, Record, RecordSpec};
+use super::spec::{fail, Record, RecordSpec};
+use super::units::{self, Quantity};
 use crate::error::Result;
 
 /// One axis description (records 8 to 11).
@@ -530,7 +531,7 @@ fn file_unit(d: &Dataset58, length_factor: Option<f64>) -> Option<units::Unit> {
 
 /// Reads the channel `spec` names from a UFF file's bytes.
 pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
-    super::no_time_variable(spec)?;
+    super::spec::no_time_variable(spec)?;
     let path = &spec.file;
     let file = read_file(path, bytes)?;
     if file.datasets.is_empty() {
@@ -568,14 +569,14 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "time as the abscissa (data type 17, unit `s`)",
         ));
     };
-    let unit = super::resolve_unit(spec, &at, file_unit(d, file.length_factor))?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit(d, file.length_factor))?;
     let time_s: Vec<f64> = if time_factor == 1.0 {
         d.x.clone()
     } else {
         d.x.iter().map(|t| t * time_factor).collect()
     };
     if !d.even {
-        super::check_uniform(path, &at, &time_s)?;
+        super::spec::check_uniform(path, &at, &time_s)?;
     }
     let values = if unit.to_si == 1.0 {
         d.y.clone()
@@ -606,7 +607,7 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
         values,
         time_resolution_s: 0.0,
     };
-    super::finish(record, &at)
+    super::spec::finish(record, &at)
 }
 
 #[cfg(test)]

@@ -7,7 +7,77 @@
 //! accelerometer calibrations use). coil's own column suffixes (`_m_s2`, `_m_s`, `_mm`)
 //! are labels too, so `accel_m_s2` and `Accel [m/s^2]` mean the same.
 
-use super::Quantity;
+use serde::Serialize;
+
+/// What a decay record measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Acceleration (`accel_m_s2` in coil's CSV).
+    Acceleration,
+    /// Velocity (`velocity_m_s`).
+    Velocity,
+    /// Displacement (`displacement_mm`).
+    Displacement,
+}
+
+impl Quantity {
+    /// Every quantity, in the order of the measured-case table.
+    pub const ALL: [Quantity; 3] = [
+        Quantity::Acceleration,
+        Quantity::Velocity,
+        Quantity::Displacement,
+    ];
+
+    /// coil's CSV column of the quantity.
+    pub fn column(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "accel_m_s2",
+            Quantity::Velocity => "velocity_m_s",
+            Quantity::Displacement => "displacement_mm",
+        }
+    }
+
+    /// Factor from coil's column unit to SI (mm -> m).
+    pub fn to_si(self) -> f64 {
+        match self {
+            Quantity::Displacement => 1e-3,
+            _ => 1.0,
+        }
+    }
+
+    /// The SI unit.
+    pub fn si_unit(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "m/s^2",
+            Quantity::Velocity => "m/s",
+            Quantity::Displacement => "m",
+        }
+    }
+
+    /// How many times the record must be differentiated to give the acceleration.
+    pub fn derivatives_to_acceleration(self) -> usize {
+        match self {
+            Quantity::Acceleration => 0,
+            Quantity::Velocity => 1,
+            Quantity::Displacement => 2,
+        }
+    }
+
+    /// The name a case uses (`acceleration`, `velocity`, `displacement`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "acceleration",
+            Quantity::Velocity => "velocity",
+            Quantity::Displacement => "displacement",
+        }
+    }
+
+    /// The quantity a case names, `None` for any other word.
+    pub fn from_name(name: &str) -> Option<Quantity> {
+        Quantity::ALL.into_iter().find(|q| q.name() == name)
+    }
+}
 
 /// Standard gravity, m/s^2.
 pub const STANDARD_GRAVITY: f64 = 9.80665;

@@ -203,20 +203,7 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
         }
         None => 1.0,
     };
-    // In-band noise: white noise of deviation s through |H|^2 has variance
-    // s^2 2 dt int_0^{f_s/2} |H|^4 df.
-    let band_noise = match band_hz {
-        Some((_, high)) => {
-            let top = (4.0 * high).min(0.5 / step_s);
-            let points = 4000;
-            let df = top / points as f64;
-            let integral: f64 = (0..points)
-                .map(|j| gain((j as f64 + 0.5) * df).powi(2) * df)
-                .sum();
-            noise * (2.0 * step_s * integral).sqrt()
-        }
-        None => noise,
-    };
+    let band_noise = in_band_noise(noise, band_hz.map(|(_, high)| high), step_s, gain);
 
     let largest = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let hysteresis = (3.0 * band_noise).max(1e-3 * largest);
@@ -250,26 +237,7 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
         raw.push((start, end, accel, std_error));
     }
     let t0 = time_s[0];
-    let frequencies: Vec<f64> = raw.iter().map(|r| 1.0 / ((r.1 - r.0) * step_s)).collect();
-    let cycles: Vec<Cycle> = raw
-        .iter()
-        .enumerate()
-        .map(|(k, &(start, end, accel, std_error))| {
-            let near = &frequencies[k.saturating_sub(2)..(k + 3).min(frequencies.len())];
-            let smooth = near.iter().sum::<f64>() / near.len() as f64;
-            let omega_squared = (TAU * smooth).powi(2);
-            Cycle {
-                start_s: t0 + start * step_s,
-                end_s: t0 + end * step_s,
-                time_s: t0 + 0.5 * (start + end) * step_s,
-                frequency_hz: frequencies[k],
-                accel_amplitude: accel,
-                accel_std_error: std_error,
-                amplitude_m: accel / omega_squared,
-                amplitude_std_error_m: std_error / omega_squared,
-            }
-        })
-        .collect();
+    let cycles = cycles_from(&raw, t0, step_s);
     if cycles.len() < 3 {
         return Err(PostError::TooFewPeaks {
             kind: "cycles",
@@ -293,6 +261,49 @@ fn cycles_of(signal: &Signal, spectrum: &Spectrum, options: &CycleOptions) -> Re
         rejected: candidates - cycles.len(),
         cycles,
     })
+}
+
+/// Each raw cycle `(start, end, accel, std error)` (sample positions, m/s^2) as a
+/// [`Cycle`]: its frequency from its own length, its displacement amplitude through the
+/// mean frequency of it and its two neighbours on each side (a smoother `omega^2`).
+fn cycles_from(raw: &[(f64, f64, f64, f64)], t0: f64, step_s: f64) -> Vec<Cycle> {
+    let frequencies: Vec<f64> = raw.iter().map(|r| 1.0 / ((r.1 - r.0) * step_s)).collect();
+    raw.iter()
+        .enumerate()
+        .map(|(k, &(start, end, accel, std_error))| {
+            let near = &frequencies[k.saturating_sub(2)..(k + 3).min(frequencies.len())];
+            let smooth = near.iter().sum::<f64>() / near.len() as f64;
+            let omega_squared = (TAU * smooth).powi(2);
+            Cycle {
+                start_s: t0 + start * step_s,
+                end_s: t0 + end * step_s,
+                time_s: t0 + 0.5 * (start + end) * step_s,
+                frequency_hz: frequencies[k],
+                accel_amplitude: accel,
+                accel_std_error: std_error,
+                amplitude_m: accel / omega_squared,
+                amplitude_std_error_m: std_error / omega_squared,
+            }
+        })
+        .collect()
+}
+
+/// In-band noise: white noise of deviation `noise` through the filters' `|H|^2` (`gain`)
+/// has variance `noise^2 2 dt int_0^{f_s/2} |H|^4 df`, integrated up to 4 times the band's
+/// top edge `high` (no band: the noise itself).
+fn in_band_noise(noise: f64, high: Option<f64>, step_s: f64, gain: impl Fn(f64) -> f64) -> f64 {
+    match high {
+        Some(high) => {
+            let top = (4.0 * high).min(0.5 / step_s);
+            let points = 4000;
+            let df = top / points as f64;
+            let integral: f64 = (0..points)
+                .map(|j| gain((j as f64 + 0.5) * df).powi(2) * df)
+                .sum();
+            noise * (2.0 * step_s * integral).sqrt()
+        }
+        None => noise,
+    }
 }
 
 /// The oscillation's mean frequency in the time domain, Hz: the rate of the upward zero

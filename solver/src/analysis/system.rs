@@ -127,50 +127,13 @@ impl<'m> System<'m> {
         for (p, block) in point_mass_blocks.iter().enumerate() {
             assembler.add_block(&mut m_values, n_elements + p, block.as_slice(), 1.0);
         }
-        for (entry, d) in model.damping.iter().enumerate() {
-            if !(d.alpha.is_finite() && d.beta.is_finite()) {
-                return Err(SolveError::NonFinite {
-                    what: format!(
-                        "DAMPING entry {} (alpha {}, beta {})",
-                        entry + 1,
-                        d.alpha,
-                        d.beta
-                    ),
-                });
-            }
-            for &id in &d.elements {
-                let b = model
-                    .element_index(id)
-                    .ok_or_else(|| SolveError::UnknownElement {
-                        element: id,
-                        context: format!("DAMPING entry {}", entry + 1),
-                    })?;
-                assembler.add_block(&mut c_values, b, element_mass[b].as_slice(), d.alpha);
-                assembler.add_block(&mut c_values, b, element_stiffness[b].as_slice(), d.beta);
-            }
-            for &node in &d.mass_nodes {
-                let mut found = false;
-                for (p, pm) in model.point_masses.iter().enumerate() {
-                    if pm.node == node {
-                        found = true;
-                        assembler.add_block(
-                            &mut c_values,
-                            n_elements + p,
-                            point_mass_blocks[p].as_slice(),
-                            d.alpha,
-                        );
-                    }
-                }
-                if !found {
-                    return Err(SolveError::BadInput {
-                        what: format!(
-                            "DAMPING entry {} names node {node} for mass damping, but no POINT MASS is at that node",
-                            entry + 1
-                        ),
-                    });
-                }
-            }
-        }
+        add_rayleigh(
+            model,
+            &assembler,
+            &mut c_values,
+            (&element_mass, &element_stiffness),
+            &point_mass_blocks,
+        )?;
         for (k, block) in dashpot_blocks.iter().enumerate() {
             assembler.add_block(&mut c_values, dashpot_first + k, block.as_slice(), 1.0);
         }
@@ -445,6 +408,64 @@ pub(crate) fn interpolate(p: &[(f64, f64)], time: f64) -> f64 {
     } else {
         f1
     }
+}
+
+/// Adds each `DAMPING` entry's Rayleigh damping to `c_values`: alpha times the mass and
+/// beta times the stiffness of its elements (blocks `0..n_elements`, in model order), and
+/// alpha times the point masses at its mass nodes (blocks after the elements).
+fn add_rayleigh(
+    model: &Model,
+    assembler: &Assembler,
+    c_values: &mut [f64],
+    (element_mass, element_stiffness): (&[Matrix12], &[Matrix12]),
+    point_mass_blocks: &[SMatrix<f64, 6, 6>],
+) -> Result<(), SolveError> {
+    let n_elements = model.elements.len();
+    for (entry, d) in model.damping.iter().enumerate() {
+        if !(d.alpha.is_finite() && d.beta.is_finite()) {
+            return Err(SolveError::NonFinite {
+                what: format!(
+                    "DAMPING entry {} (alpha {}, beta {})",
+                    entry + 1,
+                    d.alpha,
+                    d.beta
+                ),
+            });
+        }
+        for &id in &d.elements {
+            let b = model
+                .element_index(id)
+                .ok_or_else(|| SolveError::UnknownElement {
+                    element: id,
+                    context: format!("DAMPING entry {}", entry + 1),
+                })?;
+            assembler.add_block(c_values, b, element_mass[b].as_slice(), d.alpha);
+            assembler.add_block(c_values, b, element_stiffness[b].as_slice(), d.beta);
+        }
+        for &node in &d.mass_nodes {
+            let mut found = false;
+            for (p, pm) in model.point_masses.iter().enumerate() {
+                if pm.node == node {
+                    found = true;
+                    assembler.add_block(
+                        c_values,
+                        n_elements + p,
+                        point_mass_blocks[p].as_slice(),
+                        d.alpha,
+                    );
+                }
+            }
+            if !found {
+                return Err(SolveError::BadInput {
+                    what: format!(
+                        "DAMPING entry {} names node {node} for mass damping, but no POINT MASS is at that node",
+                        entry + 1
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The 6x6 diagonal mass block of a point mass, checked finite and non-negative.

@@ -49,6 +49,8 @@ pub mod state;
 pub mod stepper;
 
 #[cfg(test)]
+mod engine_tests;
+#[cfg(test)]
 pub(crate) mod tests;
 
 pub use crate::error::integrate::IntegrateError;

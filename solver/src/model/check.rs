@@ -29,9 +29,11 @@
 //! only what needs its text (syntax, list resolution, "first defined at line N").
 
 use std::collections::{HashMap, HashSet};
-use std::fmt;
 
-use super::{Analysis, ElementId, ElementType, ModelParts, NodeId, Section, TransientMethod};
+pub use super::error::{ModelError, Site};
+use super::parts::{
+    Analysis, ElementId, ElementType, ModelParts, NodeId, PointLoad, Section, TransientMethod,
+};
 
 /// Relative tolerance under which an element counts as zero-length: its length over
 /// the model's largest coordinate. Far above round-off (1e-16), far below any mesh.
@@ -46,130 +48,6 @@ pub const SYMMETRY: f64 = 1e-9;
 pub const SEMI_DEFINITE: f64 = 1e-9;
 /// |v x e| <= PARALLEL |v| |e|: the orientation fixes no plane (angle below 1e-6 rad).
 pub const PARALLEL: f64 = 1e-6;
-
-/// Where in a [`ModelParts`] a [`ModelError`] is: an id, or an index into the vector of
-/// that name (after normalisation for nodes, elements, point laws and dashpots).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Site {
-    /// The model as a whole.
-    Model,
-    /// The node with this id.
-    Node(NodeId),
-    /// The element with this id.
-    Element(ElementId),
-    /// The type of the element with this id.
-    ElementType(ElementId),
-    /// Node `k` (0 or 1) of the element with this id.
-    ElementNode(ElementId, usize),
-    /// `node_sets[i]`.
-    NodeSet(usize),
-    /// `element_sets[i]`.
-    ElementSet(usize),
-    /// `materials[i]`.
-    Material(usize),
-    /// `geometries[i]`.
-    Geometry(usize),
-    /// The section of `geometries[i]`.
-    GeometrySection(usize),
-    /// The orientation vector of `geometries[i]`.
-    GeometryOrientation(usize),
-    /// `damping[i]`.
-    Damping(usize),
-    /// The point-mass nodes of `damping[i]`.
-    DampingMassNodes(usize),
-    /// `point_masses[i]`.
-    PointMass(usize),
-    /// `rigid_ties[i]`.
-    RigidTie(usize),
-    /// The reference node of `rigid_ties[i]`.
-    RigidTieReference(usize),
-    /// The tied nodes of `rigid_ties[i]`.
-    RigidTieTied(usize),
-    /// `fixed_disp[i]`.
-    FixedDisp(usize),
-    /// `point_loads[i]`.
-    PointLoad(usize),
-    /// `load_cases[case].point_loads[load]`.
-    CasePointLoad {
-        /// Index of the load case.
-        case: usize,
-        /// Index of the load in the case.
-        load: usize,
-    },
-    /// `tables[i]`.
-    Table(usize),
-    /// `initial_velocities[i]`.
-    InitialVelocity(usize),
-    /// `outputs[i]`.
-    Output(usize),
-    /// `load_cases[i]`.
-    LoadCase(usize),
-    /// `point_laws[i]`.
-    PointLaw(usize),
-    /// `dashpots[i]`.
-    Dashpot(usize),
-    /// `modal_damping`.
-    ModalDamping,
-    /// `beam_tensions[i]`.
-    BeamTension(usize),
-    /// `tension_links[i]`.
-    TensionLink(usize),
-    /// `moving_contacts[i]`.
-    MovingContact(usize),
-    /// `matrix_elements[i]`.
-    MatrixElement(usize),
-}
-
-impl fmt::Display for Site {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match *self {
-            Site::Model => write!(f, "the model"),
-            Site::Node(id) => write!(f, "node {id}"),
-            Site::Element(id) | Site::ElementType(id) | Site::ElementNode(id, _) => {
-                write!(f, "element {id}")
-            }
-            Site::NodeSet(i) => write!(f, "node set {}", i + 1),
-            Site::ElementSet(i) => write!(f, "element set {}", i + 1),
-            Site::Material(i) => write!(f, "material {}", i + 1),
-            Site::Geometry(i) | Site::GeometrySection(i) | Site::GeometryOrientation(i) => {
-                write!(f, "geometry {}", i + 1)
-            }
-            Site::Damping(i) | Site::DampingMassNodes(i) => write!(f, "damping {}", i + 1),
-            Site::PointMass(i) => write!(f, "point mass {}", i + 1),
-            Site::RigidTie(i) | Site::RigidTieReference(i) | Site::RigidTieTied(i) => {
-                write!(f, "rigid tie {}", i + 1)
-            }
-            Site::FixedDisp(i) => write!(f, "fixed displacement {}", i + 1),
-            Site::PointLoad(i) => write!(f, "point load {}", i + 1),
-            Site::CasePointLoad { case, load } => {
-                write!(f, "point load {} of load case {}", load + 1, case + 1)
-            }
-            Site::Table(i) => write!(f, "table {}", i + 1),
-            Site::InitialVelocity(i) => write!(f, "initial velocity {}", i + 1),
-            Site::Output(i) => write!(f, "output request {}", i + 1),
-            Site::LoadCase(i) => write!(f, "load case {}", i + 1),
-            Site::PointLaw(i) => write!(f, "point element {}", i + 1),
-            Site::Dashpot(i) => write!(f, "dashpot {}", i + 1),
-            Site::ModalDamping => write!(f, "modal damping"),
-            Site::BeamTension(i) => write!(f, "beam tension {}", i + 1),
-            Site::TensionLink(i) => write!(f, "tension link {}", i + 1),
-            Site::MovingContact(i) => write!(f, "moving contact {}", i + 1),
-            Site::MatrixElement(i) => write!(f, "matrix element {}", i + 1),
-        }
-    }
-}
-
-/// Why a [`ModelParts`] is not a valid [`Model`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{site}: {message}; expected {expected}")]
-pub struct ModelError {
-    /// The item at fault.
-    pub site: Site,
-    /// What is wrong.
-    pub message: String,
-    /// What was expected instead.
-    pub expected: String,
-}
 
 fn fail<T>(
     site: Site,
@@ -971,7 +849,7 @@ fn check_loads_and_cases(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
             );
         }
     }
-    let mut loads: Vec<(&super::PointLoad, Site)> = p
+    let mut loads: Vec<(&PointLoad, Site)> = p
         .point_loads
         .iter()
         .enumerate()
@@ -1059,84 +937,4 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::{Element, Geometry, Material, Model, Node};
-
-    /// One type-52 element from (0,0,0) to (10,0,0) with steel and a 1 mm wire.
-    fn one_beam() -> ModelParts {
-        ModelParts {
-            element_types: vec![ElementType::Beam52],
-            nodes: vec![
-                Node {
-                    id: 2,
-                    xyz: [10.0, 0.0, 0.0],
-                },
-                Node {
-                    id: 1,
-                    xyz: [0.0; 3],
-                },
-            ],
-            elements: vec![Element {
-                id: 1,
-                kind: ElementType::Beam52,
-                nodes: [1, 2],
-            }],
-            materials: vec![Material {
-                name: "steel".into(),
-                youngs_modulus: 2.1e5,
-                poisson: 0.3,
-                density: 7.85e-9,
-                elements: vec![1],
-            }],
-            geometries: vec![Geometry {
-                name: String::new(),
-                section: Section::SolidCircle { diameter: 1.0 },
-                orientation: [0.0, 0.0, 1.0],
-                elements: vec![1],
-            }],
-            ..ModelParts::default()
-        }
-    }
-
-    #[test]
-    fn a_valid_model_is_normalised() {
-        let m = Model::try_new(one_beam()).expect("valid");
-        assert_eq!(m.nodes()[0].id, 1);
-        assert_eq!(m.nodes()[1].id, 2);
-    }
-
-    #[test]
-    fn semantic_errors_name_their_site() {
-        let mut p = one_beam();
-        p.elements[0].nodes = [1, 3];
-        let e = Model::try_new(p).unwrap_err();
-        assert_eq!(e.site, Site::ElementNode(1, 1));
-        assert!(e.message.contains("node 3, which does not exist"), "{e}");
-
-        let mut p = one_beam();
-        p.geometries[0].orientation = [1.0, 0.0, 0.0];
-        let e = Model::try_new(p).unwrap_err();
-        assert_eq!(e.site, Site::GeometryOrientation(0));
-
-        let mut p = one_beam();
-        p.materials[0].youngs_modulus = -1.0;
-        assert_eq!(Model::try_new(p).unwrap_err().site, Site::Material(0));
-
-        let mut p = one_beam();
-        p.geometries.clear();
-        assert!(Model::try_new(p)
-            .unwrap_err()
-            .message
-            .contains("has no geometry"));
-    }
-
-    #[test]
-    fn deserialising_validates() {
-        let good = serde_json::to_string(&Model::try_new(one_beam()).unwrap()).unwrap();
-        let back: Model = serde_json::from_str(&good).expect("valid json model");
-        assert_eq!(back.elements().len(), 1);
-        let bad = good.replace("\"poisson\":0.3", "\"poisson\":0.7");
-        assert!(serde_json::from_str::<Model>(&bad).is_err());
-    }
-}
+mod tests;

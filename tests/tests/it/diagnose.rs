@@ -11,24 +11,33 @@
 //!   the catalogue (`truth::FAST_HARD`), a friction decay that stops after 12 cycles, a
 //!   10-cycle null decay, a softening spring under 130 mm of static deflection and a
 //!   softening decay that sweeps its frequency by 21 %.
-//! - **Full table** ([`full_confusion_table`], `#[ignore]`d: several minutes): the 17
-//!   standard cases and the 33 extended ones (softening and
-//!   hardening alone and with each damping effect, two damping effects together,
-//!   position and velocity sensors, band-limited noise, jitter, drift, an impulse at the
-//!   start, 30 Hz short records, 150+ cycle records, null cases with each
-//!   imperfection), and the 13 `hard_cases` (friction decays stopping after 12-20
-//!   cycles, a 10-cycle null decay, softening sweeping the frequency by 10-15 % and
-//!   21 %, hardening sweeping it by 19 %, a
-//!   hanging weight with 110 mm of static deflection with each effect). Run it with
-//!   `cargo test --release -p coil-tests --test it diagnose:: -- --ignored --nocapture`; the
-//!   benchmark `examples/bench_diagnose.rs` prints the same table with the whole
-//!   process's wall times.
+//! - **Full table** ([`full_confusion_table`], `#[ignore]`d:
+//!   `cargo test --release -p coil-tests --test it diagnose::full -- --ignored --nocapture`): the 17 standard
+//!   cases and the 33 extended ones (softening and hardening alone and with each damping
+//!   effect, two damping effects together, position and velocity sensors, band-limited
+//!   noise, jitter, drift, an impulse at the start, 30 Hz short records, 150+ cycle
+//!   records, null cases with each imperfection), the 13 `hard_cases` (friction decays
+//!   stopping after 12-20 cycles, a 10-cycle null decay, softening sweeping the
+//!   frequency by 10-15 % and 21 %, hardening sweeping it by 19 %, a hanging weight with
+//!   110 mm of static deflection with each effect) and the damping classes of
+//!   `truth::loss::loss_cases` (friction that sticks after 8-17 cycles, drag carrying
+//!   60-95 % of the loss beside a 0.5-3 % backbone, drag with a drifting offset,
+//!   friction with drag). It asserts every case named with all its parts, `none` on the
+//!   null cases, every parameter within [`CLAIMED_WORST_PARAMETER_ERROR`] (the figure
+//!   docs/diagnose.md and the README state) and the nesting invariant on every
+//!   combination. The benchmark `examples/bench_diagnose.rs` prints the same table with
+//!   the whole process's wall times.
+//! - **Outside the catalogue** ([`outside_catalogue`], `#[ignore]`d:
+//!   `cargo test --release -p coil-tests --test it diagnose::outside -- --ignored --nocapture`): a backlash
+//!   gap, a bilinear spring, Bouc-Wen friction, a close second mode, a clipped sensor;
+//!   no false cause.
 //!
 //! Cases run two at a time; the confusion table and the errors are printed
 //! (`-- --nocapture`).
 
 use coil_ident::diagnose::{self, DiagnoseSettings};
 use coil_tests::scoring::{self, Score};
+use coil_tests::truth::loss;
 use coil_tests::truth::{self, TruthCase};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -41,10 +50,12 @@ fn diagnose_case(dir: &std::path::Path, case: &TruthCase) -> Score {
         ..DiagnoseSettings::default()
     };
     let start = Instant::now();
-    let outcome = diagnose::diagnose(&folder, &settings)
-        .unwrap_or_else(|e| panic!("{}: diagnose failed: {e}", case.name));
+    // A failed run is scored as naming `error: ...`, so the table shows every case.
+    let json = match diagnose::diagnose(&folder, &settings) {
+        Ok(outcome) => serde_json::to_value(&outcome.diagnosis).expect("the diagnosis serialises"),
+        Err(e) => serde_json::json!({ "cause": format!("error: {e}") }),
+    };
     let runtime_s = start.elapsed().as_secs_f64();
-    let json = serde_json::to_value(&outcome.diagnosis).expect("the diagnosis serialises");
     scoring::score(case, &json, runtime_s)
 }
 
@@ -100,18 +111,101 @@ fn fast_subset() {
     assert_scores(&scores);
 }
 
-/// The whole confusion table (module docs).
+/// The worst parameter error over the whole generated table that docs/diagnose.md
+/// states (section 7; measured 5.74 %, the cubic spring of `drag_soft_0p5pc_hanging`,
+/// 0.5 % of backbone beside drag carrying 95 % of the loss): the full table holds it
+/// to this.
+pub const CLAIMED_WORST_PARAMETER_ERROR: f64 = 0.06;
+
+/// The whole confusion table (module docs): every old and new generated case named
+/// with all its parts, `none` on the null cases, every parameter within the claimed
+/// worst error, the nesting invariant on every combination.
 #[test]
-#[ignore = "several minutes: the full generated table; run with --ignored --nocapture"]
+#[ignore = "several minutes: the full generated table; not yet measured green with the new classes, so not in the second CI stage"]
 fn full_confusion_table() {
     let mut cases = truth::standard_cases();
     cases.extend(truth::extended_cases());
     cases.extend(truth::hard_cases());
+    cases.extend(loss::loss_cases());
     let scores = run(&cases);
-    let needs: [(&str, usize); 2] = [("none", 12), ("cubic_stiffness", 8)];
+    let needs: [(&str, usize); 4] = [
+        ("none", 18),
+        ("cubic_stiffness", 8),
+        ("coulomb_friction", 12),
+        ("cubic_stiffness+quadratic_damping", 4),
+    ];
     for (truth, at_least) in needs {
         let n = scores.iter().filter(|s| s.truth == truth).count();
         assert!(n >= at_least, "only {n} cases of {truth}");
     }
     assert_scores(&scores);
+    let worst = scores
+        .iter()
+        .flat_map(|s| s.parameter_errors.iter().map(|(_, e)| e.abs()))
+        .fold(0.0_f64, f64::max);
+    assert!(
+        worst <= CLAIMED_WORST_PARAMETER_ERROR,
+        "worst parameter error {worst:.4} above the claimed {CLAIMED_WORST_PARAMETER_ERROR}"
+    );
+    let pairs: usize = scores.iter().map(|s| s.nested_pairs).sum();
+    assert!(pairs > 0, "no combination was compared with its parts");
+}
+
+/// The damping classes of the round on short and mixed damping
+/// (`truth::loss::loss_cases`) alone, for iterating on them:
+/// `cargo test --release -p coil-tests --test it diagnose::loss_classes -- --ignored --nocapture`.
+#[test]
+#[ignore = "about a minute: the damping classes alone (also in full_confusion_table)"]
+fn loss_classes() {
+    assert_scores(&run(&loss::loss_cases()));
+}
+
+/// Truth outside the catalogue (`truth::loss::outside_cases`: a backlash gap, a bilinear
+/// spring, Bouc-Wen friction, a close second mode, a clipped sensor): `diagnose` must
+/// refuse the record, call it unexplained, stay `none` within the noise, or name a
+/// cause and report the misfit it leaves; a confident wrong cause is a failure. The
+/// table is in docs/diagnose.md, section 7.
+#[test]
+#[ignore = "a minute: the out-of-catalogue table; not yet measured, so not in the second CI stage"]
+fn outside_catalogue() {
+    let cases = loss::outside_cases();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let queue = Mutex::new(cases.iter());
+    let scores = Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| loop {
+                let next = queue.lock().expect("queue").next();
+                let Some(case) = next else { break };
+                let folder = dir.path().join(&case.name);
+                truth::write_case(&folder, case).expect("the case is written");
+                let settings = DiagnoseSettings {
+                    plots: false,
+                    ..DiagnoseSettings::default()
+                };
+                let start = Instant::now();
+                let outcome = diagnose::diagnose(&folder, &settings);
+                let runtime_s = start.elapsed().as_secs_f64();
+                let law = loss::outside_law(case);
+                let score = match outcome {
+                    Ok(o) => {
+                        let json = serde_json::to_value(&o.diagnosis).expect("serialises");
+                        scoring::score_outside(case, law, Ok(&json), runtime_s)
+                    }
+                    Err(e) => scoring::score_outside(case, law, Err(&e.to_string()), runtime_s),
+                };
+                scores.lock().expect("scores").push(score);
+            });
+        }
+    });
+    let mut scores = scores.into_inner().expect("scores");
+    scores.sort_by(|a, b| a.name.cmp(&b.name));
+    println!("{}", scoring::outside_report(&scores));
+    let false_causes: Vec<&str> = scores
+        .iter()
+        .filter(|s| s.false_cause)
+        .map(|s| s.name.as_str())
+        .collect();
+    assert!(false_causes.is_empty(), "false causes: {false_causes:?}");
+    assert_eq!(scores.len(), 10);
 }

@@ -6,6 +6,7 @@ mod damping_laws;
 mod diagnose;
 mod diagnose_joint;
 mod diagnose_length;
+mod forced;
 mod marc_interchange;
 mod nonlinear;
 mod paper_spring;

@@ -1,8 +1,10 @@
 //! The tuner end to end on the paper's case (cases/160ect), at reduced settings so the
 //! whole file runs in seconds: the loops' convergence, a grid of real decay transients
 //! stopped and resumed from its journal, the valley against the modal theory, and the
-//! calibration's headline numbers. The full paper run (697 transients, both methods) is
-//! `#[ignore]`d: `cargo test -p coil-tests --test it tuner:: -- --ignored --nocapture`.
+//! calibration's headline numbers; then the README's Tables 3 and 4 from the full paper run
+//! (modal grids, about 2 s) at the README's printed digits. The same run with every grid
+//! transient integrated directly is the second CI stage (`claim_`, `#[ignore]`d):
+//! `cargo test --release -p coil-tests --test it claim_paper -- --ignored --nocapture`.
 
 use coil_tuner::calibrate::{calibrate, CalibrateSettings, Targets};
 use coil_tuner::case::read_case;
@@ -31,15 +33,18 @@ fn coarse() -> FeSettings {
 fn loop1_converges_in_two_runs() {
     let case = read_case(&case_dir()).unwrap();
     let mut state = SpringState::nominal(&case);
+    let (k_nominal, _) = fe::static_stiffness(&state, &FeSettings::default()).unwrap();
+    let e_nominal = state.youngs_modulus_mpa;
     let report =
         tune_youngs_modulus(&mut state, &FeSettings::default(), 3.9275, 1e-5, None).unwrap();
     assert!(report.iterations.len() <= 3, "{:?}", report.iterations);
     assert!(report.relative_error.abs() < 1e-10);
-    // 24 elements per coil: E = 190708 gives 3.8641 N/mm (measured), so the tuned E is
-    // 190708 * 3.9275 / 3.8641 = 193837 MPa to the 5 digits of that K.
+    // K is proportional to E (a linear model with nu fixed), so the tuned E is
+    // E_nominal * 3.9275 / K(E_nominal) to the loop's tolerance.
+    let expected = e_nominal * 3.9275 / k_nominal;
     assert!(
-        (state.youngs_modulus_mpa - 193837.0).abs() < 3.0,
-        "{}",
+        (state.youngs_modulus_mpa / expected - 1.0).abs() < 1e-9,
+        "{} vs {expected}",
         state.youngs_modulus_mpa
     );
 }
@@ -198,22 +203,169 @@ fn calibrate_the_papers_case_reduced() {
     assert_eq!((paper.alpha, paper.beta), (0.8, 0.00012));
 }
 
-/// The issue's acceptance run: `coil-tune paper` (default, modal grid + direct check),
-/// Table 3 and 4 against the bounds. Prints the numbers and the time.
+/// The README's Table 3 and Table 4, as `coil-tune paper` prints them (modal grids, the
+/// optimum checked by direct integration): each of coil's numbers within one unit of the
+/// README's last printed digit, and the README's prose claims about them. The run takes
+/// 1-2 s idle (about 6 s beside other builds), so it runs with the README's test command.
 #[test]
-#[ignore]
-fn paper_acceptance_default() {
-    paper_acceptance(Method::Modal);
+fn paper_tables_match_the_readme() {
+    let r = paper_run(Method::Modal);
+    let t = &r.table3;
+    within("Table 3 K (N/mm)", t.stiffness_n_mm, 3.927500, 1e-6);
+    within("Table 3 zeta", t.damping_ratio, 0.001747, 1e-6);
+    within("Table 3 T (s)", t.period_s, 0.230058, 1e-6);
+    within("Table 3 E (MPa)", t.youngs_modulus_mpa, 193837.8, 0.1);
+    within("Table 3 alpha (1/s)", t.alpha, 1.6, 0.1);
+    within("Table 3 beta (s)", t.beta, 0.00012, 0.00001);
+    let e = &r.table3_relative_error;
+    within("Table 3 K vs experiment", e.stiffness, 0.0, 1e-6);
+    within(
+        "Table 3 zeta vs experiment",
+        e.damping_ratio,
+        -0.001562,
+        1e-6,
+    );
+    within("Table 3 T vs experiment", e.period, 0.000250, 1e-6);
+    // (name, K coil 4 decimals, K error %, zeta coil 6 decimals, zeta error %)
+    let readme = [
+        ("#1", 2.4799, 0.20, 0.001462, 2.92),
+        ("#2", 7.2530, -0.27, 0.002333, -5.16),
+        ("#3", 1.8992, 0.17, 0.001249, 1.55),
+        ("#4", 6.7567, -0.34, 0.002218, -6.81),
+        ("#5", 4.5844, 0.01, 0.001857, -4.29),
+        ("#6", 3.4354, 0.01, 0.001665, -1.48),
+    ];
+    assert_eq!(r.table4.len(), readme.len());
+    for (v, (name, k, k_err, zeta, zeta_err)) in r.table4.iter().zip(readme) {
+        assert_eq!(v.name, name);
+        within(&format!("Table 4 {name} K"), v.stiffness_n_mm, k, 1e-4);
+        within(&format!("Table 4 {name} zeta"), v.damping_ratio, zeta, 1e-6);
+        let pct = |x: Option<f64>| 100.0 * x.expect("the paper's value");
+        within(
+            &format!("Table 4 {name} K error (%)"),
+            pct(v.stiffness_relative_error),
+            k_err,
+            0.01,
+        );
+        within(
+            &format!("Table 4 {name} zeta error (%)"),
+            pct(v.damping_relative_error),
+            zeta_err,
+            0.01,
+        );
+    }
+    // "mesh bias: the paper's E = 190708 MPa at ~16.8 elements per coil; mesh-converged E
+    // = 196862 MPa", converging at second order (the chords of the helix).
+    let m = &r.mesh_study;
+    within(
+        "elements per coil matching the paper's E",
+        m.elements_per_coil_matching_paper.unwrap(),
+        16.8,
+        0.1,
+    );
+    within(
+        "mesh-converged E (MPa)",
+        m.converged_youngs_modulus_mpa,
+        196862.0,
+        1.0,
+    );
+    assert!(
+        (m.observed_order - 2.0).abs() < 0.1,
+        "order {}",
+        m.observed_order
+    );
+    // "every pair on the line 6.815e-5 alpha + 13.659 beta = zeta fits".
+    let valley = r.calibration.damping.valley.as_ref().expect("the valley");
+    within(
+        "valley d zeta / d alpha",
+        valley.plane.a,
+        6.815e-5,
+        0.001e-5,
+    );
+    within("valley d zeta / d beta", valley.plane.b, 13.659, 0.001);
+    // "alpha acts only through the wire's 0.37 % share of the modal mass": against
+    // Rayleigh's estimate for a uniform spring under a weight, (m_s / 3) / (m + m_s / 3),
+    // with m_s = rho (pi d^2 / 4) n sqrt((pi D)^2 + h^2), within its 1 % (the weight's mode
+    // is not exactly the linear static shape).
+    let share = valley.modal.wire_mass_share;
+    within(
+        "wire's share of the axial mode's mass (%)",
+        100.0 * share,
+        0.37,
+        0.01,
+    );
+    let wire_m = 14.0 * (std::f64::consts::PI * 24.0f64).hypot(6.2) * 1e-3;
+    let spring_kg = 7850.0 * std::f64::consts::PI * 0.0015f64.powi(2) * wire_m;
+    let rayleigh = spring_kg / 3.0 / (t.mass_kg + spring_kg / 3.0);
+    assert!(
+        (share / rayleigh - 1.0).abs() < 0.01,
+        "share {share} vs Rayleigh {rayleigh}"
+    );
+    // "#2 and #4 differ from the paper's printed zeta by more than 5 %; with the alpha = 0
+    // member of the valley all six are within 3.6 % (the worst, #4, -3.53 %)."
+    for v in &r.table4 {
+        let off = v.damping_relative_error.unwrap().abs();
+        assert_eq!(
+            off > 0.05,
+            v.name == "#2" || v.name == "#4",
+            "{}: {off}",
+            v.name
+        );
+    }
+    let beta_only = r
+        .family
+        .iter()
+        .find(|f| f.alpha == 0.0)
+        .expect("the alpha = 0 member");
+    for (name, zeta, error) in &beta_only.variants {
+        assert!(
+            error.unwrap().abs() < 0.036,
+            "alpha = 0: {name} zeta {zeta} ({error:?})"
+        );
+    }
 }
 
-/// `--method direct`: all 697 grid transients by direct integration.
+/// `--method direct`: all 697 grid transients integrated directly (18 s idle, about a
+/// minute beside other builds). Average acceleration shortens the decay's zeta by
+/// `(w dt)^2 / 6` = 1.2e-4 relative (docs/transient.md) and lengthens T by `(w dt)^2 / 12`,
+/// both below the README's printed digits, so the direct tables print the modal ones:
+/// the same grid optimum and the same numbers within one unit of the last digit.
+/// `cargo test --release -p coil-tests --test it claim_paper -- --ignored --nocapture`
 #[test]
-#[ignore]
-fn paper_acceptance_direct() {
-    paper_acceptance(Method::Direct);
+#[ignore = "second CI stage"]
+fn claim_paper_tables_direct_match_the_modal_ones() {
+    let direct = paper_run(Method::Direct);
+    let modal = paper_run(Method::Modal);
+    let (d, m) = (&direct.table3, &modal.table3);
+    assert_eq!((d.alpha, d.beta), (m.alpha, m.beta), "the grid optimum");
+    within("Table 3 K (N/mm)", d.stiffness_n_mm, m.stiffness_n_mm, 1e-6);
+    within("Table 3 zeta", d.damping_ratio, m.damping_ratio, 1e-6);
+    within("Table 3 T (s)", d.period_s, m.period_s, 1e-6);
+    for (a, b) in direct.table4.iter().zip(&modal.table4) {
+        within(
+            &format!("Table 4 {} K", a.name),
+            a.stiffness_n_mm,
+            b.stiffness_n_mm,
+            1e-4,
+        );
+        within(
+            &format!("Table 4 {} zeta", a.name),
+            a.damping_ratio,
+            b.damping_ratio,
+            1e-6,
+        );
+    }
 }
 
-fn paper_acceptance(method: Method) {
+/// `a` within `unit` (one unit of the last printed digit) of the printed `printed`.
+fn within(what: &str, a: f64, printed: f64, unit: f64) {
+    assert!(
+        (a - printed).abs() <= unit * (1.0 + 1e-9),
+        "{what}: coil gives {a}, the README prints {printed} (one unit of its last digit: {unit})"
+    );
+}
+
+fn paper_run(method: Method) -> coil_tuner::report::PaperReport {
     let dir = tempfile::tempdir().unwrap();
     let out = OutDir::create(dir.path()).unwrap();
     let mut settings = CalibrateSettings::default();
@@ -227,19 +379,8 @@ fn paper_acceptance(method: Method) {
     };
     let start = std::time::Instant::now();
     let r = coil_tuner::paper::run_paper(&options, &out).unwrap();
-    let elapsed = start.elapsed().as_secs_f64();
     println!("{}", coil_tuner::report::table3(&r));
     println!("{}", coil_tuner::report::table4(&r));
-    println!("method {method}: {elapsed:.1} s");
-    let e = &r.table3_relative_error;
-    assert!(e.stiffness.abs() <= 1e-5, "K {}", e.stiffness);
-    assert!(e.damping_ratio.abs() <= 2e-3, "zeta {}", e.damping_ratio);
-    assert!(e.period.abs() <= 5e-4, "T {}", e.period);
-    for v in &r.table4 {
-        assert!(
-            v.stiffness_relative_error.unwrap().abs() < 0.01,
-            "{}",
-            v.name
-        );
-    }
+    println!("method {method}: {:.1} s", start.elapsed().as_secs_f64());
+    r
 }

@@ -30,7 +30,7 @@
 
 use crate::case::{read_json, CaseError};
 use crate::fe::{FeSettings, SpringState};
-use crate::fields::{root, Range};
+use crate::fields::{root, FieldError, Object, Range};
 use crate::sheet::en13906::{Coiling, EndType, Loading, Working};
 use crate::sheet::input::{choice, opt_bool, quality_grade, working, COILING, END_TYPES, LOADING};
 use serde::Serialize;
@@ -185,19 +185,9 @@ pub fn with_calibration(source: &MaterialSource, file: PathBuf) -> MaterialSourc
     }
 }
 
-/// Reads `TARGET.json`; a relative calibration path is taken from the target's folder.
-pub fn read_target(path: &Path) -> Result<Target, CaseError> {
-    let (_, node) = read_json(path)?;
-    let top = root(path, &node);
-    let o = top.object("a design target (docs/spring-design.md)")?;
-    o.strict(&TARGET_KEYS)?;
-    let working = working(&o)?.ok_or_else(|| {
-        o.error(
-            "no working points",
-            "force_1_n and force_2_n (or length_1_mm and length_2_mm)",
-        )
-    })?;
-    let envelope = match o.get("envelope") {
+/// The target's `envelope` (every bound optional; none: no envelope).
+fn read_envelope(o: &Object<'_>) -> Result<Envelope, FieldError> {
+    Ok(match o.get("envelope") {
         None => Envelope::default(),
         Some(f) => {
             let e = f.object("the envelope")?;
@@ -210,7 +200,11 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
                 max_solid_length_mm: bound("max_solid_length_mm", "the longest Lc (mm)")?,
             }
         }
-    };
+    })
+}
+
+/// The target's `material`: a calibration (relative to the target's folder), a grade, or both.
+fn read_material(o: &Object<'_>, path: &Path) -> Result<MaterialSource, FieldError> {
     let material_field = o.require("material", "{\"calibration\": path} or {\"grade\": name}")?;
     let m = material_field.object("the material")?;
     m.strict(&MATERIAL_KEYS)?;
@@ -227,10 +221,8 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         }
     };
     let beside = |file: String| path.parent().unwrap_or(Path::new(".")).join(file);
-    let material = match (
-        m.opt_string("calibration", "a calibration.json path")?,
-        grade,
-    ) {
+    let calibration = m.opt_string("calibration", "a calibration.json path")?;
+    Ok(match (calibration, grade) {
         (Some(file), grade) => MaterialSource::Calibration {
             calibration: beside(file),
             grade,
@@ -240,14 +232,28 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         },
         (None, Some(grade)) => MaterialSource::Grade { grade },
         (None, None) => {
-            return Err(m
-                .error(
-                    "neither a calibration nor a grade",
-                    "{\"calibration\": path} or {\"grade\": name}",
-                )
-                .into())
+            return Err(m.error(
+                "neither a calibration nor a grade",
+                "{\"calibration\": path} or {\"grade\": name}",
+            ))
         }
-    };
+    })
+}
+
+/// Reads `TARGET.json`; a relative calibration path is taken from the target's folder.
+pub fn read_target(path: &Path) -> Result<Target, CaseError> {
+    let (_, node) = read_json(path)?;
+    let top = root(path, &node);
+    let o = top.object("a design target (docs/spring-design.md)")?;
+    o.strict(&TARGET_KEYS)?;
+    let working = working(&o)?.ok_or_else(|| {
+        o.error(
+            "no working points",
+            "force_1_n and force_2_n (or length_1_mm and length_2_mm)",
+        )
+    })?;
+    let envelope = read_envelope(&o)?;
+    let material = read_material(&o, path)?;
     let rate = o.number("rate_n_mm", Range::Positive, "the target rate (N/mm)")?;
     let weight = o.opt_number("weight_kg", Range::Positive, "the suspended mass (kg)")?;
     let mut zeta = o.opt_number("damping_ratio", Range::Open(0.0, 1.0), "a damping ratio")?;

@@ -260,6 +260,15 @@ impl CheckReport {
             ),
             ("wire mass (kg)", format!("{:.5}", s.spring_mass_kg), none()),
         ];
+        rows.extend(self.closing_rows());
+        rows
+    }
+
+    /// The sheet's last rows: the head mass's bounce, EN 15800's tolerances, the checks.
+    fn closing_rows(&self) -> Vec<(&'static str, String, String)> {
+        let s = &self.sheet;
+        let none = String::new;
+        let mut rows = Vec::new();
         if let (Some(m), Some(fb)) = (s.head_mass_kg, s.bounce_frequency_hz) {
             rows.push((
                 "bounce of head mass (Hz)",

@@ -214,12 +214,15 @@ fn check_title(file: &Path, title: &str) -> Result<()> {
 }
 
 /// What the command line allows beyond the case's limits.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct CaseOptions {
     /// Run at or above the contact wire's wave speed (`--allow-supercritical`).
     pub allow_supercritical: bool,
     /// Run a transient above the work limit (`--allow-large`).
     pub allow_large: bool,
+    /// The speeds to run instead of the case's `speeds_km_h` (`--speeds`), checked as
+    /// the case's are.
+    pub speeds_km_h: Option<Vec<f64>>,
 }
 
 /// Reads a case: a folder holding `case.json`, or the file itself.
@@ -264,10 +267,14 @@ pub fn read_case_with(path: &Path, options: CaseOptions) -> Result<Case> {
     raw.assessment.check().map_err(invalid)?;
     catenary.validate().map_err(|e| invalid(e.to_string()))?;
     pantograph.validate().map_err(|e| invalid(e.to_string()))?;
-    if raw.speeds_km_h.is_empty() || raw.speeds_km_h.len() > MAX_SPEEDS {
+    let (speeds_km_h, speeds_from) = match options.speeds_km_h {
+        Some(speeds) => (speeds, "--speeds"),
+        None => (raw.speeds_km_h, "speeds_km_h"),
+    };
+    if speeds_km_h.is_empty() || speeds_km_h.len() > MAX_SPEEDS {
         return Err(invalid(format!(
-            "speeds_km_h has {} speeds; expected 1 to {MAX_SPEEDS}",
-            raw.speeds_km_h.len()
+            "{speeds_from} has {} speeds; expected 1 to {MAX_SPEEDS}",
+            speeds_km_h.len()
         )));
     }
     let length = catenary.length_m();
@@ -283,7 +290,7 @@ pub fn read_case_with(path: &Path, options: CaseOptions) -> Result<Case> {
         title,
         catenary,
         pantograph,
-        speeds_km_h: raw.speeds_km_h,
+        speeds_km_h,
         time_step_s: raw.time_step_s,
         end_m: raw.end_m,
         output_every: raw.output_every,
@@ -304,7 +311,7 @@ pub fn read_case_with(path: &Path, options: CaseOptions) -> Result<Case> {
         spec.validate(length).map_err(|e| invalid(e.to_string()))?;
         if case.speeds_km_h[..k].contains(&v) {
             return Err(invalid(format!(
-                "speeds_km_h lists {v} km/h twice; expected each speed once"
+                "{speeds_from} lists {v} km/h twice; expected each speed once"
             )));
         }
         crate::model::check_wave_speed(&case.catenary, &spec)

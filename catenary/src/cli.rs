@@ -61,6 +61,10 @@ pub enum Command {
         /// Springs in parallel under the head (overrides the case's).
         #[arg(long, value_name = "N")]
         springs_in_parallel: Option<u32>,
+        /// The speeds to run (km/h) instead of the case's `speeds_km_h`: "which spring
+        /// gives the lowest sigma at 300 km/h" is `--springs ... --speeds 300`.
+        #[arg(long, num_args = 1.., value_name = "KM_H")]
+        speeds: Vec<f64>,
         /// Run speeds at or above the contact wire's wave speed (a regime the model does
         /// not cover; refused without this flag).
         #[arg(long)]
@@ -121,7 +125,7 @@ pub struct Request {
     pub reduced: bool,
     /// `--springs-in-parallel`.
     pub springs_in_parallel: Option<u32>,
-    /// `--allow-supercritical`, `--allow-large`.
+    /// `--allow-supercritical`, `--allow-large`, `--speeds`.
     pub options: CaseOptions,
 }
 
@@ -137,7 +141,7 @@ pub enum Done {
 /// Reads, checks, runs and writes a request; every input is checked before the output
 /// folder is taken or a run starts.
 pub fn execute(request: &Request, announce: &dyn Fn(&str) -> Result<()>) -> Result<Done> {
-    let case = read_case_with(&request.case, request.options)?;
+    let case = read_case_with(&request.case, request.options.clone())?;
     let head_spec = head_options(
         case.head_spring.as_ref(),
         request.damping,
@@ -203,6 +207,7 @@ pub fn run(command: Command) -> Result<()> {
         no_mass_share,
         reduced,
         springs_in_parallel,
+        speeds,
         allow_supercritical,
         allow_large,
     } = command;
@@ -219,6 +224,7 @@ pub fn run(command: Command) -> Result<()> {
         options: CaseOptions {
             allow_supercritical,
             allow_large,
+            speeds_km_h: (!speeds.is_empty()).then_some(speeds),
         },
     };
     let announce = |line: &str| if quiet { Ok(()) } else { say(line) };

@@ -626,25 +626,7 @@ pub fn read_csv_columns(path: &Path, columns: Columns<'_>) -> Result<Table> {
     // The record's print resolution is the median over its cells: "%g" drops trailing zeros
     // ("0.1" among "0.1234"), a leading "0" has no decimals at all.
     let rounding = crate::stats::median(&time_resolution).unwrap_or(0.0);
-    let step_s = check_time_axis(&time_s, rounding).map_err(|fault| match fault {
-        TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
-            path: path.to_path_buf(),
-            line: lines[index],
-            time: time_s[index],
-            previous: time_s[index - 1],
-        },
-        TimeFault::NonUniform {
-            index,
-            step_s,
-            median_step_s,
-        } => PostError::NonUniformTime {
-            path: path.to_path_buf(),
-            line: lines[index],
-            step_s,
-            median_step_s,
-            tolerance_percent: STEP_TOLERANCE * 100.0,
-        },
-    })?;
+    let step_s = located_time_axis(path, &lines, &time_s, rounding)?;
 
     Ok(Table {
         path: path.to_path_buf(),
@@ -695,6 +677,36 @@ enum TimeFault {
         step_s: f64,
         median_step_s: f64,
     },
+}
+
+/// [`check_time_axis`] for time stamps read from the lines `lines` of a text file
+/// (`lines[i]` holds sample `i`): a fault is an error naming the file and the line.
+pub(crate) fn located_time_axis(
+    path: &Path,
+    lines: &[u64],
+    time_s: &[f64],
+    rounding: f64,
+) -> Result<f64> {
+    let line = |index: usize| lines.get(index).copied().unwrap_or(index as u64 + 1);
+    check_time_axis(time_s, rounding).map_err(|fault| match fault {
+        TimeFault::NotIncreasing { index } => PostError::TimeNotIncreasing {
+            path: path.to_path_buf(),
+            line: line(index),
+            time: time_s[index],
+            previous: time_s[index - 1],
+        },
+        TimeFault::NonUniform {
+            index,
+            step_s,
+            median_step_s,
+        } => PostError::NonUniformTime {
+            path: path.to_path_buf(),
+            line: line(index),
+            step_s,
+            median_step_s,
+            tolerance_percent: STEP_TOLERANCE * 100.0,
+        },
+    })
 }
 
 /// Checks a time axis; returns the mean step. `rounding` is the resolution to which the times

@@ -383,13 +383,14 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
 
 
 def catenary(case, out, springs=None, plots=True, damping=None, mass_share=True, reduced=False,
-             allow_supercritical=False):
+             allow_supercritical=False, speeds=None):
     """A pantograph-catenary case (``coil-tune catenary``, docs/catenary.md): writes
     catenary.json, report.md, the histories and figures into ``out`` and returns the
     statistics as a DataFrame, one row per speed (EN 50318's keys, ``wave_speed_ratio``,
     ``assessment``). With ``springs`` (spring sources: a measured case folder, a variants
     file or ``"table4.json:#2"``, a calibration.json, a SPRING.json) it runs a spring
-    study and returns one row per spring and speed (column ``spring``).
+    study and returns one row per spring and speed (column ``spring``). ``speeds`` (km/h)
+    runs those speeds instead of the case's ``speeds_km_h``.
 
     >>> cat = {"spans": 2, "span_length_m": 60.0, "system_height_m": 1.2, "presag_mm": 0.0,
     ...        "contact_wire": {"mass_kg_m": 1.35, "tension_n": 20000.0, "ei_n_m2": 195.0},
@@ -413,12 +414,15 @@ def catenary(case, out, springs=None, plots=True, damping=None, mass_share=True,
     ([200.0, 250.0], True)
     >>> round(float(table["wave_speed_ratio"][1]), 3)
     0.571
+    >>> coil.catenary(tmp / "cat", tmp / "cat_250", plots=False, speeds=[250])["speed_km_h"].tolist()
+    [250.0]
     """
     import pandas as pd
 
     springs = [] if springs is None else _paths(springs, "springs")
     result = _json.loads(_call(_coil.catenary, _path(case, "case"), _path(out, "out"), springs,
-                               plots, damping, mass_share, reduced, allow_supercritical))
+                               plots, damping, mass_share, reduced, allow_supercritical,
+                               None if speeds is None else [float(v) for v in speeds]))
     rows = []
     entries = result["springs"] if "springs" in result else [{"runs": result["runs"]}]
     for entry in entries:

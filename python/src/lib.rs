@@ -559,7 +559,7 @@ fn diagnose(
 /// into `out` and returns catenary.json's content, or study.json's for a spring study
 /// (`springs` given).
 #[pyfunction]
-#[pyo3(signature = (case, out, springs=Vec::new(), plots=true, damping=None, mass_share=true, reduced=false, allow_supercritical=false))]
+#[pyo3(signature = (case, out, springs=Vec::new(), plots=true, damping=None, mass_share=true, reduced=false, allow_supercritical=false, speeds=None))]
 #[allow(clippy::too_many_arguments)]
 fn catenary(
     py: Python<'_>,
@@ -571,6 +571,7 @@ fn catenary(
     mass_share: bool,
     reduced: bool,
     allow_supercritical: bool,
+    speeds: Option<Vec<f64>>,
 ) -> PyResult<String> {
     use coil_catenary::cli::{execute, DampingArg, Done, Request};
     let damping = match damping.as_deref() {
@@ -599,6 +600,7 @@ fn catenary(
             options: coil_catenary::case::CaseOptions {
                 allow_supercritical,
                 allow_large: false,
+                speeds_km_h: speeds,
             },
         };
         let name = match execute(&request, &|_| Ok(())).map_err(fail)? {

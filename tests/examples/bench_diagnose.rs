@@ -6,7 +6,7 @@
 //! sticks after 8-17 cycles, drag beside a mild backbone, drag with a slow component,
 //! friction with drag); `outside` the laws outside the catalogue (scored against the
 //! hidden `none`: a named cause there shows as a miss in the table; the test
-//! `claim_outside_catalogue` tells an honest named cause from a false one).
+//! `outside_catalogue` tells an honest named cause from a false one).
 //!
 //! `large` is every standard case sampled at the rate that gives 30 000 samples over its
 //! record, the largest record the wall-time budget covers.

@@ -190,6 +190,30 @@ fn a_spring_study_and_its_bad_inputs() {
     let k = springs[2]["head_stage"]["stiffness_n_m"].as_f64().unwrap();
     assert!((k - 29012.1).abs() < 1.0, "{k}");
     assert!(springs[2]["head_stage"]["mass_share_kg"].as_f64().unwrap() > 0.0);
+    // `--speeds` runs other speeds than the case's, checked as the case's are.
+    let other = run(&["--springs", &variant, "--speeds", "200"], "speeds");
+    assert!(
+        other.status.success(),
+        "{}",
+        String::from_utf8_lossy(&other.stderr)
+    );
+    let report = std::fs::read_to_string(dir.path().join("speeds/report.md")).unwrap();
+    assert!(
+        report.contains("Lowest standard deviation among the springs at 200 km/h")
+            && !report.contains("at 250 km/h"),
+        "{report}"
+    );
+    for (speeds, needle) in [
+        (&["200", "200"][..], "--speeds lists 200 km/h twice"),
+        (&["500"][..], "--allow-supercritical"),
+    ] {
+        let mut args = vec!["--speeds"];
+        args.extend(speeds);
+        let refused = run(&args, "bad_speeds");
+        let message = String::from_utf8_lossy(&refused.stderr).to_string();
+        assert!(message.contains(needle), "{needle}: {message}");
+        assert!(!dir.path().join("bad_speeds").exists());
+    }
     // A SPRING.json that fails its own checks (the 160ECT's second working force pressing
     // it below its minimum length).
     let mut bad: serde_json::Value =

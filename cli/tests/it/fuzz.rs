@@ -28,34 +28,34 @@ use std::time::{Duration, Instant};
 
 /// Inputs per family in the default run.
 const DEFAULT_INPUTS: usize = 20;
-const HANG_S: u64 = 60;
+pub(crate) const HANG_S: u64 = 60;
 
 /// Inputs per family: `COIL_FUZZ_INPUTS` or [`DEFAULT_INPUTS`].
-fn budget() -> usize {
+pub(crate) fn budget() -> usize {
     std::env::var("COIL_FUZZ_INPUTS")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(DEFAULT_INPUTS)
 }
 
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 ^= self.0 << 13;
         self.0 ^= self.0 >> 7;
         self.0 ^= self.0 << 17;
         self.0
     }
-    fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next() % n as u64) as usize
     }
-    fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
+    pub(crate) fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
         items[self.below(items.len())]
     }
 }
 
-fn bin(name: &str) -> Option<PathBuf> {
+pub(crate) fn bin(name: &str) -> Option<PathBuf> {
     let tune = PathBuf::from(env!("CARGO_BIN_EXE_coil-tune"));
     let path = tune.with_file_name(name);
     path.is_file().then_some(path)
@@ -86,35 +86,68 @@ fn manifest(out: &Path) -> Option<String> {
     std::fs::read_to_string(out.join(".coil-manifest")).ok()
 }
 
+/// What one run of a binary gave.
+pub(crate) struct Outcome {
+    /// Its exit code.
+    pub code: i32,
+    /// Its standard error.
+    pub stderr: String,
+    /// Its peak resident memory (KiB, the kernel's `ru_maxrss`).
+    pub peak_kib: i64,
+    /// Its wall time (s).
+    pub seconds: f64,
+}
+
 /// Runs `cmd` in `sandbox` with its outputs in `out`; checks the rules of the module doc.
-fn check(label: &str, mut cmd: Command, sandbox: &Path, out: &Path) -> i32 {
+pub(crate) fn check(label: &str, cmd: Command, sandbox: &Path, out: &Path) -> i32 {
+    run(label, cmd, sandbox, out).code
+}
+
+/// Waits for `child` (killed after [`HANG_S`] s: a hang), with its peak memory.
+fn wait(label: &str, child: &mut std::process::Child) -> (std::process::ExitStatus, i64) {
+    use std::os::unix::process::ExitStatusExt;
+    let start = Instant::now();
+    let pid = child.id() as libc::pid_t;
+    loop {
+        let mut status = 0;
+        // SAFETY: `rusage` is plain data the kernel fills; `pid` is our own child, not yet
+        // reaped (std's `Child` never waited on it).
+        let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+        let got = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
+        if got == pid {
+            return (std::process::ExitStatus::from_raw(status), usage.ru_maxrss);
+        }
+        assert!(got == 0, "{label}: wait4 failed");
+        if start.elapsed() > Duration::from_secs(HANG_S) {
+            child.kill().unwrap();
+            panic!("{label}: no answer after {HANG_S} s (hang)");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// [`check`], returning what the run gave.
+pub(crate) fn run(label: &str, mut cmd: Command, sandbox: &Path, out: &Path) -> Outcome {
     let before = snapshot(sandbox, out);
     let previous = manifest(out);
+    let start = Instant::now();
     let mut child = cmd
         .current_dir(sandbox)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .expect("the binary runs");
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if start.elapsed() > Duration::from_secs(HANG_S) {
-            child.kill().unwrap();
-            panic!("{label}: no answer after {HANG_S} s (hang)");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    let mut err = String::new();
-    use std::io::Read;
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    // stderr is read on its own thread so that a long message cannot block the child.
+    let mut pipe = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut err = String::new();
+        use std::io::Read;
+        let _ = pipe.read_to_string(&mut err);
+        err
+    });
+    let (status, peak_kib) = wait(label, &mut child);
+    let seconds = start.elapsed().as_secs_f64();
+    let err = reader.join().unwrap();
     let code = status
         .code()
         .unwrap_or_else(|| panic!("{label}: killed by a signal (an abort): {err}"));
@@ -167,12 +200,17 @@ fn check(label: &str, mut cmd: Command, sandbox: &Path, out: &Path) -> i32 {
             );
         }
     }
-    code
+    Outcome {
+        code,
+        stderr: err,
+        peak_kib,
+        seconds,
+    }
 }
 
 /// One random edit of a text: delete, duplicate or swap a line, replace a number by an
 /// extreme one, insert hostile bytes, truncate.
-fn mutate(text: &str, rng: &mut Rng) -> String {
+pub(crate) fn mutate(text: &str, rng: &mut Rng) -> String {
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     if lines.is_empty() {
         return "\u{0}".into();
@@ -247,12 +285,28 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
     lines.join("\n") + "\n"
 }
 
-fn repo() -> PathBuf {
+/// `coil-tune calibrate case --out cal` stopped at its first grid point: records are
+/// read (and checked) before any loop.
+pub(crate) fn calibrate_first_point() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_coil-tune"));
+    c.args([
+        "calibrate",
+        "case",
+        "--out",
+        "cal",
+        "--elements-per-coil",
+        "3",
+    ]);
+    c.args(["--max-points", "1", "--no-check", "--quiet"]);
+    c
+}
+
+pub(crate) fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
 /// Runs `one(i, rng, sandbox)` for each of the family's inputs ([`budget`]).
-fn family(name: &str, seed: u64, mut one: impl FnMut(usize, &mut Rng, &Path) -> i32) {
+pub(crate) fn family(name: &str, seed: u64, mut one: impl FnMut(usize, &mut Rng, &Path) -> i32) {
     let start = Instant::now();
     let mut rng = Rng(seed);
     let n = budget();
@@ -379,23 +433,9 @@ fn hostile_inputs_through_the_real_binaries() {
         let mut c = Command::new(env!("CARGO_BIN_EXE_coil-tune"));
         c.args(["run", "p.proc", "--out", "out"]);
         let code = check(&format!("case {i} (run)"), c, sandbox, &sandbox.join("out"));
-        let mut c = Command::new(env!("CARGO_BIN_EXE_coil-tune"));
-        // Records are read before any loop; a valid case stops at the first grid point.
-        c.args([
-            "calibrate",
-            "case",
-            "--out",
-            "cal",
-            "--elements-per-coil",
-            "3",
-            "--max-points",
-            "1",
-            "--no-check",
-            "--quiet",
-        ]);
         check(
             &format!("case {i} (calibrate)"),
-            c,
+            calibrate_first_point(),
             sandbox,
             &sandbox.join("cal"),
         );

@@ -8,4 +8,5 @@ mod damping_cli;
 mod diagnose_cli;
 mod forced_cli;
 mod fuzz;
+mod fuzz_surfaces;
 mod mesh_cli;

@@ -64,6 +64,8 @@ pub fn detect(bytes: &[u8]) -> Format {
         }
         return Format::Mat;
     }
+    // A UTF-8 byte order mark (as Windows editors save) is not part of the first line.
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
     let first = bytes
         .split(|&b| b == b'\n')
         .map(|l| String::from_utf8_lossy(l).trim().to_string())
@@ -112,6 +114,16 @@ pub fn acceleration_signal(record: Record) -> Result<Signal> {
 /// A record as a checked [`Signal`] named by its file and channel (its time stamps
 /// uniform within the tolerance and their print rounding), values in SI.
 pub fn signal_of(record: Record) -> Result<Signal> {
+    // Stamps printed in a text file (a CSV dialect) are checked here, where the line of
+    // each sample is known, so that a fault names its line.
+    if record.time_resolution_s > 0.0 && record.time_s.len() >= crate::signal::MIN_SAMPLES {
+        crate::signal::located_time_axis(
+            &record.file,
+            &record.lines,
+            &record.time_s,
+            record.time_resolution_s,
+        )?;
+    }
     let signal =
         Signal::printed(record.time_s, record.values, record.time_resolution_s).map_err(|e| {
             PostError::Analysis {

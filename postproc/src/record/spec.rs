@@ -81,6 +81,35 @@ pub(crate) fn fail(path: &Path, at: &str, problem: String, expected: &str) -> Po
     }
 }
 
+/// The unit a file's own label states (`None` without a label): a label coil does not
+/// know is an error naming it and the labels known, unless the case states the
+/// channel's unit itself (then the case's unit is used). Never read as SI.
+pub(crate) fn stated_unit(
+    spec: &RecordSpec,
+    at: &str,
+    label: Option<&str>,
+) -> Result<Option<units::Unit>> {
+    let Some(label) = label.map(str::trim).filter(|l| !l.is_empty()) else {
+        return Ok(None);
+    };
+    match units::parse(label) {
+        Some(unit) => Ok(Some(unit)),
+        None if spec.unit.is_some() => Ok(None),
+        None => Err(fail(
+            &spec.file,
+            at,
+            format!(
+                "the file's unit `{}` is not a unit coil knows",
+                coil_io::excerpt(label)
+            ),
+            &format!(
+                "one of {} (or the record entry's `unit` for this channel)",
+                units::known_labels()
+            ),
+        )),
+    }
+}
+
 /// The unit of a channel from what the file states and what the case states (module
 /// docs): an error when they disagree or when neither states one.
 pub(crate) fn resolve_unit(

@@ -17,11 +17,14 @@
 //!   `2(E13.5,E20.12)` (double, uneven); Fortran `D` exponents are accepted.
 //!
 //! # Units
-//! The ordinate's unit label is used when it names a unit ([`super::units`]). Otherwise,
-//! a data type of 8, 11 or 12 gives the quantity in the file's unit system: SI without a
-//! dataset 164, else SI = value / (length factor)^(length exponent) (dataset 164's factors
-//! convert the file's units to SI by division). The abscissa must be time: its data type
-//! 17 or a time unit label (`s`, `ms`), or neither stated (then seconds).
+//! The ordinate's unit label is used when it states one (not blank, not `NONE`): a label
+//! coil does not know ([`super::units`]) is an error naming record 9's line and the
+//! labels known, unless the case states the channel's unit. Without a label, a data type
+//! of 8, 11 or 12 gives the quantity in the file's unit system: SI without a dataset 164,
+//! else SI = value / (length factor)^(length exponent) (dataset 164's factors convert the
+//! file's units to SI by division). The abscissa must be time: its data type 17 or a time
+//! unit label (`s`, `ms`), or neither stated (then seconds); another label is an error
+//! at record 8's line. A UTF-8 byte order mark before the first `-1` is skipped.
 
 use std::path::Path;
 
@@ -143,6 +146,8 @@ fn real(text: &str) -> Option<f64> {
 
 /// Reads every dataset 58 / 58b and the dataset 164 of a UFF file.
 pub fn read_file(path: &Path, bytes: &[u8]) -> Result<UffFile> {
+    // A UTF-8 byte order mark before the first `-1` (Windows editors).
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
     let mut c = Cursor {
         bytes,
         pos: 0,
@@ -344,7 +349,10 @@ fn read_ascii(
         (_, true) => &[20],
         (_, false) => &[13, 20],
     };
-    let mut values = Vec::with_capacity(count);
+    // Reserved for what the rest of the file can hold (13 bytes a value at least), not
+    // for what record 7 announces.
+    let mut values =
+        Vec::with_capacity(count.min((c.bytes.len() - c.pos.min(c.bytes.len())) / 13 + 1));
     loop {
         let Some((line, number)) = c.next_line() else {
             return Err(fail(
@@ -506,19 +514,33 @@ fn choose<'a>(path: &Path, file: &'a UffFile, channel: Option<&str>) -> Result<&
     })
 }
 
-/// The ordinate's unit as the dataset states it (module docs), if it states one.
-fn file_unit(d: &Dataset58, length_factor: Option<f64>) -> Option<units::Unit> {
-    if let Some(u) = units::parse(&d.ordinate.unit) {
-        return Some(u);
+/// A unit label that states a unit: not blank and not `NONE` (what writers put in an
+/// unused label).
+fn label(unit: &str) -> Option<&str> {
+    let u = unit.trim();
+    (!u.is_empty() && !u.eq_ignore_ascii_case("none")).then_some(u)
+}
+
+/// The ordinate's unit as the dataset states it (module docs), if it states one. A
+/// label coil does not know is an error at record 9's line (unless the case states the
+/// unit), never the data type's SI.
+fn file_unit(
+    spec: &RecordSpec,
+    d: &Dataset58,
+    length_factor: Option<f64>,
+) -> Result<Option<units::Unit>> {
+    let record_9 = (d.line + 9).to_string();
+    if let Some(l) = label(&d.ordinate.unit) {
+        return super::spec::stated_unit(spec, &record_9, Some(l));
     }
     let quantity = match d.ordinate.kind {
         8 => Quantity::Displacement,
         11 => Quantity::Velocity,
         12 => Quantity::Acceleration,
-        _ => return None,
+        _ => return Ok(None),
     };
     let factor = length_factor.unwrap_or(1.0);
-    Some(units::Unit {
+    Ok(Some(units::Unit {
         label: if length_factor.is_some() {
             format!("the file's unit system (length factor {factor})")
         } else {
@@ -526,7 +548,7 @@ fn file_unit(d: &Dataset58, length_factor: Option<f64>) -> Option<units::Unit> {
         },
         quantity,
         to_si: 1.0 / factor.powi(d.ordinate.length_exponent),
-    })
+    }))
 }
 
 /// Reads the channel `spec` names from a UFF file's bytes.
@@ -552,15 +574,15 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "function type 1, a time response",
         ));
     }
-    let time_factor = if d.abscissa.kind == 17 || d.abscissa.unit.is_empty() {
-        units::time_factor(&d.abscissa.unit).or(Some(1.0))
-    } else {
-        units::time_factor(&d.abscissa.unit)
+    // A stated abscissa unit must be a time unit; none stated is seconds.
+    let time_factor = match label(&d.abscissa.unit) {
+        Some(l) => units::time_factor(l),
+        None => Some(1.0),
     };
     let (Some(time_factor), true) = (time_factor, matches!(d.abscissa.kind, 0 | 1 | 17)) else {
         return Err(fail(
             path,
-            &at,
+            &(d.line + 8).to_string(),
             format!(
                 "an abscissa of data type {} in `{}`",
                 d.abscissa.kind,
@@ -569,7 +591,7 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "time as the abscissa (data type 17, unit `s`)",
         ));
     };
-    let unit = super::spec::resolve_unit(spec, &at, file_unit(d, file.length_factor))?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit(spec, d, file.length_factor)?)?;
     let time_s: Vec<f64> = if time_factor == 1.0 {
         d.x.clone()
     } else {
@@ -670,6 +692,27 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    /// An ordinate label coil does not know is refused at record 9's line with the
+    /// labels known (never read as the data type's SI); the case's own unit overrides
+    /// it. A byte order mark does not hide the format.
+    #[test]
+    fn unknown_units_are_refused_and_a_bom_is_skipped() {
+        let bytes = uff58_bytes(&[dataset(1, "ft/s^2", vec![1.0; 16])], false);
+        let e = read_bytes(&bytes, None, None).unwrap_err().to_string();
+        assert!(
+            e.starts_with("r.uff:11:")
+                && e.contains("`ft/s^2` is not a unit coil knows")
+                && e.contains("m/s^2, mm/s^2"),
+            "{e}"
+        );
+        let r = read_bytes(&bytes, None, Some("g")).unwrap();
+        assert_eq!(r.values[0], units::STANDARD_GRAVITY);
+        let mut bom = b"\xef\xbb\xbf".to_vec();
+        bom.extend(uff58_bytes(&[dataset(1, "m/s^2", vec![2.0; 16])], false));
+        assert_eq!(super::super::detect(&bom), super::super::Format::Uff);
+        assert_eq!(read_bytes(&bom, None, None).unwrap().values[3], 2.0);
     }
 
     #[test]

@@ -113,8 +113,8 @@ impl Rows {
 }
 
 impl ContactLine {
-    /// Resolves a contact: the line must be straight along one global axis other than
-    /// the contact's DOF.
+    /// Resolves a contact: the line must be one straight wire along a global axis other
+    /// than the contact's DOF ([`crate::model::line`]).
     pub fn new(system: &System, contact: &MovingContact) -> Result<Self, SolveError> {
         let model = system.model;
         let xyz = |id: u32| {
@@ -127,48 +127,43 @@ impl ContactLine {
                 })
         };
         let d = usize::from(contact.dof - 1);
-        let first = xyz(contact.line[0])?;
-        let mut spread = [0.0_f64; 3];
-        for &n in &contact.line {
-            let p = xyz(n)?;
-            for (s, (a, b)) in spread.iter_mut().zip(p.iter().zip(&first)) {
-                *s = s.max((a - b).abs());
-            }
-        }
-        let axis = (0..3)
-            .max_by(|&a, &b| spread[a].total_cmp(&spread[b]))
-            .unwrap_or(0);
-        let third = 3 - axis - d;
-        let straight = spread[third] <= 1e-9 * spread[axis];
-        if axis == d || !straight || spread[axis] == 0.0 {
-            return Err(SolveError::BadInput {
+        let points = contact
+            .line
+            .iter()
+            .map(|&n| xyz(n).map(|p| (n, p)))
+            .collect::<Result<Vec<_>, _>>()?;
+        // The model's check has run the same test; this keeps the analysis safe on its own.
+        let pairs: std::collections::HashSet<(u32, u32)> = model
+            .elements()
+            .iter()
+            .map(|e| (e.nodes[0].min(e.nodes[1]), e.nodes[0].max(e.nodes[1])))
+            .collect();
+        let joined = |a: u32, b: u32| pairs.contains(&(a.min(b), a.max(b)));
+        let line = crate::model::line::contact_axis(&points, contact.dof, joined).map_err(
+            |(problem, expected)| SolveError::BadInput {
                 what: format!(
-                    "MOVING CONTACT of head {}: the line's nodes must lie on a straight \
-                     line along a global axis other than DOF {} (spread x, y, z: {:?} mm)",
-                    contact.head, contact.dof, spread
+                    "MOVING CONTACT of head {}: {problem}; expected {expected}",
+                    contact.head
                 ),
-            });
-        }
+            },
+        )?;
+        let (axis, third) = (line.axis, line.third);
         // dw/ds = eps(r, axis, d) theta_r, r the third axis.
         let eps = match (third, axis, d) {
             (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
             _ => -1.0,
         };
-        let mut nodes = Vec::with_capacity(contact.line.len());
-        for &n in &contact.line {
-            let p = xyz(n)?;
+        let s0 = points[line.order[0]].1[axis];
+        let mut nodes = Vec::with_capacity(points.len());
+        for &k in &line.order {
+            let (n, p) = points[k];
             let w = rows(system, n, contact.dof, "MOVING CONTACT")?;
             let mut rot = rows(system, n, (third + 4) as u8, "MOVING CONTACT")?;
             for x in &mut rot.free {
                 x.1 *= eps;
             }
-            nodes.push((p[axis] - first[axis], p[d], w, rot));
-        }
-        nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
-        // Coordinates from the line's first node in axis order.
-        let s0 = nodes[0].0;
-        for n in &mut nodes {
-            n.0 -= s0;
+            // Coordinates from the line's first node in axis order.
+            nodes.push((p[axis] - s0, p[d], w, rot));
         }
         let head_xyz = xyz(contact.head)?;
         let head = (

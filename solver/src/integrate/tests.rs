@@ -889,3 +889,72 @@ pub(crate) fn relative_differences(
         diff / scale
     })
 }
+
+/// Average acceleration from rest: the response to an end load is `(u, 2u/dt,
+/// 4u/dt^2)` (`u = dt^2/4 a`, `v = dt/2 a`), on the dense, sparse and banded engines
+/// alike, with and without damping. The contacts' and tension links' correction
+/// (`crate::analysis::transient::contact`) keeps only `u` on that account.
+#[test]
+fn a_step_from_rest_is_its_displacement_scaled() {
+    let small = (
+        sparse(&[&[2.0, 0.0], &[0.0, 1.0]]),
+        sparse(&[&[600.0, -200.0], &[-200.0, 200.0]]),
+    );
+    let chain = chain_with_hub(60, 7);
+    let n = chain.nrows();
+    let mass = sparse(
+        &(0..n)
+            .map(|i| {
+                let mut row = vec![0.0; n];
+                row[i] = 1.0 + (i % 3) as f64;
+                row
+            })
+            .collect::<Vec<_>>()
+            .iter()
+            .map(Vec::as_slice)
+            .collect::<Vec<_>>(),
+    );
+    for (m, k) in [small, (mass, chain)] {
+        let n = m.nrows();
+        for damped in [false, true] {
+            let c = sparse(
+                &(0..n)
+                    .map(|i| {
+                        let mut row = vec![0.0; n];
+                        row[i] = if damped { 0.5 } else { 0.0 };
+                        row
+                    })
+                    .collect::<Vec<_>>()
+                    .iter()
+                    .map(Vec::as_slice)
+                    .collect::<Vec<_>>(),
+            );
+            let ops = Operators {
+                m: m.as_ref(),
+                c: damped.then(|| c.as_ref()),
+                k: k.as_ref(),
+            };
+            let dt = 2.5e-3;
+            let mut stepper = Stepper::new(ops, Scheme::AverageAcceleration, dt).unwrap();
+            let zero = vec![0.0; n];
+            let mut load = vec![0.0; n];
+            load[n - 1] = 1.0;
+            load[n / 2] = -0.3;
+            let mut state = State::zeros(n, 0.0);
+            stepper.step(&mut state, &zero, &load, 0).unwrap();
+            let scale = state.a.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+            assert!(scale > 0.0);
+            for i in 0..n {
+                let u = state.u[i];
+                assert!(
+                    (state.v[i] - 2.0 * u / dt).abs() <= 1e-12 * scale * dt,
+                    "v at {i}"
+                );
+                assert!(
+                    (state.a[i] - 4.0 * u / (dt * dt)).abs() <= 1e-12 * scale,
+                    "a at {i}"
+                );
+            }
+        }
+    }
+}

@@ -13,7 +13,8 @@
 //! 5. point masses (existing node, one per node, non-negative values), Rayleigh
 //!    damping (non-negative alpha, beta; damped point-mass nodes carry a point mass),
 //!    beam tensions (finite force, existing elements, each element once), tension
-//!    links and moving contacts (existing nodes, a translation, stiffness > 0), matrix
+//!    links and moving contacts (existing nodes, a translation, stiffness > 0, one link
+//!    per node pair and DOF, a contact line that is one straight wire), matrix
 //!    elements (unique names, existing nodes, DOFs 1..=6 once each, n x n finite
 //!    matrices, symmetric to [`SYMMETRY`], mass and damping positive semi-definite to
 //!    [`SEMI_DEFINITE`]);
@@ -503,9 +504,12 @@ fn check_beam_tensions(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
 }
 
 /// Tension links and moving contacts: existing nodes, a translation, a positive finite
-/// stiffness, finite slack, speed and start, a line of two nodes or more without the head.
+/// stiffness, finite slack, speed and start, one link per node pair and DOF (checked in
+/// one pass, linear), a line of two nodes or more without the head that is one straight
+/// wire across the contact's DOF ([`super::line`]).
 fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError> {
     let translation = "a translation DOF 1..3";
+    let mut linked: HashMap<(NodeId, NodeId, u8), usize> = HashMap::new();
     for (i, l) in p.tension_links.iter().enumerate() {
         let site = Site::TensionLink(i);
         ids.nodes_exist(&l.nodes, site)?;
@@ -526,7 +530,35 @@ fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 "a stiffness > 0 (N/mm) and a finite slack (mm)",
             );
         }
+        let pair = (
+            l.nodes[0].min(l.nodes[1]),
+            l.nodes[0].max(l.nodes[1]),
+            l.dof,
+        );
+        if let Some(first) = linked.insert(pair, i) {
+            return fail(
+                site,
+                format!(
+                    "tension link {} already links nodes {} and {} along DOF {}",
+                    first + 1,
+                    pair.0,
+                    pair.1,
+                    l.dof
+                ),
+                "one TENSION LINK per node pair and DOF (two links on one pair act as one \
+                 spring: merge them)",
+            );
+        }
     }
+    // Node pairs joined by an element, for the contact lines (built once, linear).
+    let joined: HashSet<(NodeId, NodeId)> = if p.moving_contacts.is_empty() {
+        HashSet::new()
+    } else {
+        p.elements
+            .iter()
+            .map(|e| (e.nodes[0].min(e.nodes[1]), e.nodes[0].max(e.nodes[1])))
+            .collect()
+    };
     for (i, c) in p.moving_contacts.iter().enumerate() {
         let site = Site::MovingContact(i);
         ids.nodes_exist(&[c.head], site)?;
@@ -551,6 +583,16 @@ fn check_links_and_contacts(p: &ModelParts, ids: &Ids) -> Result<(), ModelError>
                 ),
                 "a stiffness > 0 (N/mm), a finite speed (mm/s) and start (mm)",
             );
+        }
+        let nodes: Vec<(NodeId, [f64; 3])> = c
+            .line
+            .iter()
+            .map(|&n| (n, xyz(p, n).unwrap_or_default()))
+            .collect();
+        if let Err((message, expected)) =
+            super::line::contact_axis(&nodes, c.dof, |a, b| joined.contains(&(a.min(b), a.max(b))))
+        {
+            return fail(site, message, expected);
         }
     }
     Ok(())

@@ -23,6 +23,7 @@
 
 pub mod check;
 mod error;
+pub mod line;
 mod parts;
 pub mod units;
 

@@ -11,8 +11,8 @@
 //!   the catalogue (`truth::FAST_HARD`), a friction decay that stops after 12 cycles, a
 //!   10-cycle null decay, a softening spring under 130 mm of static deflection and a
 //!   softening decay that sweeps its frequency by 21 %.
-//! - **Full table** ([`full_confusion_table`], `#[ignore]`d:
-//!   `cargo test --release -p coil-tests --test it diagnose::full -- --ignored --nocapture`): the 17 standard
+//! - **Full table** ([`claim_confusion_table`], in the second CI stage:
+//!   `cargo test --release -p coil-tests --test it diagnose::claim_confusion -- --ignored --nocapture`): the 17 standard
 //!   cases and the 33 extended ones (softening and hardening alone and with each damping
 //!   effect, two damping effects together, position and velocity sensors, band-limited
 //!   noise, jitter, drift, an impulse at the start, 30 Hz short records, 150+ cycle
@@ -27,7 +27,7 @@
 //!   docs/diagnose.md and the README state) and the nesting invariant on every
 //!   combination. The benchmark `examples/bench_diagnose.rs` prints the same table with
 //!   the whole process's wall times.
-//! - **Outside the catalogue** ([`outside_catalogue`], `#[ignore]`d:
+//! - **Outside the catalogue** ([`outside_catalogue`], `#[ignore]`d until it holds:
 //!   `cargo test --release -p coil-tests --test it diagnose::outside -- --ignored --nocapture`): a backlash
 //!   gap, a bilinear spring, Bouc-Wen friction, a close second mode, a clipped sensor;
 //!   no false cause.
@@ -112,27 +112,28 @@ fn fast_subset() {
 }
 
 /// The worst parameter error over the whole generated table that docs/diagnose.md
-/// states (section 7; measured 5.74 %, the cubic spring of `drag_soft_0p5pc_hanging`,
-/// 0.5 % of backbone beside drag carrying 95 % of the loss): the full table holds it
-/// to this.
-pub const CLAIMED_WORST_PARAMETER_ERROR: f64 = 0.06;
+/// states (section 7; measured 12.33 %, the drag of `friction_drag_g1`, friction and
+/// drag each carrying about half the loss beside a light viscous part): the full table
+/// holds it to this.
+pub const CLAIMED_WORST_PARAMETER_ERROR: f64 = 0.125;
 
 /// The whole confusion table (module docs): every old and new generated case named
 /// with all its parts, `none` on the null cases, every parameter within the claimed
 /// worst error, the nesting invariant on every combination.
 #[test]
-#[ignore = "several minutes: the full generated table; not yet measured green with the new classes, so not in the second CI stage"]
-fn full_confusion_table() {
+#[ignore = "second CI stage"]
+fn claim_confusion_table() {
     let mut cases = truth::standard_cases();
     cases.extend(truth::extended_cases());
     cases.extend(truth::hard_cases());
     cases.extend(loss::loss_cases());
     let scores = run(&cases);
-    let needs: [(&str, usize); 4] = [
+    let needs: [(&str, usize); 5] = [
         ("none", 18),
         ("cubic_stiffness", 8),
         ("coulomb_friction", 12),
         ("cubic_stiffness+quadratic_damping", 4),
+        ("coulomb_friction+quadratic_damping", 2),
     ];
     for (truth, at_least) in needs {
         let n = scores.iter().filter(|s| s.truth == truth).count();
@@ -155,7 +156,7 @@ fn full_confusion_table() {
 /// (`truth::loss::loss_cases`) alone, for iterating on them:
 /// `cargo test --release -p coil-tests --test it diagnose::loss_classes -- --ignored --nocapture`.
 #[test]
-#[ignore = "about a minute: the damping classes alone (also in full_confusion_table)"]
+#[ignore = "about a minute: the damping classes alone (also in claim_confusion_table)"]
 fn loss_classes() {
     assert_scores(&run(&loss::loss_cases()));
 }
@@ -166,7 +167,7 @@ fn loss_classes() {
 /// cause and report the misfit it leaves; a confident wrong cause is a failure. The
 /// table is in docs/diagnose.md, section 7.
 #[test]
-#[ignore = "a minute: the out-of-catalogue table; not yet measured, so not in the second CI stage"]
+#[ignore = "open: a close second mode is named axial_torsional_coupling without a reported misfit (2 false causes of 10); joins the second CI stage at 0"]
 fn outside_catalogue() {
     let cases = loss::outside_cases();
     let dir = tempfile::tempdir().expect("temp dir");

@@ -95,10 +95,15 @@ pub(crate) const MOVING_CONTACT: Keyword = Keyword {
         ),
         (
             "list",
-            "the line's nodes: collinear along a global axis other than dof",
+            "the line's nodes: one wire, straight along a global axis other than dof, \
+             each node joined to the next by an element",
         ),
     ],
-    notes: "Groups repeat until the next card. The line's deflection at the point is the \
+    notes: "Groups repeat until the next card. The line is checked when the deck is \
+            read: its nodes collinear (off-axis spread at most 1e-9 of the length), the \
+            axis not dof (a contact along the wire has no penetration), no two nodes at \
+            one point, each node joined to the next along the axis by an element (a list \
+            naming two wires fails the first or the last test). The line's deflection at the point is the \
             cubic Hermite interpolation of its nodes' translation dof and rotation, on \
             the segment between the two line nodes around it (nodes ordered by their \
             coordinate along the line); off the line's ends the contact is open. \
@@ -266,5 +271,28 @@ mod tests {
         assert!(e.contains("not including the head"), "{e}");
         let e = err_with_model("MOVING CONTACT\n1, 3, 50.0, 1.0\n2 TO 3\n");
         assert!(e.contains("start (mm)"), "{e}");
+    }
+
+    /// A contact along its line's own axis, a line that is not one wire and a second
+    /// link on one node pair are refused at the card's line (the model's check).
+    #[test]
+    fn contact_lines_and_duplicate_links_are_refused_where_written() {
+        // The wire runs along x (DOF 1): pressing along it.
+        let e = err_with_model("MOVING CONTACT\n1, 1, 50.0, 1.0, 0.0\n2 TO 3\n");
+        assert!(
+            e.contains("t.dat:") && e.contains("MOVING CONTACT") && e.contains("own direction"),
+            "{e}"
+        );
+        // Nodes 1 and 3 of the wire, not joined to each other.
+        let e = err_with_model("MOVING CONTACT\n2, 3, 50.0, 1.0, 0.0\n1, 3\n");
+        assert!(e.contains("no element joins nodes 1 and 3"), "{e}");
+        let e = err_with_model("TENSION LINK\n2, 3, 3, 100.0, 0\n3, 2, 3, 50.0, 1\n");
+        assert!(
+            e.contains("tension link 1 already links nodes 2 and 3 along DOF 3")
+                && e.contains("TENSION LINK"),
+            "{e}"
+        );
+        // Another DOF of the same pair is another link.
+        with_model("TENSION LINK\n2, 3, 3, 100.0, 0\n2, 3, 2, 50.0, 1\n").unwrap();
     }
 }

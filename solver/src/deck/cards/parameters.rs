@@ -1,5 +1,5 @@
 //! The parameter section's cards: `TITLE` (also a load case's), `SIZING`, `ELEMENTS`,
-//! `LUMP` and `END`.
+//! `LUMP`, `END`, and `UNIT`, which is refused (it may change what the numbers mean).
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
 //! and parse function) followed by its parse function; then the family's build function
@@ -89,6 +89,33 @@ pub(crate) const END: Keyword = Keyword {
     example: "END",
     parse: parse_end,
 };
+
+/// The `UNIT` card.
+pub(crate) const UNIT: Keyword = Keyword {
+    name: "UNIT",
+    sections: &[Parameters],
+    origin: Origin::Unsupported,
+    meaning: "A statement of the deck's unit system (Mentat writes it in the parameter \
+              section).",
+    layout: &[("UNIT[, ...]", "")],
+    notes: "Refused, because it may change what every number means: coil reads a deck \
+            in one consistent system (mm, N, t, s; see Units above) and converts \
+            nothing, so a deck in another system would be misread without a word. \
+            When the deck is in mm, N, t, s, remove the card; otherwise convert the \
+            deck.",
+    example: "UNIT",
+    parse: parse_unit,
+};
+
+fn parse_unit(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    Err(c.err(
+        c.loc(),
+        "UNIT is not supported: the card may state a unit system other than coil's \
+         (mm, N, t, s), and coil converts nothing",
+        "a deck in mm, N, t, s without the card (remove it when the deck is in mm, N, \
+         t, s; otherwise convert the deck)",
+    ))
+}
 
 fn parse_title(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     let text = c.rest_of_line();
@@ -232,6 +259,19 @@ mod tests {
             e.to_string().contains("t.dat:2:1: TITLE: a second TITLE"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_unit_card_is_refused_where_written() {
+        for card in ["UNIT", "unit, 1", "UNIT, 2, 1, 3"] {
+            let e = read_str(&format!("TITLE, t\n{card}\nELEMENTS, 98\nEND\n"), "t.dat")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("t.dat:2:1: UNIT:") && e.contains("mm, N, t, s"),
+                "{e}"
+            );
+        }
     }
 
     #[test]

@@ -22,8 +22,9 @@ pub enum Command {
         /// Also write DIR/sheet.json and DIR/sheet.md (one output set).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Beams per coil of the FE helix.
-        #[arg(long, default_value_t = 24)]
+        /// Beams per coil of the FE helix to start from: the rate is refined by doubling
+        /// them until it moves less than 0.1 %.
+        #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(4..=512))]
         elements_per_coil: u32,
     },
     /// Design to a target (TARGET.json, docs/spring-design.md): search standard wires,
@@ -39,10 +40,18 @@ pub enum Command {
         /// Rank by this instead of the target's `objective`.
         #[arg(long, value_enum)]
         objective: Option<crate::target::Objective>,
-        /// Verify this many of the best handbook candidates by FE (default: the
-        /// target's `short_list`, else 8).
+        /// Short-list this many FE-verified candidates, verifying down the ranking
+        /// (default: the target's `short_list`, else 8; 1 to 32).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=32))]
+        short_list: Option<u64>,
+        /// With a wire grade: the beams per coil the converged FE check starts from
+        /// (default 24). Refused with a calibration, whose E belongs to its mesh.
+        #[arg(long, value_parser = clap::value_parser!(u32).range(4..=512))]
+        elements_per_coil: Option<u32>,
+        /// Use this calibration.json (of `coil-tune calibrate`) as the material instead
+        /// of the target's `material` (its grade, if any, still gives Rm).
         #[arg(long)]
-        short_list: Option<usize>,
+        calibration: Option<PathBuf>,
         /// No figure.
         #[arg(long)]
         no_plots: bool,
@@ -63,15 +72,21 @@ pub fn run(command: Command) -> Result<()> {
             out,
             objective,
             short_list,
+            elements_per_coil,
+            calibration,
             no_plots,
         } => {
-            let out = OutDir::create(out)?;
-            let target = crate::target::read_target(&target)?;
+            let mut target = crate::target::read_target(&target)?;
+            if let Some(file) = calibration {
+                target.material = crate::target::with_calibration(&target.material, file);
+            }
             let settings = crate::DesignSettings {
                 objective,
-                short_list,
+                short_list: short_list.map(|n| n as usize),
+                elements_per_coil,
             };
             let design = crate::design(&target, &settings)?;
+            let out = OutDir::create(out)?;
             crate::output::write(&design, &out, !no_plots)?;
             out.commit()?;
             text(&crate::output::summary(&design))?;
@@ -88,7 +103,6 @@ fn check_command(
     out: Option<PathBuf>,
     elements_per_coil: u32,
 ) -> Result<()> {
-    let out = out.map(OutDir::create).transpose()?;
     let input = crate::sheet::input::read_spring(spring)?;
     let settings = coil_tuner::fe::FeSettings {
         elements_per_coil,
@@ -96,6 +110,7 @@ fn check_command(
     };
     let report = crate::sheet::check(&input, &settings)?;
     let json_text = report.json()?;
+    let out = out.map(OutDir::create).transpose()?;
     if let Some(out) = &out {
         out.write("sheet.json", json_text.as_bytes())?;
         out.write("sheet.md", report.markdown(spring).as_bytes())?;

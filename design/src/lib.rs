@@ -81,6 +81,8 @@ pub struct Design {
     pub tried: usize,
     /// How many passed every handbook and envelope check.
     pub feasible: usize,
+    /// How many springs the FE model verified (short list, rejected, corrected).
+    pub fe_runs: usize,
     /// How many failed each check.
     pub rejections: Vec<(String, usize)>,
     /// The FE-verified short list, best first.
@@ -101,23 +103,182 @@ pub struct Design {
 pub struct DesignSettings {
     /// Replaces the target's objective.
     pub objective: Option<Objective>,
-    /// Replaces the target's short-list length.
+    /// Replaces the target's short-list length (1 to [`target::MAX_SHORT_LIST`]).
     pub short_list: Option<usize>,
+    /// The starting beams per coil of a grade's converged FE check; with a calibration,
+    /// refused (its E belongs to its mesh).
+    pub elements_per_coil: Option<u32>,
 }
 
-/// Runs a design (module docs).
-pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
-    let clock = std::time::Instant::now();
+/// The most springs the FE verification runs in one design (the short list, the
+/// springs rejected on the way down the ranking and their FE-corrected versions).
+pub const MAX_VERIFIED: usize = 64;
+
+/// The most short-listed springs of one wire diameter.
+pub const PER_WIRE: usize = 2;
+
+/// Applies the command line's overrides to `target`, refusing values the file would
+/// refuse.
+fn overridden(target: &Target, settings: &DesignSettings) -> Result<Target> {
     let mut target = target.clone();
     if let Some(o) = settings.objective {
         target.objective = o;
     }
     if let Some(n) = settings.short_list {
+        if n == 0 || n as f64 > target::MAX_SHORT_LIST {
+            return Err(TuneError::Invalid(format!(
+                "--short-list {n}: how many candidates the FE verifies, a whole number from 1 to {}",
+                target::MAX_SHORT_LIST
+            )));
+        }
         target.short_list = n;
     }
-    let material = target::material(&target)?;
-    let found = search::search(&target, &material);
-    let short = &found.feasible[..found.feasible.len().min(target.short_list)];
+    Ok(target)
+}
+
+/// The material with the command line's mesh.
+fn material_with_mesh(target: &Target, settings: &DesignSettings) -> Result<Material> {
+    let mut material = target::material(target)?;
+    if let Some(m) = settings.elements_per_coil {
+        if material.damping.is_some() {
+            return Err(TuneError::Invalid(format!(
+                "--elements-per-coil {m}: the calibration's E belongs to its own mesh ({} beams per coil); leave the flag out with a calibration",
+                material.fe.elements_per_coil
+            )));
+        }
+        if !(4..=512).contains(&m) {
+            return Err(TuneError::Invalid(format!(
+                "--elements-per-coil {m}: the starting beams per coil, from 4 to 512"
+            )));
+        }
+        material.fe.elements_per_coil = m;
+    }
+    Ok(material)
+}
+
+/// The FE-corrected version of a spring the FE model put outside the rate tolerance:
+/// the active coils scaled by `K_FE / K_target` (K ~ 1/n) to the nearest quarter turn,
+/// when that is another spring that passes every handbook check.
+fn corrected(
+    target: &Target,
+    material: &Material,
+    v: &Verified,
+) -> Option<(search::Candidate, String)> {
+    let rate = target.rate_n_mm / f64::from(target.springs_in_parallel);
+    let n = v.active_coils * v.fe_rate_n_mm / rate;
+    let n = (n / search::COIL_STEP).round() * search::COIL_STEP;
+    if (n - v.active_coils).abs() < 1e-9 || n < 2.0 {
+        return None;
+    }
+    let wire = (v.wire_diameter_mm, v.sheet.tensile_strength_mpa);
+    let (c, failed) = search::candidate(target, material, wire, v.mean_diameter_mm, n);
+    // The handbook rate of the corrected spring is off by the FE offset on purpose.
+    let failed: Vec<_> = failed.into_iter().filter(|f| *f != "rate").collect();
+    failed.is_empty().then(|| {
+        (
+            c,
+            format!(
+                "n {} -> {n} (FE rate {:.4} N/mm against {rate:.4})",
+                v.active_coils, v.fe_rate_n_mm
+            ),
+        )
+    })
+}
+
+/// Verifies down the ranking (module docs of [`verify`]): batches of the best springs
+/// not yet tried, at most [`PER_WIRE`] per wire diameter, until the short list is full,
+/// the feasible set is exhausted or [`MAX_VERIFIED`] springs ran; a spring off the rate
+/// by FE is retried once with its coils corrected by the FE rate.
+fn verify_down(
+    feasible: &[search::Candidate],
+    target: &Target,
+    material: &Material,
+    weight_kg: Option<f64>,
+    band: Option<&band::LawBand>,
+) -> Result<(Vec<Verified>, Vec<Verified>, usize)> {
+    let mut accepted: Vec<Verified> = Vec::new();
+    let mut rejected: Vec<Verified> = Vec::new();
+    let mut per_wire: BTreeMap<u64, usize> = BTreeMap::new();
+    let mut next = 0usize;
+    let mut ran = 0usize;
+    let key = |d: f64| (d * 1000.0).round() as u64;
+    while accepted.len() < target.short_list && ran < MAX_VERIFIED {
+        let want = (target.short_list - accepted.len()).min(MAX_VERIFIED - ran);
+        let mut batch = Vec::new();
+        let mut pending: BTreeMap<u64, usize> = BTreeMap::new();
+        while batch.len() < want && next < feasible.len() {
+            let c = &feasible[next];
+            next += 1;
+            let k = key(c.spring.wire_diameter_mm);
+            let used =
+                per_wire.get(&k).copied().unwrap_or(0) + pending.get(&k).copied().unwrap_or(0);
+            if used < PER_WIRE {
+                *pending.entry(k).or_default() += 1;
+                batch.push((next, c.clone(), None));
+            }
+        }
+        if batch.is_empty() {
+            break;
+        }
+        ran += batch.len();
+        let mut retry = Vec::new();
+        for v in verify::verify(&batch, target, material, weight_kg, band)? {
+            let k = key(v.wire_diameter_mm);
+            if v.fe_verified {
+                *per_wire.entry(k).or_default() += 1;
+                accepted.push(v);
+            } else {
+                if v.corrected_from.is_none() {
+                    if let Some((c, why)) = corrected(target, material, &v) {
+                        retry.push((v.search_rank, c, Some(why)));
+                    }
+                }
+                rejected.push(v);
+            }
+        }
+        if !retry.is_empty() && ran < MAX_VERIFIED {
+            retry.truncate(MAX_VERIFIED - ran);
+            ran += retry.len();
+            for v in verify::verify(&retry, target, material, weight_kg, band)? {
+                let k = key(v.wire_diameter_mm);
+                if v.fe_verified && per_wire.get(&k).copied().unwrap_or(0) < PER_WIRE {
+                    *per_wire.entry(k).or_default() += 1;
+                    accepted.push(v);
+                } else {
+                    rejected.push(v);
+                }
+            }
+        }
+    }
+    let rate = target.rate_n_mm / f64::from(target.springs_in_parallel);
+    let order = |v: &Verified| match target.objective {
+        Objective::Lightest => v.spring_mass_kg,
+        Objective::StressMargin => -v.stress_margin,
+    };
+    accepted.sort_by(|a, b| {
+        order(a).total_cmp(&order(b)).then(
+            (a.fe_rate_n_mm / rate - 1.0)
+                .abs()
+                .total_cmp(&(b.fe_rate_n_mm / rate - 1.0).abs()),
+        )
+    });
+    accepted.truncate(target.short_list);
+    for (i, v) in accepted.iter_mut().enumerate() {
+        v.rank = i + 1;
+        v.deck = verify::deck_name(i + 1, true);
+    }
+    for (i, v) in rejected.iter_mut().enumerate() {
+        v.deck = verify::deck_name(i + 1, false);
+    }
+    Ok((accepted, rejected, ran))
+}
+
+/// Runs a design (module docs).
+pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
+    let clock = std::time::Instant::now();
+    let target = overridden(target, settings)?;
+    let material = material_with_mesh(&target, settings)?;
+    let found = search::search(&target, &material).map_err(TuneError::Invalid)?;
     let weight_kg = target.weight_kg.or(material
         .damping
         .map(|d| d.state.mass_kg * f64::from(target.springs_in_parallel)));
@@ -128,10 +289,13 @@ pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
             band::LawBand::calibrate(reference, &material.fe, material.identified_law.as_ref())
         })
         .transpose()?;
-    let (candidates, rejected): (Vec<_>, Vec<_>) =
-        verify::verify(short, &target, &material, weight_kg, band.as_ref())?
-            .into_iter()
-            .partition(|v| v.fe_verified);
+    let (candidates, rejected, fe_runs) = verify_down(
+        &found.feasible,
+        &target,
+        &material,
+        weight_kg,
+        band.as_ref(),
+    )?;
     let damping = target
         .damping_ratio
         .and_then(|z| verdict(z, &candidates, &target));
@@ -143,6 +307,7 @@ pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
             .map(|c| (c.sheet.spring_mass_kg, c.sheet.rate_n_mm))
             .collect(),
         tried: found.tried,
+        fe_runs,
         rejections: found.rejections,
         candidates,
         rejected,

@@ -4,9 +4,11 @@
 //! list by handbook and by FE, the target band) and `decks/candidate_NN.dat` (each
 //! short-listed spring with the weight: static at the second working force, modal).
 
+use super::target::Objective;
 use super::verify::{candidate_settings, candidate_state, Verified};
 use super::{zeta_line, Design};
 use crate::error::{Result, TuneError};
+use crate::sheet::en13906::{Loading, Working};
 use coil_mesher::AnalysisKind;
 use coil_tuner::output::OutDir;
 use std::fmt::Write as _;
@@ -61,19 +63,63 @@ pub fn write(design: &Design, out: &OutDir, figure: bool) -> Result<()> {
     Ok(())
 }
 
+/// A number with `digits` significant digits, no trailing zeros ("5.3", "0.06694").
+pub fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i64;
+    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The working points in words.
+pub fn working_words(w: &Working) -> String {
+    match *w {
+        Working::Forces(a, b) => format!("F1 = {} N, F2 = {} N", sig(a, 4), sig(b, 4)),
+        Working::Lengths(a, b) => format!("L1 = {} mm, L2 = {} mm", sig(a, 4), sig(b, 4)),
+    }
+}
+
+/// The objective in words.
+pub fn objective_words(o: Objective) -> &'static str {
+    match o {
+        Objective::Lightest => "lightest",
+        Objective::StressMargin => "stress margin",
+    }
+}
+
 /// The candidates as a markdown table.
 pub fn table(design: &Design) -> String {
-    let mut s = String::from(
-        "| rank | d (mm) | D (mm) | n | pitch (mm) | L0 (mm) | R handbook | K FE | K FE vs target | mass (kg) | stress margin | surge FE (Hz) | zeta by law |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    let dynamic = design.target.loading == Loading::Dynamic;
+    let mut s = format!(
+        "| rank | d (mm) | D (mm) | n | pitch (mm) | L0 (mm) | R handbook (N/mm) | K FE (N/mm) | K FE vs target | mass (kg) | {} | margin | surge FE (Hz) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        if dynamic { "tau_kh / tau_kH (MPa)" } else { "tau2 / 0.5 Rm (MPa)" }
     );
     for v in &design.candidates {
+        let stress = if dynamic {
+            format!(
+                "{:.0} / {:.0}",
+                v.stroke_stress_mpa, v.permissible_stroke_stress_mpa
+            )
+        } else {
+            format!(
+                "{:.0} / {:.0}",
+                v.sheet.shear_stress_2_mpa, v.sheet.permissible_working_stress_mpa
+            )
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {} | {:.2} | {:.2} | {:.4} | {:.4} | {:+.2}% | {:.5} | {:.3} | {:.1} | {} |",
+            "| {} | {} | {:.1} | {} | {:.2} | {:.2} | {:.4} | {:.4} | {:+.2} % | {:.5} | {stress} | {:.3} | {:.1} |",
             v.rank,
-            v.wire_diameter_mm,
+            sig(v.wire_diameter_mm, 3),
             v.mean_diameter_mm,
-            v.active_coils,
+            sig(v.active_coils, 4),
             v.pitch_mm,
             v.free_length_mm,
             v.rate_n_mm,
@@ -82,38 +128,92 @@ pub fn table(design: &Design) -> String {
             v.spring_mass_kg,
             v.stress_margin,
             v.fe.surge_frequency_hz,
-            zeta_line(&v.damping_ratio)
         );
     }
     s
+}
+
+/// The candidates' zeta, one column per law.
+pub fn zeta_table(design: &Design) -> Option<String> {
+    let laws: Vec<&String> = design.candidates.first()?.damping_ratio.keys().collect();
+    if laws.is_empty() {
+        return None;
+    }
+    let mut s = format!(
+        "| rank | {} |\n|---|{}\n",
+        laws.iter()
+            .map(|l| l.replace('_', " "))
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|".repeat(laws.len())
+    );
+    for v in &design.candidates {
+        let values: Vec<String> = laws
+            .iter()
+            .map(|l| {
+                v.damping_ratio
+                    .get(*l)
+                    .map_or("-".into(), |z| format!("{z:.5}"))
+            })
+            .collect();
+        let _ = writeln!(s, "| {} | {} |", v.rank, values.join(" | "));
+    }
+    Some(s)
 }
 
 /// `report.md`.
 pub fn report(design: &Design) -> String {
     let t = &design.target;
     let mut s = format!(
-        "# Spring design\n\nTarget: K = {} N/mm +- {} % ({} spring(s) in parallel), working points {:?}, weight {}, objective {:?}.\n\nMaterial: {}.\n\n",
-        t.rate_n_mm,
-        t.rate_tolerance_percent,
-        t.springs_in_parallel,
-        t.working,
+        "# Spring design\n\nTarget: K = {} N/mm +- {} % ({} in parallel), {}, {} loading{}, weight {}, objective: {}.\n\nMaterial: {}.\n\n",
+        sig(t.rate_n_mm, 6),
+        sig(t.rate_tolerance_percent, 3),
+        if t.springs_in_parallel == 1 { "1 spring".to_string() } else { format!("{} springs", t.springs_in_parallel) },
+        working_words(&t.working),
+        match t.loading {
+            Loading::Static => "static",
+            Loading::Dynamic => "dynamic",
+        },
+        if t.loading == Loading::Dynamic {
+            if t.shot_peened { " (shot-peened)" } else { " (not shot-peened)" }
+        } else {
+            ""
+        },
         design
             .weight_kg
-            .map_or("not given".to_string(), |w| format!("{w} kg")),
-        t.objective,
+            .map_or("not given".to_string(), |w| format!("{} kg", sig(w, 4))),
+        objective_words(t.objective),
         design.material.source
     );
+    let fe_mesh = match design.candidates.first().or(design.rejected.first()) {
+        Some(v) if v.fe.mesh.method == "converged" => format!(
+            "converged mesh (beams per coil doubled from {} until the rate moved less than 0.1 %)",
+            v.fe.mesh.elements_per_coil.first().copied().unwrap_or(0)
+        ),
+        Some(v) => format!(
+            "the calibration's mesh, {} beams per coil (its E absorbs the chord stiffening)",
+            v.fe.mesh.elements_per_coil.first().copied().unwrap_or(0)
+        ),
+        None => "none run".to_string(),
+    };
     let _ = writeln!(
         s,
-        "Search (EN 13906-1 checks and the envelope, docs/spring-design.md): {} springs within the rate tolerance tried, {} feasible; rejections by check: {}.\n",
+        "Search (EN 13906-1 checks{}, the envelope; docs/spring-design.md): {} springs within the rate tolerance tried, {} feasible; failed checks (a spring may fail several): {}.\n\nFE verification: {} springs run down the ranking, at most {} per wire diameter; FE on the {fe_mesh}.\n",
+        if t.loading == Loading::Dynamic { " with fatigue at 10^7 cycles" } else { "" },
         design.tried,
         design.feasible,
-        design
-            .rejections
-            .iter()
-            .map(|(k, n)| format!("{k} {n}"))
-            .collect::<Vec<_>>()
-            .join(", ")
+        if design.rejections.is_empty() {
+            "none".to_string()
+        } else {
+            design
+                .rejections
+                .iter()
+                .map(|(k, n)| format!("{} {n}", k.replace('_', " ")))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        design.fe_runs,
+        crate::PER_WIRE,
     );
     let _ = writeln!(
         s,
@@ -123,16 +223,30 @@ pub fn report(design: &Design) -> String {
     if design.candidates.is_empty() {
         s.push_str("No spring passes every check and the FE verification: widen the envelope or the tolerance.\n\n");
     }
+    for v in design
+        .candidates
+        .iter()
+        .filter(|v| v.corrected_from.is_some())
+    {
+        let _ = writeln!(
+            s,
+            "- rank {}: corrected by its FE rate: {}",
+            v.rank,
+            v.corrected_from.as_deref().unwrap_or("")
+        );
+    }
     for v in &design.rejected {
         let _ = writeln!(
             s,
-            "- rejected by FE: rank {} (d {} D {:.1} n {}): {}",
-            v.rank,
-            v.wire_diameter_mm,
+            "- rejected by FE: d {} mm, D {:.1} mm, n {}: {}",
+            sig(v.wire_diameter_mm, 3),
             v.mean_diameter_mm,
-            v.active_coils,
+            sig(v.active_coils, 4),
             v.fe_rejection.as_deref().unwrap_or("")
         );
+    }
+    if let Some(z) = zeta_table(design) {
+        let _ = writeln!(s, "\n## zeta of the weight mode by damping law\n\n{z}");
     }
     s.push_str("\n## What geometry can buy\n\n");
     s.push_str("At a fixed weight a stiffness-proportional law (Rayleigh beta) gives zeta ~ sqrt(K) (the paper's Table 4 shows it), a dashpot at the weight ~ 1/sqrt(K), a loss factor the same zeta whatever the spring; the candidates all have nearly the target K, so within a law their zeta differ only through the weight mode's shape (the wire's share of the modal mass), and the spread between laws is what one decay cannot decide (docs/damping.md).\n\n");
@@ -143,15 +257,15 @@ pub fn report(design: &Design) -> String {
             for l in &d.laws {
                 let _ = writeln!(
                     s,
-                    "| {} | {:.5} | {:.5} - {:.5} | {:+.1}% |",
-                    l.law, l.best, l.min, l.max, l.gap_percent
+                    "| {} | {:.5} | {:.5} to {:.5} | {:+.1} % |",
+                    l.law.replace('_', " "), l.best, l.min, l.max, l.gap_percent
                 );
             }
         }
         None => s.push_str(if design.material.damping.is_none() {
             "No damping law: the material is a wire grade; give a calibration.json for the zeta band.\n"
         } else {
-            "No target zeta given: the table lists each candidate's zeta under every law.\n"
+            "No target zeta given: the table above lists each candidate's zeta under every law.\n"
         }),
     }
     let _ = writeln!(
@@ -174,11 +288,11 @@ pub fn summary(design: &Design) -> String {
     for v in &design.candidates {
         let _ = writeln!(
             s,
-            "#{:<2} d {:<5} D {:<5.1} n {:<6} pitch {:.2}: R {:.4}, K_FE {:.4} ({:+.2}%), mass {:.5} kg, margin {:.3}{}",
+            "#{:<2} d {:<5} D {:<5.1} n {:<6} pitch {:.2}: R {:.4}, K_FE {:.4} ({:+.2} %), mass {:.5} kg, margin {:.3}{}",
             v.rank,
-            v.wire_diameter_mm,
+            sig(v.wire_diameter_mm, 3),
             v.mean_diameter_mm,
-            v.active_coils,
+            sig(v.active_coils, 4),
             v.pitch_mm,
             v.rate_n_mm,
             v.fe_rate_n_mm,

@@ -17,11 +17,20 @@
 //! below L1 (the spring just touches at L1).
 //!
 //! # Ranking
-//! `lightest`: wire mass ascending; `stress_margin`: `1 - tau / (0.5 Rm)` descending
-//! (`tau2` static, `tau_k2` dynamic). Ties go to the rate closest to the target.
+//! `lightest`: wire mass ascending; `stress_margin` descending: `1 - tau2 / (0.5 Rm)`
+//! static, `1 - tau_kh / tau_kH` dynamic (the fatigue check's margin). Only springs that
+//! pass every check (fatigue included under dynamic loading) are ranked. Ties go to the
+//! rate closest to the target.
+//!
+//! # Work
+//! The active coils stop at EN 15800's longest free length (630 mm: `n <= 630 / d - 2`).
+//! The springs to check are counted before the search starts (a sum over the grid, no
+//! sheet evaluated) and a search over [`MAX_TRIED`] is refused with the count.
 
 use super::target::{Material, Objective, Target};
-use crate::sheet::en13906::{Coiling, EndType, Sheet, Spring, Working};
+use crate::sheet::en13906::{
+    rate_n_mm, Coiling, EndType, Loading, Sheet, Spring, StressCorrection, Working,
+};
 use crate::sheet::grades::{tensile_strength_mpa, STANDARD_WIRE_DIAMETERS_MM};
 use serde::Serialize;
 
@@ -31,6 +40,10 @@ pub const DIAMETER_STEP_MM: f64 = 0.1;
 pub const PITCH_STEP_MM: f64 = 0.05;
 /// Step of the active coils.
 pub const COIL_STEP: f64 = 0.25;
+/// The most springs a search checks (about 2 s on one core).
+pub const MAX_TRIED: usize = 2_000_000;
+/// EN 15800's longest free length (mm): the active coils stop below it.
+pub const MAX_FREE_LENGTH_MM: f64 = 630.0;
 
 /// A spring that passes every handbook check, with its sheet.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +52,7 @@ pub struct Candidate {
     pub spring: Spring,
     /// Its sheet.
     pub sheet: Sheet,
-    /// `1 - tau / (0.5 Rm)` at the second working point.
+    /// Static: `1 - tau2 / (0.5 Rm)`; dynamic: `1 - tau_kh / tau_kH`.
     pub stress_margin: f64,
 }
 
@@ -99,110 +112,187 @@ pub struct Search {
     pub rejections: Vec<(String, usize)>,
 }
 
-/// Searches the geometry (module docs).
-pub fn search(target: &Target, material: &Material) -> Search {
-    let springs = f64::from(target.springs_in_parallel);
-    let rate = target.rate_n_mm / springs;
-    let tolerance = target.rate_tolerance_percent / 100.0;
-    let working = match target.working {
-        Working::Forces(a, b) => Working::Forces(a / springs, b / springs),
-        lengths => lengths,
-    };
+/// The search's grid for one target: the rate of one spring, its working points and
+/// the wires, diameters and coils to try.
+struct Grid<'a> {
+    target: &'a Target,
+    material: &'a Material,
+    rate: f64,
+    tolerance: f64,
+    working: Working,
+    index: (f64, f64),
+    inactive: f64,
+}
+
+impl<'a> Grid<'a> {
+    fn new(target: &'a Target, material: &'a Material) -> Self {
+        let springs = f64::from(target.springs_in_parallel);
+        Grid {
+            target,
+            material,
+            rate: target.rate_n_mm / springs,
+            tolerance: target.rate_tolerance_percent / 100.0,
+            working: match target.working {
+                Working::Forces(a, b) => Working::Forces(a / springs, b / springs),
+                lengths => lengths,
+            },
+            index: match target.coiling {
+                Coiling::Cold => (4.0, 20.0),
+                Coiling::Hot => (3.0, 12.0),
+            },
+            inactive: match target.end_type {
+                EndType::Open => 0.0,
+                _ => 2.0,
+            },
+        }
+    }
+
+    /// The wires with their Rm.
+    fn wires(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        STANDARD_WIRE_DIAMETERS_MM.iter().filter_map(|&d| {
+            tensile_strength_mpa(&self.material.grade, d)
+                .ok()
+                .map(|rm| (d, rm))
+        })
+    }
+
+    /// The mean diameters of wire d.
+    fn means(&self, d: f64) -> impl Iterator<Item = f64> {
+        let e = &self.target.envelope;
+        let lo = (self.index.0 * d).max(e.min_inner_diameter_mm.map_or(0.0, |m| m + d));
+        let hi = (self.index.1 * d).min(e.max_outer_diameter_mm.map_or(f64::INFINITY, |m| m - d));
+        grid(lo, hi, DIAMETER_STEP_MM)
+    }
+
+    /// The active coils' range of (d, D): the rate within the tolerance, at least 2,
+    /// at most what 630 mm of free length holds.
+    fn coils(&self, d: f64, mean: f64) -> (f64, f64) {
+        let n_star = self.material.shear_modulus_mpa * d.powi(4) / (8.0 * mean.powi(3) * self.rate);
+        let n_lo = (n_star / (1.0 + self.tolerance)).max(2.0);
+        let n_hi = (n_star / (1.0 - self.tolerance)).min(MAX_FREE_LENGTH_MM / d - self.inactive);
+        (n_lo, n_hi)
+    }
+
+    /// How many springs the search would check (no sheet evaluated).
+    fn count(&self) -> usize {
+        let mut count = 0usize;
+        for (d, _) in self.wires() {
+            for mean in self.means(d) {
+                let (lo, hi) = self.coils(d, mean);
+                let first = (lo / COIL_STEP - 1e-9).ceil();
+                let last = (hi / COIL_STEP + 1e-9).floor();
+                if last >= first {
+                    count = count.saturating_add((last - first) as usize + 1);
+                }
+            }
+        }
+        count
+    }
+}
+
+/// The spring of wire d (Rm `rm`), mean diameter D and n active coils of the target at
+/// its shortest free length on the pitch grid (module docs), with its sheet and the
+/// names of the checks it fails (handbook, envelope, rate).
+pub fn candidate(
+    target: &Target,
+    material: &Material,
+    (d, rm): (f64, f64),
+    mean: f64,
+    n: f64,
+) -> (Candidate, Vec<&'static str>) {
+    let grid = Grid::new(target, material);
     let g = material.shear_modulus_mpa;
-    let (w_lo, w_hi) = match target.coiling {
-        Coiling::Cold => (4.0, 20.0),
-        Coiling::Hot => (3.0, 12.0),
+    let mut spring = Spring {
+        wire_diameter_mm: d,
+        wire_tolerance_mm: 0.0,
+        mean_diameter_mm: mean,
+        active_coils: n,
+        total_coils: n + grid.inactive,
+        free_length_mm: 0.0,
+        end_type: target.end_type,
+        coiling: target.coiling,
+        shear_modulus_mpa: g,
+        youngs_modulus_mpa: material.youngs_modulus_mpa,
+        density_kg_m3: material.density_kg_m3,
+        tensile_strength_mpa: rm,
+        seating_coefficient: target.seating_coefficient,
+        working: grid.working,
+        loading: target.loading,
+        stress_correction: StressCorrection::Bergstraesser,
+        measured_rate_n_mm: None,
+        wire_grade: Some(material.grade.clone()),
+        shot_peened: target.shot_peened,
+        quality_grade: target.quality_grade,
+        head_mass_kg: None,
     };
-    let inactive = match target.end_type {
-        EndType::Open => 0.0,
-        _ => 2.0,
+    let r = rate_n_mm(g, d, mean, n);
+    let shortest = match grid.working {
+        Working::Forces(_, f2) => spring.solid_length_mm() + spring.minimum_gap_sum_mm() + f2 / r,
+        Working::Lengths(l1, _) => l1,
     };
+    let allowance = spring.end_allowance_mm();
+    let pitch = ((shortest - allowance) / n / PITCH_STEP_MM - 1e-9).ceil() * PITCH_STEP_MM;
+    spring.free_length_mm = allowance + n * pitch.max(d + PITCH_STEP_MM);
+    let sheet = spring.sheet();
+    let mut failed: Vec<&'static str> = sheet.failed();
+    failed.extend(
+        envelope_checks(target, &sheet, &spring)
+            .into_iter()
+            .filter(|c| !c.1)
+            .map(|c| c.0),
+    );
+    if (sheet.rate_n_mm / grid.rate - 1.0).abs() > grid.tolerance {
+        failed.push("rate");
+    }
+    let stress_margin = match target.loading {
+        Loading::Static => 1.0 - sheet.shear_stress_2_mpa / sheet.permissible_working_stress_mpa,
+        Loading::Dynamic => 1.0 - sheet.fatigue.utilisation,
+    };
+    (
+        Candidate {
+            stress_margin,
+            spring,
+            sheet,
+        },
+        failed,
+    )
+}
+
+/// Searches the geometry (module docs); refuses a search of more than [`MAX_TRIED`]
+/// springs before it starts.
+pub fn search(target: &Target, material: &Material) -> Result<Search, String> {
+    let grid = Grid::new(target, material);
+    let count = grid.count();
+    if count > MAX_TRIED {
+        return Err(format!(
+            "the search would check {count} springs (rate {:.4} N/mm per spring within {} %, every standard wire and mean diameter the envelope admits, up to {MAX_FREE_LENGTH_MM} mm of free length); the limit is {MAX_TRIED}: narrow the envelope (max_outer_diameter_mm, min_inner_diameter_mm) or the rate tolerance",
+            grid.rate, target.rate_tolerance_percent
+        ));
+    }
     let mut feasible = Vec::new();
     let mut tried = 0usize;
     let mut rejections: std::collections::BTreeMap<String, usize> = Default::default();
-    for &d in &STANDARD_WIRE_DIAMETERS_MM {
-        let Ok(rm) = tensile_strength_mpa(&material.grade, d) else {
-            continue;
-        };
-        let lo = (w_lo * d).max(target.envelope.min_inner_diameter_mm.map_or(0.0, |m| m + d));
-        let hi = (w_hi * d).min(
-            target
-                .envelope
-                .max_outer_diameter_mm
-                .map_or(f64::INFINITY, |m| m - d),
-        );
-        for mean in grid(lo, hi, DIAMETER_STEP_MM) {
-            let n_star = g * d.powi(4) / (8.0 * mean.powi(3) * rate);
-            let n_lo = (n_star / (1.0 + tolerance)).max(2.0);
-            let n_hi = n_star / (1.0 - tolerance);
-            for n in grid(n_lo, n_hi, COIL_STEP) {
+    for wire in grid.wires() {
+        for mean in grid.means(wire.0) {
+            let (n_lo, n_hi) = grid.coils(wire.0, mean);
+            for n in self::grid(n_lo, n_hi, COIL_STEP) {
                 tried += 1;
-                let mut spring = Spring {
-                    wire_diameter_mm: d,
-                    wire_tolerance_mm: 0.0,
-                    mean_diameter_mm: mean,
-                    active_coils: n,
-                    total_coils: n + inactive,
-                    free_length_mm: 0.0,
-                    end_type: target.end_type,
-                    coiling: target.coiling,
-                    shear_modulus_mpa: g,
-                    youngs_modulus_mpa: material.youngs_modulus_mpa,
-                    density_kg_m3: material.density_kg_m3,
-                    tensile_strength_mpa: rm,
-                    seating_coefficient: target.seating_coefficient,
-                    working,
-                    loading: target.loading,
-                    stress_correction: crate::sheet::en13906::StressCorrection::Bergstraesser,
-                    measured_rate_n_mm: None,
-                };
-                let r = crate::sheet::en13906::rate_n_mm(g, d, mean, n);
-                let shortest = match working {
-                    Working::Forces(_, f2) => {
-                        spring.solid_length_mm() + spring.minimum_gap_sum_mm() + f2 / r
-                    }
-                    Working::Lengths(l1, _) => l1,
-                };
-                let allowance = spring.end_allowance_mm();
-                let pitch =
-                    ((shortest - allowance) / n / PITCH_STEP_MM - 1e-9).ceil() * PITCH_STEP_MM;
-                spring.free_length_mm = allowance + n * pitch.max(d + PITCH_STEP_MM);
-                let sheet = spring.sheet();
-                let mut failed: Vec<&str> = sheet.failed();
-                failed.extend(
-                    envelope_checks(target, &sheet, &spring)
-                        .into_iter()
-                        .filter(|c| !c.1)
-                        .map(|c| c.0),
-                );
-                if (sheet.rate_n_mm / rate - 1.0).abs() > tolerance {
-                    failed.push("rate");
-                }
+                let (c, failed) = candidate(target, material, wire, mean, n);
                 for name in &failed {
                     *rejections.entry(name.to_string()).or_default() += 1;
                 }
                 if failed.is_empty() {
-                    let stress = match target.loading {
-                        crate::sheet::en13906::Loading::Static => sheet.shear_stress_2_mpa,
-                        crate::sheet::en13906::Loading::Dynamic => {
-                            sheet.corrected_shear_stress_2_mpa
-                        }
-                    };
-                    feasible.push(Candidate {
-                        stress_margin: 1.0 - stress / sheet.permissible_working_stress_mpa,
-                        spring,
-                        sheet,
-                    });
+                    feasible.push(c);
                 }
             }
         }
     }
-    rank(&mut feasible, target.objective, rate);
-    Search {
+    rank(&mut feasible, target.objective, grid.rate);
+    Ok(Search {
         feasible,
         tried,
         rejections: rejections.into_iter().collect(),
-    }
+    })
 }
 
 /// Sorts best first (module docs).

@@ -14,16 +14,25 @@
 //! defaults written into `design.json`'s `assumptions`: `end_type` (`closed_ground`),
 //! `coiling` (`cold`), `loading` (`dynamic`), `seating_coefficient` (0.5: both ends
 //! fixed, the top guided, as the paper's test), `surge_band_hz` ([lo, hi]: the surge
-//! mode must stay outside), `short_list` (8).
+//! mode must stay outside), `short_list` (8, at least 1), `shot_peened` (false: the
+//! fatigue diagram), `quality_grade` (EN 15800 grade of the tolerances, 2), `source` and
+//! `notes` (free text). An unknown key, here or inside `envelope` or `material`, is
+//! refused with the list of known ones; an explicit `null` is refused (leave the key out).
+//!
+//! Bounds checked before the search starts (docs/files.md): at most
+//! [`MAX_SPRINGS_IN_PARALLEL`] springs in parallel, and the search's count of springs to
+//! check (every wire, mean diameter and quarter turn within the rate tolerance, the
+//! active coils capped by EN 15800's longest free length, 630 mm) at most
+//! [`crate::search::MAX_TRIED`].
 //!
 //! The rate, the forces and the weight are the whole suspension's: `springs_in_parallel`
 //! springs share them equally.
 
 use crate::case::{read_json, CaseError};
 use crate::fe::{FeSettings, SpringState};
-use crate::fields::{root, Range};
+use crate::fields::{root, FieldError, Object, Range};
 use crate::sheet::en13906::{Coiling, EndType, Loading, Working};
-use crate::sheet::input::{choice, working, COILING, END_TYPES, LOADING};
+use crate::sheet::input::{choice, opt_bool, quality_grade, working, COILING, END_TYPES, LOADING};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -106,23 +115,83 @@ pub struct Target {
     pub surge_band_hz: Option<(f64, f64)>,
     /// How many of the best handbook candidates the FE model verifies.
     pub short_list: usize,
+    /// Shot-peened springs (the fatigue diagram).
+    pub shot_peened: bool,
+    /// EN 15800 quality grade of the tolerances (1, 2 or 3).
+    pub quality_grade: u8,
 }
 
-/// Reads `TARGET.json`; a relative calibration path is taken from the target's folder.
-pub fn read_target(path: &Path) -> Result<Target, CaseError> {
-    let (_, node) = read_json(path)?;
-    let top = root(path, &node);
-    let o = top.object("a design target (docs/spring-design.md)")?;
-    let working = working(&o)?.ok_or_else(|| {
-        o.error(
-            "no working points",
-            "force_1_n and force_2_n (or length_1_mm and length_2_mm)",
-        )
-    })?;
-    let envelope = match o.get("envelope") {
+/// The keys of `TARGET.json`.
+pub const TARGET_KEYS: [&str; 25] = [
+    "rate_n_mm",
+    "rate_tolerance_percent",
+    "weight_kg",
+    "damping_ratio",
+    "damping_coefficient_n_s_m",
+    "force_1_n",
+    "force_2_n",
+    "length_1_mm",
+    "length_2_mm",
+    "springs_in_parallel",
+    "envelope",
+    "material",
+    "objective",
+    "end_type",
+    "coiling",
+    "loading",
+    "seating_coefficient",
+    "surge_band_hz",
+    "short_list",
+    "shot_peened",
+    "quality_grade",
+    "source",
+    "notes",
+    "name",
+    "comment",
+];
+
+/// The keys of `envelope`.
+pub const ENVELOPE_KEYS: [&str; 4] = [
+    "max_outer_diameter_mm",
+    "min_inner_diameter_mm",
+    "max_free_length_mm",
+    "max_solid_length_mm",
+];
+
+/// The keys of `material`.
+pub const MATERIAL_KEYS: [&str; 3] = ["calibration", "grade", "damping"];
+
+/// The most springs in parallel a target may share its rate among (a suspension of more
+/// is a different product; the bound keeps the search's work finite, docs/files.md).
+pub const MAX_SPRINGS_IN_PARALLEL: f64 = 64.0;
+
+/// The most springs the FE verification runs (a short list of at most this many).
+pub const MAX_SHORT_LIST: f64 = 32.0;
+
+/// `source` with its calibration replaced by `file` (a grade keeps giving Rm; a
+/// damping.json beside the old calibration stays).
+pub fn with_calibration(source: &MaterialSource, file: PathBuf) -> MaterialSource {
+    match source {
+        MaterialSource::Calibration { grade, damping, .. } => MaterialSource::Calibration {
+            calibration: file,
+            grade: grade.clone(),
+            damping: damping.clone(),
+        },
+        MaterialSource::Grade { grade } => MaterialSource::Calibration {
+            calibration: file,
+            grade: Some(grade.clone()),
+            damping: None,
+        },
+    }
+}
+
+/// The target's `envelope` (every bound optional; none: no envelope).
+fn read_envelope(o: &Object<'_>) -> Result<Envelope, FieldError> {
+    Ok(match o.get("envelope") {
         None => Envelope::default(),
         Some(f) => {
             let e = f.object("the envelope")?;
+            e.strict(&ENVELOPE_KEYS)?;
             let bound = |key: &str, meaning: &str| e.opt_number(key, Range::Positive, meaning);
             Envelope {
                 max_outer_diameter_mm: bound("max_outer_diameter_mm", "the largest De (mm)")?,
@@ -131,15 +200,29 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
                 max_solid_length_mm: bound("max_solid_length_mm", "the longest Lc (mm)")?,
             }
         }
-    };
+    })
+}
+
+/// The target's `material`: a calibration (relative to the target's folder), a grade, or both.
+fn read_material(o: &Object<'_>, path: &Path) -> Result<MaterialSource, FieldError> {
     let material_field = o.require("material", "{\"calibration\": path} or {\"grade\": name}")?;
     let m = material_field.object("the material")?;
-    let grade = m.opt_string("grade", "an EN 10270-1 grade name, e.g. \"DH\"")?;
+    m.strict(&MATERIAL_KEYS)?;
+    let grade = match m.get("grade") {
+        None => None,
+        Some(f) => {
+            let name = f.string("an EN 10270-1 grade name, e.g. \"DH\"")?;
+            Some(crate::sheet::grades::known(name).map_err(|e| {
+                f.error(
+                    e,
+                    format!("one of {}", crate::sheet::grades::GRADES.join(", ")),
+                )
+            })?)
+        }
+    };
     let beside = |file: String| path.parent().unwrap_or(Path::new(".")).join(file);
-    let material = match (
-        m.opt_string("calibration", "a calibration.json path")?,
-        grade,
-    ) {
+    let calibration = m.opt_string("calibration", "a calibration.json path")?;
+    Ok(match (calibration, grade) {
         (Some(file), grade) => MaterialSource::Calibration {
             calibration: beside(file),
             grade,
@@ -149,14 +232,28 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         },
         (None, Some(grade)) => MaterialSource::Grade { grade },
         (None, None) => {
-            return Err(m
-                .error(
-                    "neither a calibration nor a grade",
-                    "{\"calibration\": path} or {\"grade\": name}",
-                )
-                .into())
+            return Err(m.error(
+                "neither a calibration nor a grade",
+                "{\"calibration\": path} or {\"grade\": name}",
+            ))
         }
-    };
+    })
+}
+
+/// Reads `TARGET.json`; a relative calibration path is taken from the target's folder.
+pub fn read_target(path: &Path) -> Result<Target, CaseError> {
+    let (_, node) = read_json(path)?;
+    let top = root(path, &node);
+    let o = top.object("a design target (docs/spring-design.md)")?;
+    o.strict(&TARGET_KEYS)?;
+    let working = working(&o)?.ok_or_else(|| {
+        o.error(
+            "no working points",
+            "force_1_n and force_2_n (or length_1_mm and length_2_mm)",
+        )
+    })?;
+    let envelope = read_envelope(&o)?;
+    let material = read_material(&o, path)?;
     let rate = o.number("rate_n_mm", Range::Positive, "the target rate (N/mm)")?;
     let weight = o.opt_number("weight_kg", Range::Positive, "the suspended mass (kg)")?;
     let mut zeta = o.opt_number("damping_ratio", Range::Open(0.0, 1.0), "a damping ratio")?;
@@ -167,7 +264,19 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
     )? {
         // zeta = c / (2 sqrt(K m)) of the weight on the target rate.
         match (zeta, weight) {
-            (None, Some(w)) => zeta = Some(c / (2.0 * (rate * 1e3 * w).sqrt())),
+            (None, Some(w)) => {
+                let z = c / (2.0 * (rate * 1e3 * w).sqrt());
+                if z >= 1.0 {
+                    let field = o.require("damping_coefficient_n_s_m", "")?;
+                    return Err(field
+                        .error(
+                            format!("c = {c} N s/m gives zeta = c / (2 sqrt(K m)) = {z:.4} at K = {rate} N/mm and {w} kg"),
+                            format!("a coefficient below critical damping, {:.1} N s/m", 2.0 * (rate * 1e3 * w).sqrt()),
+                        )
+                        .into());
+                }
+                zeta = Some(z)
+            }
             _ => return Err(o
                 .error(
                     "damping_coefficient_n_s_m needs weight_kg and excludes damping_ratio",
@@ -207,9 +316,18 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         springs_in_parallel: o
             .opt_number(
                 "springs_in_parallel",
-                Range::Count,
-                "the springs in parallel",
+                Range::Open(0.5, MAX_SPRINGS_IN_PARALLEL + 0.5),
+                &format!("the springs in parallel, a whole number from 1 to {MAX_SPRINGS_IN_PARALLEL}"),
             )?
+            .map(|n| {
+                let field = o.require("springs_in_parallel", "")?;
+                if n.fract() == 0.0 {
+                    Ok(n)
+                } else {
+                    Err(field.error(format!("found {n}"), "a whole number of springs"))
+                }
+            })
+            .transpose()?
             .unwrap_or(1.0) as u32,
         envelope,
         material,
@@ -236,15 +354,18 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         short_list: o
             .opt_number(
                 "short_list",
-                Range::Count,
-                "how many candidates the FE verifies",
+                Range::Open(0.5, MAX_SHORT_LIST + 0.5),
+                &format!("how many candidates the FE verifies, a whole number from 1 to {MAX_SHORT_LIST}"),
             )?
+            .map(|n| n.round())
             .unwrap_or(8.0) as usize,
+        shot_peened: opt_bool(&o, "shot_peened", "whether the springs are shot-peened")?
+            .unwrap_or(false),
+        quality_grade: quality_grade(&o)?,
     })
 }
 
-/// Handbook moduli of EN 10270-1 wire (EN 13906-1's values for patented drawn steel).
-pub const HANDBOOK_STEEL: (f64, f64, f64) = (206000.0, 81500.0, 7850.0);
+pub use crate::sheet::input::HANDBOOK_STEEL;
 
 /// The damping a calibration identified: its spring, weight and Rayleigh pair, and the
 /// measured zeta it was calibrated to.

@@ -3,6 +3,9 @@
 //! calibration, its E on its own mesh), the target's weight on the guided top. It must
 //! meet the target rate within the tolerance by FE and keep its FE surge mode (top
 //! held) out of the stated band; its zeta per damping law comes from [`super::band`].
+//! With a grade (handbook E) the FE rate comes from a converged mesh
+//! ([`crate::sheet::fe::Mesh::Converged`]); with a calibration from the calibration's mesh,
+//! whose E absorbed the chord stiffening.
 
 use super::band::LawBand;
 use super::search::Candidate;
@@ -11,7 +14,7 @@ use crate::case::SpringGeometry;
 use crate::error::Result;
 use crate::fe::{FeSettings, SpringState};
 use crate::sheet::en13906::Sheet;
-use crate::sheet::fe::{fe_values, FeValues};
+use crate::sheet::fe::{fe_values, FeValues, Mesh};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -19,8 +22,13 @@ use std::collections::BTreeMap;
 /// A short-listed spring after the FE model (an entry of `design.json`'s `candidates`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Verified {
-    /// Rank by the objective among the handbook candidates (1 = best).
+    /// Rank among the FE-verified candidates (1 = best, no gaps); 0 for a rejected one.
     pub rank: usize,
+    /// Rank by the objective among the feasible handbook springs (1 = best).
+    pub search_rank: usize,
+    /// How the handbook spring was corrected by its FE rate, if it was (the active
+    /// coils scaled by K_FE / K_target to the nearest quarter turn).
+    pub corrected_from: Option<String>,
     /// d (mm).
     pub wire_diameter_mm: f64,
     /// D (mm).
@@ -41,8 +49,14 @@ pub struct Verified {
     pub fe_rate_error_percent: f64,
     /// Wire mass of one spring (kg).
     pub spring_mass_kg: f64,
-    /// `1 - tau / (0.5 Rm)` at the second working point.
+    /// Static: `1 - tau2 / (0.5 Rm)`; dynamic: `1 - tau_kh / tau_kH` (fatigue).
     pub stress_margin: f64,
+    /// Stroke stress tau_kh (MPa).
+    pub stroke_stress_mpa: f64,
+    /// Permissible stroke stress tau_kH at tau_k1 (MPa).
+    pub permissible_stroke_stress_mpa: f64,
+    /// True when the fatigue check passes.
+    pub fatigue_passed: bool,
     /// The FE values (rate, surge with the top held, peak wire shear at F2).
     pub fe: FeValues,
     /// zeta of the weight mode per damping law (empty without a calibration or weight).
@@ -51,7 +65,8 @@ pub struct Verified {
     pub fe_verified: bool,
     /// Why not, when it is not.
     pub fe_rejection: Option<String>,
-    /// The deck written (relative to the output folder).
+    /// The deck written (relative to the output folder): `decks/candidate_NN.dat` by
+    /// rank, `decks/rejected_NN.dat` for the FE-rejected ones.
     pub deck: String,
     /// The handbook sheet.
     pub sheet: Sheet,
@@ -78,9 +93,22 @@ pub fn candidate_state(c: &Candidate, material: &Material, weight_kg: f64) -> Sp
     }
 }
 
-/// The deck file of the candidate ranked `rank`.
-pub fn deck_name(rank: usize) -> String {
-    format!("decks/candidate_{rank:02}.dat")
+/// The deck file of the candidate ranked `rank`, or of the `rank`-th rejected spring.
+pub fn deck_name(rank: usize, verified: bool) -> String {
+    if verified {
+        format!("decks/candidate_{rank:02}.dat")
+    } else {
+        format!("decks/rejected_{rank:02}.dat")
+    }
+}
+
+/// The mesh a material's FE runs use (module docs).
+pub fn mesh_of(material: &Material) -> Mesh {
+    if material.damping.is_some() {
+        Mesh::Fixed
+    } else {
+        Mesh::Converged
+    }
 }
 
 /// The FE settings a candidate's deck and runs use: the material's mesh, the second
@@ -92,9 +120,10 @@ pub fn candidate_settings(c: &Candidate, material: &Material) -> FeSettings {
     }
 }
 
-/// Verifies `short` (ranks from 1) in parallel.
+/// Verifies `short` (each with its search rank and the correction that made it, if
+/// any) in parallel.
 pub fn verify(
-    short: &[Candidate],
+    short: &[(usize, Candidate, Option<String>)],
     target: &Target,
     material: &Material,
     weight_kg: Option<f64>,
@@ -103,13 +132,13 @@ pub fn verify(
     let springs = f64::from(target.springs_in_parallel);
     let rate = target.rate_n_mm / springs;
     let tolerance = target.rate_tolerance_percent / 100.0;
+    let mesh = mesh_of(material);
     short
         .par_iter()
-        .enumerate()
-        .map(|(i, c)| {
+        .map(|(search_rank, c, corrected_from)| {
             let state = candidate_state(c, material, weight_kg.map_or(0.0, |w| w / springs));
             let settings = candidate_settings(c, material);
-            let fe = fe_values(&state, c.sheet.force_2_n, &settings)?;
+            let fe = fe_values(&state, c.sheet.force_2_n, &settings, mesh)?;
             let damping_ratio = match (band, weight_kg) {
                 (Some(b), Some(_)) => b.zeta(&state)?,
                 _ => BTreeMap::new(),
@@ -132,7 +161,9 @@ pub fn verify(
                 }
             }
             Ok(Verified {
-                rank: i + 1,
+                rank: 0,
+                search_rank: *search_rank,
+                corrected_from: corrected_from.clone(),
                 wire_diameter_mm: c.spring.wire_diameter_mm,
                 mean_diameter_mm: c.spring.mean_diameter_mm,
                 active_coils: c.spring.active_coils,
@@ -144,11 +175,14 @@ pub fn verify(
                 fe_rate_error_percent: 100.0 * error,
                 spring_mass_kg: c.sheet.spring_mass_kg,
                 stress_margin: c.stress_margin,
+                stroke_stress_mpa: c.sheet.stroke_stress_mpa,
+                permissible_stroke_stress_mpa: c.sheet.fatigue.permissible_stroke_stress_mpa,
+                fatigue_passed: c.sheet.fatigue.passed,
                 fe,
                 damping_ratio,
                 fe_verified: why.is_empty(),
                 fe_rejection: (!why.is_empty()).then(|| why.join("; ")),
-                deck: deck_name(i + 1),
+                deck: String::new(),
                 sheet: c.sheet.clone(),
                 spring: c.spring.clone(),
             })

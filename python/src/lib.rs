@@ -657,6 +657,7 @@ fn design(
         let settings = design::DesignSettings {
             objective,
             short_list,
+            ..Default::default()
         };
         let result = design::design(&target, &settings).map_err(fail)?;
         design::output::write(&result, &dir, plots).map_err(fail)?;

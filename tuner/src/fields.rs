@@ -2,8 +2,11 @@
 //! error names the file, the line and column, the field's dotted path and what was
 //! expected. The case reader and the variants reader are written with it.
 //!
-//! Unknown members are accepted and ignored: the measured-case format says "add optional
-//! fields freely", so a newer writer's case must still be read.
+//! Unknown members are accepted and ignored by default: the measured-case format says
+//! "add optional fields freely", so a newer writer's case must still be read. Inputs that
+//! a person writes by hand for one command (a spring, a design target) call
+//! [`Object::strict`]: every unknown key is refused with the list of known ones, and an
+//! explicit `null` is refused as case.json refuses one (leave the key out instead).
 
 use crate::json::{Member, Node, Value};
 use std::path::{Path, PathBuf};
@@ -232,6 +235,47 @@ impl<'a> Object<'a> {
             Some(f) if f.node.value == Value::Null => Ok(None),
             Some(f) => f.string(meaning).map(|s| Some(s.to_string())),
         }
+    }
+
+    /// Refuses unknown keys (naming every one, with the `known` list) and explicit
+    /// `null`s (naming the key: leave it out for its default).
+    pub fn strict(&self, known: &[&str]) -> Result<(), FieldError> {
+        let unknown: Vec<&Member> = self
+            .members
+            .iter()
+            .filter(|m| !known.contains(&m.key.as_str()))
+            .collect();
+        if let Some(first) = unknown.first() {
+            let names = unknown
+                .iter()
+                .map(|m| format!("`{}`", m.key))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let field = Field {
+                file: self.file,
+                path: self.child_path(&first.key),
+                node: &first.value,
+            };
+            return Err(field.error(
+                format!(
+                    "unknown key{} {names}",
+                    if unknown.len() > 1 { "s" } else { "" }
+                ),
+                format!("one of the known keys: {}", known.join(", ")),
+            ));
+        }
+        if let Some(m) = self.members.iter().find(|m| m.value.value == Value::Null) {
+            let field = Field {
+                file: self.file,
+                path: self.child_path(&m.key),
+                node: &m.value,
+            };
+            return Err(field.error(
+                "found null",
+                "a value; leave the key out for its default (or when it does not apply)",
+            ));
+        }
+        Ok(())
     }
 
     /// Position of the object itself (for errors that concern several members).

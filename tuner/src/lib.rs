@@ -27,6 +27,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod damping;
 pub mod decay;
+pub mod en15800;
 pub mod grid;
 pub mod paper;
 pub mod plots;

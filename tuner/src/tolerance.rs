@@ -9,7 +9,7 @@
 //! | quantity | default half-width | source |
 //! |---|---|---|
 //! | wire diameter d | 0.03 mm | the order of the diameter tolerance of patented spring wire of 2.5-3.5 mm (EN 10270-1, formerly DIN 2076 class C); the standard's table was not at hand: give the supplier's value with `--wire-tol` |
-//! | mean coil diameter D | EN 15800 grade 2 (`--grade 1..3`) by D and w = D/d: 0.35-0.50 mm here | EN 15800:2008 (= DIN 2095/2097) coil-diameter table, below |
+//! | mean coil diameter D | EN 15800 grade 2 (`--grade 1..3`) by D and w = D/d: 0.35-0.50 mm here | EN 15800:2008 (= DIN 2095/2097) coil-diameter table, [`crate::en15800`] |
 //! | active coils n | 0.25 coil | assumption: EN 15800 tolerates force and length, not n; a coiler sets n within about a quarter coil |
 //! | Young's modulus E | 2 % | assumption: spread between wire lots (EN 13906-1 gives E without a tolerance) |
 //! | the weight's mass | 0.1 % | assumption: a weighed weight |
@@ -87,76 +87,7 @@ impl Default for Tolerances {
     }
 }
 
-/// EN 15800 permissible deviation of the coil diameter (+- mm): rows (D from, D to],
-/// then grades 1, 2, 3, each for w in (4, 8], (8, 14], (14, 20]. NaN: not read.
-const EN15800_COIL_DIAMETER: [(f64, f64, [[f64; 3]; 3]); 9] = [
-    (
-        0.63,
-        1.0,
-        [[0.05, 0.07, 0.10], [0.07, 0.10, 0.15], [0.10, 0.15, 0.20]],
-    ),
-    (
-        1.0,
-        1.6,
-        [[0.05, 0.07, 0.10], [0.08, 0.10, 0.15], [0.15, 0.20, 0.30]],
-    ),
-    (
-        1.6,
-        2.5,
-        [[0.07, 0.10, 0.15], [0.10, 0.15, 0.20], [0.20, 0.30, 0.40]],
-    ),
-    (
-        2.5,
-        4.0,
-        [[0.10, 0.10, 0.15], [0.15, 0.20, 0.25], [0.30, 0.40, 0.50]],
-    ),
-    (
-        4.0,
-        6.3,
-        [[0.10, 0.15, 0.20], [0.20, 0.25, 0.30], [0.40, 0.50, 0.60]],
-    ),
-    (
-        6.3,
-        10.0,
-        [[0.15, 0.15, 0.20], [0.25, 0.30, 0.35], [0.50, 0.60, 0.70]],
-    ),
-    (
-        10.0,
-        16.0,
-        [[0.15, 0.20, 0.25], [0.30, 0.35, 0.40], [0.60, 0.70, 0.80]],
-    ),
-    (
-        16.0,
-        25.0,
-        [[0.20, 0.25, 0.30], [0.35, 0.45, 0.50], [0.70, 0.90, 1.00]],
-    ),
-    (
-        25.0,
-        31.5,
-        [
-            [0.25, 0.30, 0.35],
-            [0.40, 0.50, 0.60],
-            [0.80, 1.00, f64::NAN],
-        ],
-    ),
-];
-
-/// EN 15800's permissible deviation of the mean coil diameter (+- mm) of grade `grade`
-/// for mean diameter `d_mean` and wire `d_wire`; `None` outside the table.
-pub fn en15800_coil_diameter(grade: u8, d_mean: f64, d_wire: f64) -> Option<f64> {
-    let w = d_mean / d_wire;
-    // Columns (4, 8], (8, 14], (14, 20]; w = 4 belongs to the first.
-    let column = [8.0, 14.0, 20.0].iter().position(|&upper| w <= upper)?;
-    if w < 4.0 {
-        return None;
-    }
-    let grade = usize::from(grade).checked_sub(1).filter(|g| *g < 3)?;
-    EN15800_COIL_DIAMETER
-        .iter()
-        .find(|(lo, hi, _)| d_mean >= *lo && d_mean <= *hi)
-        .map(|(_, _, t)| t[grade][column])
-        .filter(|t| t.is_finite())
-}
+pub use crate::en15800::coil_diameter as en15800_coil_diameter;
 
 /// The half-widths for one spring.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -730,19 +661,6 @@ mod tests {
         assert_ne!(uniform(7, 123, 2), uniform(8, 123, 2));
         assert_ne!(uniform(7, 123, 2), uniform(7, 124, 2));
         assert_ne!(uniform(7, 123, 2), uniform(7, 123, 1));
-    }
-
-    #[test]
-    fn en15800_table_lookups() {
-        // Table 4's springs at grade 2: D 24 mm, d 3 mm (w = 8, first column) -> 0.35.
-        assert_eq!(en15800_coil_diameter(2, 24.0, 3.0), Some(0.35));
-        assert_eq!(en15800_coil_diameter(2, 28.0, 3.0), Some(0.50));
-        assert_eq!(en15800_coil_diameter(2, 24.0, 2.5), Some(0.45));
-        assert_eq!(en15800_coil_diameter(1, 20.0, 3.0), Some(0.20));
-        assert_eq!(en15800_coil_diameter(3, 30.0, 2.0), None);
-        assert_eq!(en15800_coil_diameter(2, 40.0, 3.0), None);
-        assert_eq!(en15800_coil_diameter(4, 24.0, 3.0), None);
-        assert_eq!(en15800_coil_diameter(2, 24.0, 1.0), None);
     }
 
     #[test]

@@ -1,19 +1,26 @@
 //! Reading `SPRING.json`, the spring of `coil-tune check` (docs/spring-design.md): every
-//! error names the file, line, column, key and what was expected.
+//! error names the file, line, column, key and what was expected; an unknown key is
+//! refused with the list of [`SPRING_KEYS`], an explicit `null` as case.json refuses one.
 //!
-//! Keys: `wire_diameter_mm`, `mean_diameter_mm` or `outer_diameter_mm`, `active_coils`,
-//! `total_coils`, `free_length_mm`, `end_type` (`closed_ground`, `closed`, `open`),
-//! `coiling` (`cold`, `hot`), `shear_modulus_mpa`, `youngs_modulus_mpa`,
-//! `density_kg_m3`, `tensile_strength_mpa` or `wire_grade` (EN 10270-1, see
-//! [`super::grades`]), `seating_coefficient`, `force_1_n` and `force_2_n` or
-//! `length_1_mm` and `length_2_mm`, `loading` (`static`, `dynamic`), optional
-//! `stress_correction` (`bergstraesser`, the default, or `wahl`) and optional
-//! `wire_tolerance_mm` (the upper deviation of d, 0 when absent: `dmax = d`) and
-//! `measured_rate_n_mm` (a measured rate printed beside the sheet and the FE value).
+//! Required: `wire_diameter_mm`; `mean_diameter_mm` or `outer_diameter_mm`;
+//! `active_coils`; `total_coils`; `free_length_mm` or `pitch_mm` (the pitch of the active
+//! coils of the free spring, m0: then `L0 = Lc - (n - 1) dmax + n m0`); `end_type`
+//! (`closed_ground`, `closed`, `open`); `coiling` (`cold`, `hot`); `wire_grade` (EN
+//! 10270-1, see [`super::grades`]) or `tensile_strength_mpa`; `force_1_n` and `force_2_n`
+//! or `length_1_mm` and `length_2_mm`; `loading` (`static`, `dynamic`).
+//! `shear_modulus_mpa`, `youngs_modulus_mpa` and `density_kg_m3` are required with
+//! `tensile_strength_mpa`; with a grade they default to EN 13906-1's handbook values
+//! for EN 10270-1 wire (81500 MPa, 206000 MPa, 7850 kg/m^3).
+//! Optional: `seating_coefficient` (0.5), `stress_correction` (`bergstraesser`, the
+//! default, or `wahl`), `wire_tolerance_mm` (0: `dmax = d`), `measured_rate_n_mm`,
+//! `shot_peened` (false), `quality_grade` (EN 15800 grade 1, 2 or 3; 2),
+//! `head_mass_kg` (the bounce frequency of that mass on the spring), `source` and
+//! `notes` (free text).
 
 use super::en13906::{Coiling, EndType, Loading, Spring, StressCorrection, Working};
 use crate::case::{read_json, CaseError};
-use crate::fields::{root, FieldError, Object, Range};
+use crate::fields::{root, Field, FieldError, Object, Range};
+use coil_tuner::json::Value;
 use std::path::Path;
 
 /// A keyword member: one of `choices` (`(name, value)`).
@@ -70,16 +77,76 @@ pub(crate) fn working(o: &Object<'_>) -> Result<Option<Working>, FieldError> {
     }
 }
 
-/// Reads `SPRING.json`.
-pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
-    let (_, node) = read_json(path)?;
-    let top = root(path, &node);
-    let o = top.object("a spring (docs/spring-design.md)")?;
-    let d = o.number(
-        "wire_diameter_mm",
-        Range::Positive,
-        "the wire diameter d (mm)",
-    )?;
+/// The keys of `SPRING.json`.
+pub const SPRING_KEYS: [&str; 29] = [
+    "wire_diameter_mm",
+    "mean_diameter_mm",
+    "outer_diameter_mm",
+    "active_coils",
+    "total_coils",
+    "free_length_mm",
+    "pitch_mm",
+    "end_type",
+    "coiling",
+    "shear_modulus_mpa",
+    "youngs_modulus_mpa",
+    "density_kg_m3",
+    "tensile_strength_mpa",
+    "wire_grade",
+    "seating_coefficient",
+    "force_1_n",
+    "force_2_n",
+    "length_1_mm",
+    "length_2_mm",
+    "loading",
+    "stress_correction",
+    "wire_tolerance_mm",
+    "measured_rate_n_mm",
+    "shot_peened",
+    "quality_grade",
+    "head_mass_kg",
+    "source",
+    "notes",
+    "name",
+];
+
+/// EN 13906-1's handbook moduli and density of EN 10270-1 wire: E, G (MPa), rho (kg/m^3).
+pub const HANDBOOK_STEEL: (f64, f64, f64) = (206000.0, 81500.0, 7850.0);
+
+/// An optional boolean member.
+pub(crate) fn opt_bool(
+    o: &Object<'_>,
+    key: &str,
+    meaning: &str,
+) -> Result<Option<bool>, FieldError> {
+    match o.get(key) {
+        None => Ok(None),
+        Some(f) => match f.node.value {
+            Value::Bool(b) => Ok(Some(b)),
+            _ => Err(f.error("not true or false", format!("{meaning}: true or false"))),
+        },
+    }
+}
+
+/// EN 15800's quality grade (1, 2 or 3), 2 when absent.
+pub(crate) fn quality_grade(o: &Object<'_>) -> Result<u8, FieldError> {
+    match o.get("quality_grade") {
+        None => Ok(super::en13906::default_quality_grade()),
+        Some(f) => {
+            let g = f.number(Range::Count, "the EN 15800 quality grade")?;
+            if g > 3.0 {
+                return Err(f.error(
+                    format!("found {g}"),
+                    "the EN 15800 quality grade: 1, 2 or 3",
+                ));
+            }
+            Ok(g as u8)
+        }
+    }
+}
+
+/// The coil diameter D: `mean_diameter_mm`, or `outer_diameter_mm` - d.
+fn mean_diameter(o: &Object<'_>, d: f64) -> Result<f64, FieldError> {
     let mean = match (
         o.opt_number(
             "mean_diameter_mm",
@@ -95,22 +162,87 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
         (Some(m), None) => m,
         (None, Some(outer)) => outer - d,
         _ => {
-            return Err(o
-                .error(
-                    "the coil diameter is missing or given twice",
-                    "exactly one of mean_diameter_mm and outer_diameter_mm",
-                )
-                .into())
+            return Err(o.error(
+                "the coil diameter is missing or given twice",
+                "exactly one of mean_diameter_mm and outer_diameter_mm",
+            ))
         }
     };
     if mean <= d {
-        return Err(o
-            .error(
-                format!("D = {mean} mm is not larger than d = {d} mm"),
-                "a mean diameter larger than the wire",
-            )
-            .into());
+        let key = if o.get("mean_diameter_mm").is_some() {
+            "mean_diameter_mm"
+        } else {
+            "outer_diameter_mm"
+        };
+        let field = o.require(key, "")?;
+        return Err(field.error(
+            format!("D = {mean} mm is not larger than d = {d} mm"),
+            "a mean diameter larger than the wire (outer diameter larger than 2 d)",
+        ));
     }
+    Ok(mean)
+}
+
+/// Rm and the grade's name: `tensile_strength_mpa`, or `wire_grade`'s Rm at d.
+fn strength(o: &Object<'_>, d: f64) -> Result<(f64, Option<String>), FieldError> {
+    match (
+        o.opt_number("tensile_strength_mpa", Range::Positive, "Rm (MPa)")?,
+        o.get("wire_grade"),
+    ) {
+        (Some(rm), None) => Ok((rm, None)),
+        (None, Some(grade)) => grade_strength(&grade, d),
+        _ => Err(o.error(
+            "the tensile strength is missing or given twice",
+            "exactly one of tensile_strength_mpa and wire_grade",
+        )),
+    }
+}
+
+/// A `wire_grade` field's Rm at d and its name as the standard spells it.
+pub(crate) fn grade_strength(
+    grade: &Field<'_>,
+    d: f64,
+) -> Result<(f64, Option<String>), FieldError> {
+    let name = grade.string("an EN 10270-1 grade name, e.g. \"DM\"")?;
+    let rm = super::grades::tensile_strength_mpa(name, d).map_err(|e| {
+        grade.error(
+            e,
+            format!("one of {} at 1 to 12 mm", super::grades::GRADES.join(", ")),
+        )
+    })?;
+    Ok((rm, Some(super::grades::canonical(name))))
+}
+
+/// G, E and rho: given, or EN 13906-1's handbook values when a grade names the wire.
+fn moduli(o: &Object<'_>, graded: bool) -> Result<(f64, f64, f64), FieldError> {
+    let (e, g, rho) = HANDBOOK_STEEL;
+    let value = |key: &str, meaning: &str, handbook: f64| {
+        if graded {
+            Ok(o.opt_number(key, Range::Positive, meaning)?
+                .unwrap_or(handbook))
+        } else {
+            o.number(key, Range::Positive, &format!("{meaning} (required with tensile_strength_mpa; a wire_grade gives the handbook value)"))
+        }
+    };
+    Ok((
+        value("shear_modulus_mpa", "G (MPa)", g)?,
+        value("youngs_modulus_mpa", "E (MPa)", e)?,
+        value("density_kg_m3", "the density (kg/m^3)", rho)?,
+    ))
+}
+
+/// Reads `SPRING.json`.
+pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
+    let (_, node) = read_json(path)?;
+    let top = root(path, &node);
+    let o = top.object("a spring (docs/spring-design.md)")?;
+    o.strict(&SPRING_KEYS)?;
+    let d = o.number(
+        "wire_diameter_mm",
+        Range::Positive,
+        "the wire diameter d (mm)",
+    )?;
+    let mean = mean_diameter(&o, d)?;
     let n = o.number("active_coils", Range::Positive, "the active coils n")?;
     let total_field = o.require("total_coils", "the total coils nt (>= n)")?;
     let total = total_field.number(Range::Positive, "the total coils nt")?;
@@ -119,33 +251,15 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
             .error(format!("nt = {total} < n = {n}"), "nt >= n")
             .into());
     }
-    let l0 = o.number("free_length_mm", Range::Positive, "the free length L0 (mm)")?;
-    let strength = match (
-        o.opt_number("tensile_strength_mpa", Range::Positive, "Rm (MPa)")?,
-        o.get("wire_grade"),
-    ) {
-        (Some(rm), None) => rm,
-        (None, Some(grade)) => {
-            let name = grade.string("an EN 10270-1 grade name, e.g. \"DM\"")?;
-            super::grades::tensile_strength_mpa(name, d)
-                .map_err(|e| grade.error(e, "a grade and diameter coil tabulates"))?
-        }
-        _ => {
-            return Err(o
-                .error(
-                    "the tensile strength is missing or given twice",
-                    "exactly one of tensile_strength_mpa and wire_grade",
-                )
-                .into())
-        }
-    };
+    let (strength, grade) = strength(&o, d)?;
+    let (g, e, rho) = moduli(&o, grade.is_some())?;
     let working = working(&o)?.ok_or_else(|| {
         o.error(
             "no working points",
             "force_1_n and force_2_n, or length_1_mm and length_2_mm",
         )
     })?;
-    Ok(Spring {
+    let mut spring = Spring {
         wire_diameter_mm: d,
         wire_tolerance_mm: o
             .opt_number(
@@ -157,18 +271,20 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
         mean_diameter_mm: mean,
         active_coils: n,
         total_coils: total,
-        free_length_mm: l0,
+        free_length_mm: 0.0,
         end_type: choice(&o, "end_type", &END_TYPES, None)?,
         coiling: choice(&o, "coiling", &COILING, None)?,
-        shear_modulus_mpa: o.number("shear_modulus_mpa", Range::Positive, "G (MPa)")?,
-        youngs_modulus_mpa: o.number("youngs_modulus_mpa", Range::Positive, "E (MPa)")?,
-        density_kg_m3: o.number("density_kg_m3", Range::Positive, "the density (kg/m^3)")?,
+        shear_modulus_mpa: g,
+        youngs_modulus_mpa: e,
+        density_kg_m3: rho,
         tensile_strength_mpa: strength,
-        seating_coefficient: o.number(
-            "seating_coefficient",
-            Range::Positive,
-            "the seating coefficient nu (0.5 both ends fixed and guided ... 2 one end free)",
-        )?,
+        seating_coefficient: o
+            .opt_number(
+                "seating_coefficient",
+                Range::Positive,
+                "the seating coefficient nu (0.5 both ends fixed and guided ... 2 one end free)",
+            )?
+            .unwrap_or(0.5),
         working,
         loading: choice(&o, "loading", &LOADING, None)?,
         stress_correction: choice(
@@ -182,7 +298,54 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
             Range::Positive,
             "a measured rate to print beside the sheet (N/mm)",
         )?,
-    })
+        wire_grade: grade,
+        shot_peened: opt_bool(&o, "shot_peened", "whether the spring is shot-peened")?
+            .unwrap_or(false),
+        quality_grade: quality_grade(&o)?,
+        head_mass_kg: o.opt_number(
+            "head_mass_kg",
+            Range::Positive,
+            "a head mass for the bounce frequency (kg)",
+        )?,
+    };
+    spring.free_length_mm = free_length(&o, &spring)?;
+    Ok(spring)
+}
+
+/// L0: `free_length_mm`, or from `pitch_mm` (`L0 = Lc - (n - 1) dmax + n m0`); the
+/// pitch must exceed the wire (a positive gap) and the free length the solid length.
+fn free_length(o: &Object<'_>, spring: &Spring) -> Result<f64, FieldError> {
+    let dmax = spring.max_wire_diameter_mm();
+    match (o.get("free_length_mm"), o.get("pitch_mm")) {
+        (Some(f), None) => {
+            let l0 = f.number(Range::Positive, "the free length L0 (mm)")?;
+            let lc = spring.solid_length_mm();
+            if l0 <= lc {
+                return Err(f.error(
+                    format!("L0 = {l0} mm is not longer than the solid length Lc = {lc:.3} mm"),
+                    "a free length above the solid length (nt, d and the end type set Lc)",
+                ));
+            }
+            Ok(l0)
+        }
+        (None, Some(f)) => {
+            let pitch = f.number(
+                Range::Positive,
+                "the pitch m0 of the free active coils (mm)",
+            )?;
+            if pitch <= dmax {
+                return Err(f.error(
+                    format!("m0 = {pitch} mm is not larger than dmax = {dmax} mm"),
+                    "a pitch larger than the wire (a gap between the free coils)",
+                ));
+            }
+            Ok(spring.end_allowance_mm() + spring.active_coils * pitch)
+        }
+        _ => Err(o.error(
+            "the free length is missing or given twice",
+            "exactly one of free_length_mm and pitch_mm",
+        )),
+    }
 }
 
 /// `end_type` keywords.

@@ -14,6 +14,7 @@ mod readme;
 mod reduction;
 mod results;
 mod spring_design;
+mod spring_input;
 mod transient;
 mod truth;
 mod tuner;

@@ -896,39 +896,20 @@ pub(crate) fn relative_differences(
 /// (`crate::analysis::transient::contact`) keeps only `u` on that account.
 #[test]
 fn a_step_from_rest_is_its_displacement_scaled() {
+    let diagonal = |n: usize, value: &dyn Fn(usize) -> f64| {
+        let t: Vec<_> = (0..n).map(|i| Triplet::new(i, i, value(i))).collect();
+        SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
+    };
     let small = (
         sparse(&[&[2.0, 0.0], &[0.0, 1.0]]),
         sparse(&[&[600.0, -200.0], &[-200.0, 200.0]]),
     );
     let chain = chain_with_hub(60, 7);
-    let n = chain.nrows();
-    let mass = sparse(
-        &(0..n)
-            .map(|i| {
-                let mut row = vec![0.0; n];
-                row[i] = 1.0 + (i % 3) as f64;
-                row
-            })
-            .collect::<Vec<_>>()
-            .iter()
-            .map(Vec::as_slice)
-            .collect::<Vec<_>>(),
-    );
+    let mass = diagonal(chain.nrows(), &|i| 1.0 + (i % 3) as f64);
     for (m, k) in [small, (mass, chain)] {
         let n = m.nrows();
         for damped in [false, true] {
-            let c = sparse(
-                &(0..n)
-                    .map(|i| {
-                        let mut row = vec![0.0; n];
-                        row[i] = if damped { 0.5 } else { 0.0 };
-                        row
-                    })
-                    .collect::<Vec<_>>()
-                    .iter()
-                    .map(Vec::as_slice)
-                    .collect::<Vec<_>>(),
-            );
+            let c = diagonal(n, &|_| if damped { 0.5 } else { 0.0 });
             let ops = Operators {
                 m: m.as_ref(),
                 c: damped.then(|| c.as_ref()),

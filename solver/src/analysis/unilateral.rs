@@ -28,16 +28,29 @@
 //! stiffness `k` (`G_ii <= 1/k`). The set changes little from step to step, so a
 //! solve takes one or two passes.
 //!
+//! # Memory
+//! Neither solve keeps one response vector per element. In a static case the column `j`
+//! of `G S` (m values, one per element) is computed when element `j` first closes (one
+//! solve), and the correction `u* - u = A^-1 (sum_j s_j lambda_j b_j)` is one more solve:
+//! memory `8 (n + m a)` bytes for `n` equations, `m` elements and `a` of them closed at
+//! some pass (`a <= m`; on a catenary under its weight only the contact). A transient
+//! keeps the links' step responses sparse and within a budget
+//! (`crate::analysis::transient`, module `responses`).
+//!
 //! Sources: P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
 //! sec. 6.3 (penalty method) and 6.4 (active sets); the Hermite shape functions of the
 //! bending element as in [`crate::element::beam`].
 
 use crate::analysis::system::System;
+use std::cell::RefCell;
 use crate::error::solve::SolveError;
 use crate::model::MovingContact;
 
 /// Most active-set passes in one solve.
 pub const MAX_ACTIVE_SET: usize = 50;
+
+/// Most elements closed at once: their dense matrix takes at most 128 MiB.
+pub const MAX_CLOSED: usize = 4096;
 
 /// One unilateral element at one instant: gap `g0 + b^T u`, force `k max(gap, 0)`.
 #[derive(Debug, Clone, PartialEq)]
@@ -235,16 +248,43 @@ pub fn link_gaps(system: &System) -> Result<Vec<Gap>, SolveError> {
     Ok(out)
 }
 
+/// Why [`solve_forces`] found no forces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForcesError {
+    /// The active set cycled for [`MAX_ACTIVE_SET`] passes, or its matrix is singular.
+    NoConsistentSet,
+    /// More than [`MAX_CLOSED`] elements closed at once (their matrix would exceed its
+    /// memory bound): the count.
+    TooManyClosed(usize),
+}
+
+impl ForcesError {
+    /// The reason in words, for a load case's error.
+    pub fn describe(self) -> String {
+        match self {
+            ForcesError::NoConsistentSet => format!(
+                "the tension links and contacts found no consistent set of closed elements \
+                 in {MAX_ACTIVE_SET} passes"
+            ),
+            ForcesError::TooManyClosed(a) => format!(
+                "{a} tension links and contacts are closed at once; expected at most \
+                 {MAX_CLOSED} (their dense matrix takes 8 a^2 bytes, docs/files.md)"
+            ),
+        }
+    }
+}
+
 /// Solves `lambda = k max(g* - G S lambda, 0)` (module docs) for the elements `gstar`,
-/// `g(i, j)` the entries of `G S` (column `j` carrying its element's sign), starting
-/// from the closed set `active`, which holds the final one on return. Returns the
-/// forces, or `None` when the active set cycles or its matrix is singular.
+/// `g(i, j)` the entries of `G S` (column `j` carrying its element's sign; called for
+/// closed `j` only), starting from the closed set `active`, which holds the final one on
+/// return. Returns the forces; an error when the active set cycles, its matrix is
+/// singular, or more than [`MAX_CLOSED`] elements close.
 pub fn solve_forces(
     gstar: &[f64],
     k: &[f64],
     g: impl Fn(usize, usize) -> f64,
     active: &mut Vec<usize>,
-) -> Option<Vec<f64>> {
+) -> Result<Vec<f64>, ForcesError> {
     let n = gstar.len();
     let mut lambda = vec![0.0; n];
     active.retain(|&i| i < n);
@@ -254,13 +294,16 @@ pub fn solve_forces(
     for _ in 0..MAX_ACTIVE_SET {
         lambda.fill(0.0);
         let m = active.len();
+        if m > MAX_CLOSED {
+            return Err(ForcesError::TooManyClosed(m));
+        }
         if m > 0 {
             let a = nalgebra::DMatrix::from_fn(m, m, |p, q| {
                 let (i, j) = (active[p], active[q]);
                 g(i, j) + if p == q { 1.0 / k[i] } else { 0.0 }
             });
             let rhs = nalgebra::DVector::from_fn(m, |p, _| gstar[active[p]]);
-            let x = a.lu().solve(&rhs)?;
+            let x = a.lu().solve(&rhs).ok_or(ForcesError::NoConsistentSet)?;
             for (p, &i) in active.iter().enumerate() {
                 lambda[i] = x[p];
             }
@@ -289,10 +332,10 @@ pub fn solve_forces(
             .max_by(|a, b| a.1.total_cmp(&b.1));
         match worst_open {
             Some((i, _)) => active.push(i),
-            None => return Some(lambda),
+            None => return Ok(lambda),
         }
     }
-    None
+    Err(ForcesError::NoConsistentSet)
 }
 
 /// The static solution with links and contacts: `q` holds `K^-1 f` on entry (the taut
@@ -315,30 +358,40 @@ pub fn correct_static(
         return Ok((gaps, Vec::new()));
     }
     let n = system.dim();
-    let columns: Vec<Vec<f64>> = gaps
-        .iter()
-        .map(|gap| {
-            let mut w = vec![0.0; n];
-            gap.add_to(1.0, &mut w);
+    // Column j of `G S` (element j's response seen by every element), computed when j
+    // first closes; the response itself is not kept (module docs, "Memory").
+    let columns: RefCell<Vec<Option<Vec<f64>>>> = RefCell::new(vec![None; gaps.len()]);
+    let work = RefCell::new(vec![0.0; n]);
+    let g = |i: usize, j: usize| {
+        let mut columns = columns.borrow_mut();
+        let column = columns[j].get_or_insert_with(|| {
+            let mut w = work.borrow_mut();
+            w.fill(0.0);
+            gaps[j].add_to(1.0, &mut w);
             solve(&mut w);
-            w
-        })
-        .collect();
+            gaps.iter().map(|gap| gap.dot(&w) * gaps[j].sign).collect()
+        });
+        column[i]
+    };
     let gstar: Vec<f64> = gaps.iter().map(|gap| gap.gap(q)).collect();
     let k: Vec<f64> = gaps.iter().map(|gap| gap.k).collect();
     let mut active = Vec::new();
-    let g = |i: usize, j: usize| gaps[i].dot(&columns[j]) * gaps[j].sign;
-    let lambda = solve_forces(&gstar, &k, g, &mut active).ok_or_else(|| SolveError::BadInput {
-        what: format!(
-            "load case '{title}': the tension links and contacts found no consistent \
-                 set of closed elements in {MAX_ACTIVE_SET} passes"
-        ),
-    })?;
-    for ((l, w), gap) in lambda.iter().zip(&columns).zip(&gaps) {
-        if *l != 0.0 {
-            for (x, wi) in q.iter_mut().zip(w) {
-                *x -= gap.sign * l * wi;
+    let lambda =
+        solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
+            what: format!("load case '{title}': {}", e.describe()),
+        })?;
+    // The correction `K^-1 sum_j s_j lambda_j b_j`: one more solve.
+    if lambda.iter().any(|&l| l != 0.0) {
+        let mut w = work.into_inner();
+        w.fill(0.0);
+        for (&l, gap) in lambda.iter().zip(&gaps) {
+            if l != 0.0 {
+                gap.add_to(gap.sign * l, &mut w);
             }
+        }
+        solve(&mut w);
+        for (x, wi) in q.iter_mut().zip(&w) {
+            *x -= wi;
         }
     }
     Ok((gaps, lambda))

@@ -4,8 +4,10 @@
 //! (`crate::analysis::unilateral`, "Solve"). A step is affine in its end load, so the
 //! response to an element's `b` as end load from rest, `(u_j, v_j, a_j)`, turns the
 //! forces `lambda` into the state change `-sum_j s_j lambda_j (u_j, v_j, a_j)`, and the
-//! end-of-step gaps are `g* - G S lambda`, `G_ij = b_i^T u_j`. The links' responses are
-//! computed once per stepper. The contact's `b` moves with its point, but over the free
+//! end-of-step gaps are `g* - G S lambda`, `G_ij = b_i^T u_j`. A link's response is
+//! computed when the link is first a candidate for slackness and kept, sparse and within
+//! a memory budget ([`super::responses`]: it decays within a few elements of the link, so
+//! a catenary's memory does not grow as links x DOFs). The contact's `b` moves with its point, but over the free
 //! equations of the segment under it (the head's and the two line nodes' translation and
 //! rotation): its response is the combination `sum_r b_r (u_r, v_r, a_r)` of the
 //! responses to a unit load on each of those equations, kept while the point stays on
@@ -17,12 +19,13 @@
 //! `u = dt^2/4 a` and `v = dt/2 a` (`u_{n+1} = u_n + dt v_n + dt^2/4 (a_n + a_{n+1})`,
 //! `v_{n+1} = v_n + dt/2 (a_n + a_{n+1})` with `u_n = v_n = a_n = 0`), so a response is
 //! `(u, 2u/dt, 4u/dt^2)` and the elements' whole correction is one vector
-//! `du = sum_j s_j lambda_j u_j` applied as `(du, 2 du/dt, 4 du/dt^2)`: a third of the
-//! passes over the state that three stored vectors per response cost (a profile of the
-//! same run put a quarter of its time in those passes).
+//! `sum_j s_j lambda_j u_j` applied as `(du, 2 du/dt, 4 du/dt^2)`, each response over its
+//! runs only (a profile of the same run put a quarter of its time in dense passes over
+//! the state).
 
 use super::error::integrate_error;
 use super::recording::Recorder;
+use super::responses::{LinkResponses, Sparse, BUDGET_BYTES};
 use crate::analysis::system::System;
 use crate::analysis::unilateral::{link_gaps, solve_forces, ContactLine, Gap};
 use crate::error::solve::SolveError;
@@ -32,8 +35,9 @@ use crate::integrate::{Scheme, State, Stepper};
 /// elements closed at the last step.
 pub(super) struct UnilateralTerm {
     links: Vec<Gap>,
-    /// The displacement of each link's step response from rest (module docs).
-    link_response: Vec<Vec<f64>>,
+    /// The displacements of the links' step responses from rest (module docs), kept
+    /// sparse within a budget ([`super::responses`]).
+    link_response: LinkResponses,
     contacts: Vec<ContactLine>,
     /// Closed links (indices into `links`).
     slack: Vec<usize>,
@@ -41,13 +45,32 @@ pub(super) struct UnilateralTerm {
     pub(super) contact_force: Vec<f64>,
     /// Displacements of the step responses from rest to a unit end load on one free
     /// equation, for the equations the contacts' `b` read at the last step.
-    unit_response: Vec<(usize, Vec<f64>)>,
-    /// The step's `dt` (s): a response's velocity is `2u/dt`, its acceleration `4u/dt^2`.
-    dt: f64,
+    unit_response: Vec<(usize, Sparse)>,
+    /// `[2/dt, 4/dt^2]`: a response's velocity is `2u/dt`, its acceleration `4u/dt^2`.
+    rates: [f64; 2],
     zero: Vec<f64>,
     load: Vec<f64>,
-    /// The correction `du` being summed (length `n`, reused between steps).
-    du: Vec<f64>,
+}
+
+/// How one element's response enters a step's `G` and correction.
+enum Response<'a> {
+    /// A kept link response.
+    Kept(&'a Sparse),
+    /// A contact's: `sum_r c_r` times the unit responses of its equations.
+    Combined(Vec<(f64, &'a Sparse)>),
+    /// A link response used once: its column of `G` over the step's elements.
+    Once(Vec<f64>),
+}
+
+impl Response<'_> {
+    /// `b^T` of the response for `gap`, the element at `i` of the step.
+    fn seen_by(&self, i: usize, gap: &Gap) -> f64 {
+        match self {
+            Response::Kept(x) => x.dot(gap),
+            Response::Combined(terms) => terms.iter().map(|(c, x)| c * x.dot(gap)).sum(),
+            Response::Once(column) => column[i],
+        }
+    }
 }
 
 impl UnilateralTerm {
@@ -56,7 +79,6 @@ impl UnilateralTerm {
         stepper: &mut Stepper,
         title: &str,
     ) -> Result<Self, SolveError> {
-        let fail = |e| integrate_error(system, title, false, e);
         if stepper.scheme() != Scheme::AverageAcceleration {
             return Err(SolveError::BadInput {
                 what: format!(
@@ -67,33 +89,23 @@ impl UnilateralTerm {
         }
         let n = system.dim();
         let links = link_gaps(system)?;
-        let zero = vec![0.0; n];
-        let mut load = vec![0.0; n];
-        let mut link_response = Vec::with_capacity(links.len());
-        for gap in &links {
-            load.fill(0.0);
-            gap.add_to(1.0, &mut load);
-            let mut state = State::zeros(n, 0.0);
-            stepper.step(&mut state, &zero, &load, 0).map_err(fail)?;
-            link_response.push(state.u);
-        }
         let contacts = system
             .model
             .moving_contacts()
             .iter()
             .map(|c| ContactLine::new(system, c))
             .collect::<Result<Vec<_>, _>>()?;
+        let dt = stepper.dt();
         Ok(UnilateralTerm {
             contact_force: vec![0.0; contacts.len()],
             unit_response: Vec::new(),
-            dt: stepper.dt(),
+            rates: [2.0 / dt, 4.0 / (dt * dt)],
+            link_response: LinkResponses::new(links.len(), BUDGET_BYTES),
             links,
-            link_response,
             contacts,
             slack: Vec::new(),
-            zero,
-            load,
-            du: vec![0.0; n],
+            zero: vec![0.0; n],
+            load: vec![0.0; n],
         })
     }
 
@@ -113,6 +125,57 @@ impl UnilateralTerm {
         }
     }
 
+    /// The displacement of one step from rest under the end load in `self.load`.
+    fn response(&mut self, stepper: &mut Stepper) -> Result<Vec<f64>, crate::error::IntegrateError> {
+        let mut state = State::zeros(self.load.len(), 0.0);
+        stepper.step(&mut state, &self.zero, &self.load, 0)?;
+        Ok(state.u)
+    }
+
+    /// Computes what the step's elements need before their responses are borrowed:
+    /// the unit responses of the contacts' equations and the candidate links'
+    /// responses, kept or, past the budget, as their columns of `G` over the step's
+    /// elements (returned by position among the candidates).
+    fn prepare(
+        &mut self,
+        stepper: &mut Stepper,
+        ids: &[usize],
+        contact_gaps: &[(usize, Gap)],
+    ) -> Result<Vec<Option<Vec<f64>>>, crate::error::IntegrateError> {
+        let mut used: Vec<usize> = Vec::new();
+        for (_, gap) in contact_gaps {
+            for &(eq, _) in &gap.b {
+                used.push(eq);
+                if self.unit_response.iter().all(|(e, _)| *e != eq) {
+                    self.load.fill(0.0);
+                    self.load[eq] = 1.0;
+                    let u = self.response(stepper)?;
+                    self.unit_response.push((eq, Sparse::new(&u)));
+                }
+            }
+        }
+        self.unit_response.retain(|(e, _)| used.contains(e));
+        self.link_response.next_step();
+        let mut once = vec![None; ids.len()];
+        for (p, &j) in ids.iter().enumerate() {
+            if self.link_response.touch(j) {
+                continue;
+            }
+            self.load.fill(0.0);
+            self.links[j].add_to(1.0, &mut self.load);
+            let u = self.response(stepper)?;
+            if !self.link_response.insert(j, Sparse::new(&u)) {
+                let column = ids
+                    .iter()
+                    .map(|&i| self.links[i].dot(&u))
+                    .chain(contact_gaps.iter().map(|(_, g)| g.dot(&u)))
+                    .collect();
+                once[p] = Some(column);
+            }
+        }
+        Ok(once)
+    }
+
     /// Turns the linear step just taken (ending at `t`) into the one with the elements'
     /// forces.
     pub(super) fn correct(
@@ -124,56 +187,54 @@ impl UnilateralTerm {
         title: &str,
     ) -> Result<(), SolveError> {
         let fail = |e| integrate_error(system, title, false, e);
-        let n = state.u.len();
         // Candidates: links slack before or predicted slack, every contact on its line.
-        let mut ids: Vec<usize> = (0..self.links.len())
+        let ids: Vec<usize> = (0..self.links.len())
             .filter(|&i| self.slack.contains(&i) || self.links[i].gap(&state.u) > 0.0)
             .collect();
         let n_links = ids.len();
-        let mut gaps: Vec<&Gap> = ids.iter().map(|&i| &self.links[i]).collect();
         let contact_gaps: Vec<(usize, Gap)> = self
             .contacts
             .iter()
             .enumerate()
             .filter_map(|(i, c)| c.gap_at(t).map(|g| (i, g)))
             .collect();
-        let mut responses: Vec<&[f64]> = ids
-            .iter()
-            .map(|&i| self.link_response[i].as_slice())
-            .collect();
-        let mut contact_response = Vec::with_capacity(contact_gaps.len());
-        let mut used: Vec<usize> = Vec::new();
-        for (_, gap) in &contact_gaps {
-            let mut r = vec![0.0; n];
-            for &(eq, c) in &gap.b {
-                let at = match self.unit_response.iter().position(|(e, _)| *e == eq) {
-                    Some(at) => at,
-                    None => {
-                        self.load.fill(0.0);
-                        self.load[eq] = 1.0;
-                        let mut unit = State::zeros(n, 0.0);
-                        stepper
-                            .step(&mut unit, &self.zero, &self.load, 0)
-                            .map_err(fail)?;
-                        self.unit_response.push((eq, unit.u));
-                        self.unit_response.len() - 1
-                    }
-                };
-                used.push(eq);
-                for (x, y) in r.iter_mut().zip(&self.unit_response[at].1) {
-                    *x += c * y;
-                }
-            }
-            contact_response.push(r);
-        }
-        self.unit_response.retain(|(e, _)| used.contains(e));
-        gaps.extend(contact_gaps.iter().map(|(_, g)| g));
-        responses.extend(contact_response.iter().map(Vec::as_slice));
-        ids.extend(contact_gaps.iter().map(|(i, _)| usize::MAX - i));
+        let mut once = self.prepare(stepper, &ids, &contact_gaps).map_err(fail)?;
         self.contact_force.fill(0.0);
-        if gaps.is_empty() {
+        if ids.is_empty() && contact_gaps.is_empty() {
             self.slack.clear();
             return Ok(());
+        }
+        let gaps: Vec<&Gap> = ids
+            .iter()
+            .map(|&i| &self.links[i])
+            .chain(contact_gaps.iter().map(|(_, g)| g))
+            .collect();
+        let mut responses: Vec<Response> = Vec::with_capacity(gaps.len());
+        for (&j, column) in ids.iter().zip(&mut once) {
+            responses.push(match (column.take(), self.link_response.get(j)) {
+                (Some(column), _) => Response::Once(column),
+                (None, Some(x)) => Response::Kept(x),
+                (None, None) => {
+                    return Err(SolveError::BadInput {
+                        what: format!(
+                            "load case '{title}' at t = {t} s: the response of tension link {} \
+                             was neither kept nor computed (coil's bug)",
+                            j + 1
+                        ),
+                    })
+                }
+            });
+        }
+        for (_, gap) in &contact_gaps {
+            let terms = gap
+                .b
+                .iter()
+                .filter_map(|&(eq, c)| {
+                    let unit = self.unit_response.iter().find(|(e, _)| *e == eq)?;
+                    Some((c, &unit.1))
+                })
+                .collect();
+            responses.push(Response::Combined(terms));
         }
         let gstar: Vec<f64> = gaps.iter().map(|g| g.gap(&state.u)).collect();
         let k: Vec<f64> = gaps.iter().map(|g| g.k).collect();
@@ -181,32 +242,43 @@ impl UnilateralTerm {
             .filter(|&p| p >= n_links || self.slack.contains(&ids[p]))
             .filter(|&p| gstar[p] > 0.0 || p < n_links)
             .collect();
-        let lambda = solve_forces(&gstar, &k, |i, j| gaps[i].dot(responses[j]), &mut active)
-            .ok_or_else(|| SolveError::BadInput {
-                what: format!(
-                    "load case '{title}' at t = {t} s: the tension links and contacts found no \
-                 consistent set of closed elements"
-                ),
+        let g = |i: usize, j: usize| responses[j].seen_by(i, gaps[i]);
+        let lambda =
+            solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
+                what: format!("load case '{title}' at t = {t} s: {}", e.describe()),
             })?;
-        self.du.fill(0.0);
-        let mut moved = false;
-        for ((&l, r), gap) in lambda.iter().zip(&responses).zip(&gaps) {
+        // The correction `sum_j s_j lambda_j (u_j, 2 u_j/dt, 4 u_j/dt^2)`; the responses
+        // used once together through one more step from rest.
+        let mut combined = false;
+        self.load.fill(0.0);
+        for ((&l, response), gap) in lambda.iter().zip(&responses).zip(&gaps) {
             let l = l * gap.sign;
-            if l != 0.0 {
-                moved = true;
-                for (x, c) in self.du.iter_mut().zip(r.iter()) {
-                    *x += l * c;
+            if l == 0.0 {
+                continue;
+            }
+            match response {
+                Response::Kept(x) => x.subtract(l, self.rates, &mut state.u, &mut state.v, &mut state.a),
+                Response::Combined(terms) => {
+                    for (c, x) in terms {
+                        x.subtract(l * c, self.rates, &mut state.u, &mut state.v, &mut state.a);
+                    }
+                }
+                Response::Once(_) => {
+                    combined = true;
+                    gap.add_to(l, &mut self.load);
                 }
             }
         }
-        if moved {
-            let (dv, da) = (2.0 / self.dt, 4.0 / (self.dt * self.dt));
+        drop(responses);
+        if combined {
+            let du = self.response(stepper).map_err(fail)?;
+            let [dv, da] = self.rates;
             for (((u, v), a), d) in state
                 .u
                 .iter_mut()
                 .zip(state.v.iter_mut())
                 .zip(state.a.iter_mut())
-                .zip(&self.du)
+                .zip(&du)
             {
                 *u -= d;
                 *v -= dv * d;

@@ -102,6 +102,7 @@ mod initial;
 mod loads;
 mod modal_damping;
 mod recording;
+mod responses;
 mod superposition;
 #[cfg(test)]
 mod tests;

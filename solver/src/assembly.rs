@@ -233,12 +233,8 @@ mod tests {
         }
         let mut k_full = DMatrix::<f64>::zeros(nf, nf);
         let mut m_full = DMatrix::<f64>::zeros(nf, nf);
-        for ((block, k), m) in system
-            .blocks
-            .iter()
-            .zip(&system.element_stiffness)
-            .zip(&system.element_mass)
-        {
+        for (b, block) in system.blocks[..model.elements().len()].iter().enumerate() {
+            let (k, m) = system.element_matrices(b).unwrap();
             for (a, &da) in block.iter().enumerate() {
                 for (b, &db) in block.iter().enumerate() {
                     k_full[(da, db)] += k[(a, b)];

@@ -327,9 +327,12 @@ pub fn craig_bampton(
     }
 
     // Element and point masses assembled apart (the system's M is their sum).
-    let n_elements = system.element_mass.len();
+    let n_elements = model.elements().len();
     let mut me = system.assembler.new_values();
-    for (b, m) in system.element_mass.iter().enumerate() {
+    for b in 0..n_elements {
+        let (_, m) = system
+            .element_matrices(b)
+            .map_err(solve_err("the element masses"))?;
         system.assembler.add_block(&mut me, b, m.as_slice(), 1.0);
     }
     let mut mp = system.assembler.new_values();

@@ -247,7 +247,7 @@ pub fn solve(
     let k = system.stiffness.as_ref();
     let m = system.mass.as_ref();
     let dofs = &system.dofs;
-    let (mass_r, total_mass) = rigid_translation_masses(system);
+    let (mass_r, total_mass) = rigid_translation_masses(system)?;
 
     let mut modes = Vec::with_capacity(n_modes);
     for (index, (mu, y)) in pairs.into_iter().enumerate() {
@@ -312,7 +312,7 @@ pub fn solve(
 
 /// `M_full r_j` for the three rigid translations `r_j` (full space) and the total mass
 /// `r_j^T M_full r_j` in each direction.
-fn rigid_translation_masses(system: &System) -> (Vec<Vec<f64>>, [f64; 3]) {
+fn rigid_translation_masses(system: &System) -> Result<(Vec<Vec<f64>>, [f64; 3]), SolveError> {
     let full = system.dofs.full_len();
     let mut mass_r = Vec::with_capacity(3);
     let mut total_mass = [0.0; 3];
@@ -320,11 +320,11 @@ fn rigid_translation_masses(system: &System) -> (Vec<Vec<f64>>, [f64; 3]) {
         let r: Vec<f64> = (0..full)
             .map(|d| if d % DOFS_PER_NODE == j { 1.0 } else { 0.0 })
             .collect();
-        let mr = system.full_mass_times(&r);
+        let mr = system.full_mass_times(&r)?;
         *total = dot(&r, &mr);
         mass_r.push(mr);
     }
-    (mass_r, total_mass)
+    Ok((mass_r, total_mass))
 }
 
 /// `max |phi_i^T M phi_j - delta_ij|` over the modes (free DOFs, `m` upper triangle).

@@ -135,7 +135,7 @@ pub fn solve(
         });
     }
     let displacement = dofs.expand(&q, 1.0);
-    let mut residual = system.residual(&displacement, &f_full);
+    let mut residual = system.residual(&displacement, &f_full)?;
     for (&(eq, _), f) in springs.iter().zip(&spring_forces.forces) {
         residual[dofs.free_to_full(eq)] += f;
     }

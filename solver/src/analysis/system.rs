@@ -7,7 +7,7 @@ use crate::dof::{dof_name, DofMap};
 use crate::element::{self, Matrix12};
 use crate::error::solve::SolveError;
 use crate::linalg::{Cholesky, SymbolicFactor};
-use crate::model::{Dashpot, Model, NodeId, PointLoad, PointMass, DOFS_PER_NODE};
+use crate::model::{Dashpot, Element, Model, NodeId, PointLoad, PointMass, DOFS_PER_NODE};
 use faer::sparse::SparseColMat;
 use nalgebra::SMatrix;
 
@@ -23,10 +23,6 @@ pub struct System<'m> {
     /// Full DOFs of every block: the model's elements first (in `model.elements`
     /// order), then the point masses (in `model.point_masses` order).
     pub blocks: Vec<Vec<usize>>,
-    /// Global element stiffness matrices, in `model.elements` order.
-    pub element_stiffness: Vec<Matrix12>,
-    /// Global element mass matrices (consistent or lumped as the model says).
-    pub element_mass: Vec<Matrix12>,
     /// Point-mass blocks (6x6 diagonal), in `model.point_masses` order.
     pub point_mass_blocks: Vec<SMatrix<f64, 6, 6>>,
     /// Index in `blocks` of the first matrix element (`DMIG`); they are the last
@@ -61,23 +57,12 @@ impl<'m> System<'m> {
 
         let mut blocks: Vec<Vec<usize>> =
             Vec::with_capacity(model.elements.len() + model.point_masses.len());
-        let mut element_stiffness = Vec::with_capacity(model.elements.len());
-        let mut element_mass = Vec::with_capacity(model.elements.len());
         for e in &model.elements {
-            let mut k = Matrix12::zeros();
-            let mut m = Matrix12::zeros();
-            element::global_matrices(model, e, model.lumped_mass, &mut k, &mut m).map_err(
-                |source| SolveError::Element {
-                    element: e.id,
-                    source,
-                },
-            )?;
+            element_matrices(model, e)?;
             let context = format!("element {}", e.id);
             let mut block = node_dofs(e.nodes[0], &context)?.collect::<Vec<_>>();
             block.extend(node_dofs(e.nodes[1], &context)?);
             blocks.push(block);
-            element_stiffness.push(k);
-            element_mass.push(m);
         }
         let mut point_mass_blocks = Vec::with_capacity(model.point_masses.len());
         for p in &model.point_masses {
@@ -119,7 +104,8 @@ impl<'m> System<'m> {
         let mut m_values = assembler.new_values();
         let mut c_values = assembler.new_values();
         let mut prescribed_load = vec![0.0; dofs.free_len()];
-        for (b, (k, m)) in element_stiffness.iter().zip(&element_mass).enumerate() {
+        for (b, e) in model.elements.iter().enumerate() {
+            let (k, m) = element_matrices(model, e)?;
             assembler.add_block(&mut k_values, b, k.as_slice(), 1.0);
             assembler.add_block(&mut m_values, b, m.as_slice(), 1.0);
             assembler.add_prescribed_load(&mut prescribed_load, b, k.as_slice(), 1.0);
@@ -131,7 +117,6 @@ impl<'m> System<'m> {
             model,
             &assembler,
             &mut c_values,
-            (&element_mass, &element_stiffness),
             &point_mass_blocks,
         )?;
         for (k, block) in dashpot_blocks.iter().enumerate() {
@@ -168,8 +153,6 @@ impl<'m> System<'m> {
             dofs,
             assembler,
             blocks,
-            element_stiffness,
-            element_mass,
             point_mass_blocks,
             matrix_first,
             stiffness,
@@ -283,9 +266,16 @@ impl<'m> System<'m> {
         rhs
     }
 
+    /// The global stiffness and mass matrices of element `b` (`model.elements` order).
+    /// They are computed again when asked for, not kept: 2.3 KB per element, 222 MB on
+    /// a 200-span catenary (docs/files.md).
+    pub fn element_matrices(&self, b: usize) -> Result<(Matrix12, Matrix12), SolveError> {
+        element_matrices(self.model, &self.model.elements[b])
+    }
+
     /// `K_full u - f` in the full space, element by element (for reactions), with the
     /// tension links' forces `k max(e, 0)` (slack ones exert none).
-    pub fn residual(&self, u_full: &[f64], f_full: &[f64]) -> Vec<f64> {
+    pub fn residual(&self, u_full: &[f64], f_full: &[f64]) -> Result<Vec<f64>, SolveError> {
         let mut r: Vec<f64> = f_full.iter().map(|f| -f).collect();
         let first =
             self.model.elements.len() + self.model.point_masses.len() + self.model.dashpots.len();
@@ -303,7 +293,8 @@ impl<'m> System<'m> {
             r[b[1]] += force;
             r[b[0]] -= force;
         }
-        for (block, k) in self.blocks.iter().zip(&self.element_stiffness) {
+        for (b, block) in self.blocks[..self.model.elements.len()].iter().enumerate() {
+            let (k, _) = self.element_matrices(b)?;
             for (a, &da) in block.iter().enumerate() {
                 r[da] += block
                     .iter()
@@ -312,13 +303,15 @@ impl<'m> System<'m> {
                     .sum::<f64>();
             }
         }
-        r
+        Ok(r)
     }
 
     /// `M_full v` in the full space (elements and point masses, before constraints).
-    pub fn full_mass_times(&self, v_full: &[f64]) -> Vec<f64> {
+    pub fn full_mass_times(&self, v_full: &[f64]) -> Result<Vec<f64>, SolveError> {
         let mut out = vec![0.0; v_full.len()];
-        for (block, m) in self.blocks.iter().zip(&self.element_mass) {
+        let n_elements = self.model.elements.len();
+        for (b, block) in self.blocks[..n_elements].iter().enumerate() {
+            let (_, m) = self.element_matrices(b)?;
             for (a, &da) in block.iter().enumerate() {
                 out[da] += block
                     .iter()
@@ -327,7 +320,6 @@ impl<'m> System<'m> {
                     .sum::<f64>();
             }
         }
-        let n_elements = self.element_mass.len();
         for (block, m) in self.blocks[n_elements..]
             .iter()
             .zip(&self.point_mass_blocks)
@@ -344,7 +336,7 @@ impl<'m> System<'m> {
         {
             matrix_times(b, &e.mass, v_full, &mut out);
         }
-        out
+        Ok(out)
     }
 }
 
@@ -417,7 +409,6 @@ fn add_rayleigh(
     model: &Model,
     assembler: &Assembler,
     c_values: &mut [f64],
-    (element_mass, element_stiffness): (&[Matrix12], &[Matrix12]),
     point_mass_blocks: &[SMatrix<f64, 6, 6>],
 ) -> Result<(), SolveError> {
     let n_elements = model.elements.len();
@@ -439,8 +430,9 @@ fn add_rayleigh(
                     element: id,
                     context: format!("DAMPING entry {}", entry + 1),
                 })?;
-            assembler.add_block(c_values, b, element_mass[b].as_slice(), d.alpha);
-            assembler.add_block(c_values, b, element_stiffness[b].as_slice(), d.beta);
+            let (k, m) = element_matrices(model, &model.elements[b])?;
+            assembler.add_block(c_values, b, m.as_slice(), d.alpha);
+            assembler.add_block(c_values, b, k.as_slice(), d.beta);
         }
         for &node in &d.mass_nodes {
             let mut found = false;
@@ -502,4 +494,18 @@ fn dashpot_block(d: &Dashpot) -> Result<SMatrix<f64, 6, 6>, SolveError> {
     let mut values = [0.0; 6];
     values[usize::from(d.dof) - 1] = d.c;
     Ok(SMatrix::<f64, 6, 6>::from_diagonal(&values.into()))
+}
+
+/// The global stiffness and mass matrices of `e` (consistent or lumped mass as the model
+/// says; the geometric stiffness of its `BEAM TENSION` included).
+fn element_matrices(model: &Model, e: &Element) -> Result<(Matrix12, Matrix12), SolveError> {
+    let mut k = Matrix12::zeros();
+    let mut m = Matrix12::zeros();
+    element::global_matrices(model, e, model.lumped_mass, &mut k, &mut m).map_err(|source| {
+        SolveError::Element {
+            element: e.id,
+            source,
+        }
+    })?;
+    Ok((k, m))
 }

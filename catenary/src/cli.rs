@@ -46,7 +46,8 @@ pub enum Command {
         quiet: bool,
         /// A spring study: the case once per spring source in the head stage (a measured
         /// case folder, a variants file or `FILE:NAME` for one variant, a calibration.json,
-        /// a SPRING.json), one table.
+        /// a SPRING.json, a design.json or `FILE:RANK` for one of its candidates), one
+        /// table.
         #[arg(long, num_args = 1.., value_name = "SPRING")]
         springs: Vec<PathBuf>,
         /// The head stage's dashpot (overrides the case's `head_spring.damping`).

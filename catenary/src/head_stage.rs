@@ -15,6 +15,7 @@
 //! static shape (Rayleigh), so the reduced run carries the springs' mass, their damping
 //! law and their surge modes, where the lumped stage has `(K, c)` alone.
 
+mod design;
 pub mod from_spring;
 pub mod reduced;
 pub mod springs;

@@ -16,7 +16,12 @@
 //! - a **SPRING.json** (EN 13906-1 input, `coil-tune check`): its geometry and material,
 //!   refused when a check of its own sheet fails; it names no damping law, so the law is
 //!   the 160ECT's calibrated one ([`ASSUMED_RAYLEIGH`]), said as an assumption, unless
-//!   `rayleigh_alpha` / `rayleigh_beta` are given.
+//!   `rayleigh_alpha` / `rayleigh_beta` are given;
+//! - a **design** (`design.json`, `coil-tune design`'s output): the FE-verified candidate
+//!   of the rank named after a colon (`design.json:2`; every candidate without one, rank 1
+//!   first), with the design's material and its FE mesh (the candidate's finest, so the
+//!   rate is the design's `fe_rate_n_mm`); the damping law is the design's calibration's
+//!   Rayleigh law, or with a grade (no calibration) the assumed one above.
 //!
 //! # The stage (lumped, the default)
 //! `k` one spring's axial rate from coil's FE model, `n` springs in parallel:
@@ -188,17 +193,22 @@ enum SourceKind {
     Calibration(PathBuf),
     /// An EN 13906-1 SPRING.json.
     Sheet(PathBuf),
+    /// `coil-tune design`'s design.json; `None`: every candidate.
+    Design(PathBuf, Option<String>),
 }
 
 /// One spring, ready to become a stage.
 #[derive(Debug, Clone)]
-struct Spring {
-    name: String,
-    source: String,
-    state: SpringState,
-    rayleigh: [f64; 2],
-    rayleigh_note: String,
-    band: Option<HeadStage>,
+pub(super) struct Spring {
+    pub(super) name: String,
+    pub(super) source: String,
+    pub(super) state: SpringState,
+    pub(super) rayleigh: [f64; 2],
+    pub(super) rayleigh_note: String,
+    pub(super) band: Option<HeadStage>,
+    /// The FE settings of the spring's own model (a design's mesh), instead of the
+    /// caller's.
+    pub(super) fe: Option<FeSettings>,
 }
 
 /// What was built for the head, for report.md and catenary.json.
@@ -241,7 +251,7 @@ pub struct BuiltHead {
     pub stage: StageSpec,
 }
 
-fn invalid(message: String) -> TuneError {
+pub(super) fn invalid(message: String) -> TuneError {
     TuneError::Invalid(message)
 }
 
@@ -265,10 +275,12 @@ fn identify(path: &Path, name: Option<&str>) -> Result<SourceKind> {
     let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| TuneError::Json {
         path: file.clone(),
         line: e.line(),
-        message: format!("{e}; expected a spring source: a measured case, a variants file, calibration.json or SPRING.json (docs/catenary.md)"),
+        message: format!("{e}; expected a spring source: a measured case, a variants file, calibration.json, SPRING.json or design.json (docs/catenary.md)"),
     })?;
     let has = |key: &str| value.get(key).is_some();
-    let kind = if has("variants") {
+    let kind = if has("candidates") && has("target") && has("material") {
+        SourceKind::Design(file.clone(), name.map(str::to_string))
+    } else if has("variants") {
         SourceKind::Variants(file.clone(), name.map(str::to_string))
     } else if has("state") && has("targets") {
         SourceKind::Calibration(file.clone())
@@ -278,13 +290,13 @@ fn identify(path: &Path, name: Option<&str>) -> Result<SourceKind> {
         SourceKind::Measured(file.clone())
     } else {
         return Err(invalid(format!(
-            "{}: not a spring source; expected a measured case (`spring`, `targets`), a variants file (`variants`), a calibration.json (`state`, `targets`) or a SPRING.json (`wire_diameter_mm`, `free_length_mm`) (docs/catenary.md, \"The head stage from a spring\")",
+            "{}: not a spring source; expected a measured case (`spring`, `targets`), a variants file (`variants`), a calibration.json (`state`, `targets`), a SPRING.json (`wire_diameter_mm`, `free_length_mm`) or a design.json (`target`, `material`, `candidates`) (docs/catenary.md, \"The head stage from a spring\")",
             file.display()
         )));
     };
-    if name.is_some() && !matches!(kind, SourceKind::Variants(..)) {
+    if name.is_some() && !matches!(kind, SourceKind::Variants(..) | SourceKind::Design(..)) {
         return Err(invalid(format!(
-            "{}: `:{}` names a variant, but the file is not a variants file",
+            "{}: `:{}` names a variant or a design's rank, but the file is neither a variants file nor a design.json",
             file.display(),
             name.unwrap_or_default()
         )));
@@ -292,10 +304,12 @@ fn identify(path: &Path, name: Option<&str>) -> Result<SourceKind> {
     Ok(kind)
 }
 
-fn stem(path: &Path) -> String {
+/// A spring's name from its file: the stem, or the folder's name for the files whose
+/// name says only what they are (`case.json`, `calibration.json`, `design.json`).
+pub(super) fn stem(path: &Path) -> String {
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned());
     match stem.as_deref() {
-        Some("case") | Some("calibration") | None => path
+        Some("case") | Some("calibration") | Some("design") | None => path
             .parent()
             .and_then(Path::file_name)
             .map_or("spring".into(), |n| n.to_string_lossy().into_owned()),
@@ -348,6 +362,7 @@ fn measured_springs(
                 rayleigh: stages.rayleigh_mid,
                 rayleigh_note: note.clone(),
                 band: Some(stage.clone()),
+                fe: None,
             });
         }
     }
@@ -385,6 +400,7 @@ fn calibration_spring(path: &Path) -> Result<Spring> {
         rayleigh_note: format!("the Rayleigh law loop 3 identified ({})", path.display()),
         state: s,
         band: None,
+        fe: None,
     })
 }
 
@@ -414,6 +430,7 @@ fn sheet_spring(path: &Path) -> Result<Spring> {
             ASSUMED_RAYLEIGH[0], ASSUMED_RAYLEIGH[1]
         ),
         band: None,
+        fe: None,
     })
 }
 
@@ -439,6 +456,7 @@ fn springs_of(entry: &Path, head_mass_kg: f64, fe: &FeSettings) -> Result<Vec<Sp
         }
         SourceKind::Calibration(file) => Ok(vec![calibration_spring(&file)?]),
         SourceKind::Sheet(file) => Ok(vec![sheet_spring(&file)?]),
+        SourceKind::Design(file, rank) => super::design::design_springs(&file, rank.as_deref()),
     }
 }
 
@@ -462,6 +480,7 @@ fn stage_of(
 ) -> Result<BuiltHead> {
     let n = spec.springs_in_parallel;
     let nf = f64::from(n);
+    let fe = spring.fe.as_ref().unwrap_or(fe);
     let (k_n_mm, _) = static_stiffness(&spring.state, fe)?;
     let stiffness_n_m = nf * k_n_mm * 1e3;
     let spring_mass_kg = spring.state.spring_mass_kg();

@@ -54,10 +54,39 @@ pub const MAX_PROCEDURE_BYTES: u64 = 1 << 20;
 /// Where a non-finite number (`NaN`, `inf`) sits in generated text (VTU, CSV or the
 /// `Debug` form of the results), skipping quoted strings (titles); `None` if all finite.
 pub fn non_finite_token(text: &str) -> Option<usize> {
-    let mut quoted = false;
-    let mut start = 0;
-    let bytes = text.as_bytes();
-    for (i, &b) in bytes.iter().chain(std::iter::once(&b' ')).enumerate() {
+    let mut scan = NonFiniteScan::default();
+    scan.push(text.as_bytes());
+    scan.finish()
+}
+
+/// [`non_finite_token`] over text written piece by piece, `write!(scan, "{value:?}")`,
+/// without keeping it (the `Debug` form of a large result is as large as its JSON).
+#[derive(Debug, Default)]
+pub struct NonFiniteScan {
+    /// Bytes seen.
+    offset: usize,
+    quoted: bool,
+    previous: u8,
+    /// The current token's first bytes (5 at most) and its start and length.
+    token: [u8; 5],
+    start: usize,
+    length: usize,
+    found: Option<usize>,
+}
+
+impl NonFiniteScan {
+    fn push(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            if self.found.is_some() {
+                return;
+            }
+            self.byte(b);
+        }
+    }
+
+    fn byte(&mut self, b: u8) {
+        let i = self.offset;
+        self.offset += 1;
         let separator = matches!(
             b,
             b' ' | b'\n'
@@ -76,16 +105,38 @@ pub fn non_finite_token(text: &str) -> Option<usize> {
                 | b'"'
         );
         if separator {
-            if !quoted && matches!(&text[start..i], "NaN" | "inf" | "-inf") {
-                return Some(start);
+            let token = &self.token[..self.length.min(5)];
+            if !self.quoted && self.length <= 4 && matches!(token, b"NaN" | b"inf" | b"-inf") {
+                self.found = Some(self.start);
             }
-            if b == b'"' && (i == 0 || bytes[i - 1] != b'\\') {
-                quoted = !quoted;
+            if b == b'"' && (i == 0 || self.previous != b'\\') {
+                self.quoted = !self.quoted;
             }
-            start = i + 1;
+            self.start = i + 1;
+            self.length = 0;
+        } else {
+            if self.length < 5 {
+                self.token[self.length] = b;
+            }
+            self.length += 1;
         }
+        self.previous = b;
     }
-    None
+
+    /// The first non-finite token's offset, the text ended.
+    pub fn finish(mut self) -> Option<usize> {
+        if self.found.is_none() {
+            self.byte(b' ');
+        }
+        self.found
+    }
+}
+
+impl std::fmt::Write for NonFiniteScan {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        self.push(s.as_bytes());
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -98,5 +149,16 @@ mod tests {
         assert_eq!(t("<v>-inf</v>"), Some(3));
         assert_eq!(t("title: \"inf NaN\", k: 3.5"), None);
         assert_eq!(t("information NaNa 1e308"), None);
+        // Written piece by piece, tokens cut across pieces are found where they start.
+        use std::fmt::Write as _;
+        for text in ["a: 1.0, b: [2.0, NaN]", "title: \"inf NaN\", k: -inf", "x: 1e-3"] {
+            for cut in 0..text.len() {
+                let mut scan = super::NonFiniteScan::default();
+                let (head, tail) = text.split_at(cut);
+                write!(scan, "{head}").unwrap();
+                write!(scan, "{tail}").unwrap();
+                assert_eq!(scan.finish(), t(text), "{text} cut at {cut}");
+            }
+        }
     }
 }

@@ -881,7 +881,10 @@ pub fn write_set(
         load_cases: entries,
     };
     // serde_json writes a non-finite float as null: check the numbers themselves.
-    if let Some(at) = coil_io::non_finite_token(&format!("{file:?}")) {
+    let mut scan = coil_io::NonFiniteScan::default();
+    // Writing into the scan cannot fail.
+    let _ = std::fmt::Write::write_fmt(&mut scan, format_args!("{file:?}"));
+    if let Some(at) = scan.finish() {
         return Err(Error::NonFinite {
             file: "results.json".into(),
             at,

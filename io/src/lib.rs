@@ -151,7 +151,11 @@ mod tests {
         assert_eq!(t("information NaNa 1e308"), None);
         // Written piece by piece, tokens cut across pieces are found where they start.
         use std::fmt::Write as _;
-        for text in ["a: 1.0, b: [2.0, NaN]", "title: \"inf NaN\", k: -inf", "x: 1e-3"] {
+        for text in [
+            "a: 1.0, b: [2.0, NaN]",
+            "title: \"inf NaN\", k: -inf",
+            "x: 1e-3",
+        ] {
             for cut in 0..text.len() {
                 let mut scan = super::NonFiniteScan::default();
                 let (head, tail) = text.split_at(cut);

@@ -244,9 +244,7 @@ mod tests {
     fn design_file(dir: &Path) -> (PathBuf, Vec<f64>) {
         let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/spring-design");
         let mut target = read_target(&cases.join("160ect_target.json")).unwrap();
-        target.material = MaterialSource::Grade {
-            grade: "DM".into(),
-        };
+        target.material = MaterialSource::Grade { grade: "DM".into() };
         let settings = DesignSettings {
             short_list: Some(2),
             ..DesignSettings::default()
@@ -254,7 +252,10 @@ mod tests {
         let result = design(&target, &settings).unwrap();
         let file = dir.join("design.json");
         std::fs::write(&file, coil_design::output::json(&result).unwrap()).unwrap();
-        (file, result.candidates.iter().map(|c| c.fe_rate_n_mm).collect())
+        (
+            file,
+            result.candidates.iter().map(|c| c.fe_rate_n_mm).collect(),
+        )
     }
 
     #[test]
@@ -277,9 +278,19 @@ mod tests {
         );
         assert!((h.spring_rate_n_mm / rates[1] - 1.0).abs() < 1e-9);
         assert_eq!(h.stiffness_n_m, 4.0 * h.spring_rate_n_mm * 1e3);
-        assert_eq!(h.name, format!("{} rank 2", dir.path().file_name().unwrap().to_string_lossy()));
+        assert_eq!(
+            h.name,
+            format!(
+                "{} rank 2",
+                dir.path().file_name().unwrap().to_string_lossy()
+            )
+        );
         // A grade names no damping law: the assumed one, said so.
-        assert!(h.assumptions.iter().any(|a| a.starts_with("assumed")), "{:?}", h.assumptions);
+        assert!(
+            h.assumptions.iter().any(|a| a.starts_with("assumed")),
+            "{:?}",
+            h.assumptions
+        );
         // No rank: every candidate, rank 1 first.
         let all = build_heads(&[file.clone()], &spec, &pantograph, &fe).unwrap();
         assert_eq!(all.len(), rates.len());
@@ -287,7 +298,10 @@ mod tests {
         // A rank that does not exist, and one that is not a number, name the file and
         // the ranks there are.
         let listed: Vec<String> = (1..=rates.len()).map(|r| r.to_string()).collect();
-        for (rank, says) in [("9", "no candidate of rank 9"), ("best", "`:best` is not a rank")] {
+        for (rank, says) in [
+            ("9", "no candidate of rank 9"),
+            ("best", "`:best` is not a rank"),
+        ] {
             let e = build_heads(&[entry(rank)], &spec, &pantograph, &fe)
                 .unwrap_err()
                 .to_string();
@@ -313,16 +327,26 @@ mod tests {
             "fe": {"elements_per_coil": 24, "element": 98, "lumped_mass": false, "static_force_n": 10.0, "modes": 3}}"#;
         for (candidates, says) in [
             ("[]".to_string(), "no FE-verified candidate"),
-            (format!("[{}]", candidate("-6.2")), "candidates[rank 1].pitch_mm = -6.2"),
+            (
+                format!("[{}]", candidate("-6.2")),
+                "candidates[rank 1].pitch_mm = -6.2",
+            ),
         ] {
             std::fs::write(
                 &file,
-                format!(r#"{{"target": {{}}, "material": {material}, "candidates": {candidates}}}"#),
+                format!(
+                    r#"{{"target": {{}}, "material": {material}, "candidates": {candidates}}}"#
+                ),
             )
             .unwrap();
-            let e = build_heads(&[file.clone()], &HeadSpringSpec::default(), &pantograph, &fe)
-                .unwrap_err()
-                .to_string();
+            let e = build_heads(
+                &[file.clone()],
+                &HeadSpringSpec::default(),
+                &pantograph,
+                &fe,
+            )
+            .unwrap_err()
+            .to_string();
             assert!(e.contains(says) && e.contains("design.json"), "{e}");
         }
     }

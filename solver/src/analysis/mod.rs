@@ -75,7 +75,7 @@ pub struct CaseResult {
 
 /// Runs the model's load cases in order. The stiffness is factored at most once and
 /// shared by the static, modal and modal-superposition cases (and the quasi-static
-/// initial velocity); a transient case starts from the displacement of a static case run
+/// initial velocity), dropped during a direct transient that does not use it; a transient case starts from the displacement of a static case run
 /// immediately before it (see [`transient`]); direct transient cases share one stepper,
 /// refactored only when the scheme or `dt` changes.
 pub fn run(model: &Model) -> Result<Vec<CaseResult>, SolveError> {
@@ -127,6 +127,9 @@ pub fn run_with(
                         None => &*factor.insert(system.factor_stiffness()?),
                     })
                 } else {
+                    // Not kept through a transient that does not use it (its memory
+                    // is the step's own again); a later case factors again.
+                    factor = None;
                     None
                 };
                 let start = match out.last() {

@@ -113,12 +113,7 @@ impl<'m> System<'m> {
         for (p, block) in point_mass_blocks.iter().enumerate() {
             assembler.add_block(&mut m_values, n_elements + p, block.as_slice(), 1.0);
         }
-        add_rayleigh(
-            model,
-            &assembler,
-            &mut c_values,
-            &point_mass_blocks,
-        )?;
+        add_rayleigh(model, &assembler, &mut c_values, &point_mass_blocks)?;
         for (k, block) in dashpot_blocks.iter().enumerate() {
             assembler.add_block(&mut c_values, dashpot_first + k, block.as_slice(), 1.0);
         }

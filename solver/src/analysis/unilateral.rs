@@ -42,9 +42,9 @@
 //! bending element as in [`crate::element::beam`].
 
 use crate::analysis::system::System;
-use std::cell::RefCell;
 use crate::error::solve::SolveError;
 use crate::model::MovingContact;
+use std::cell::RefCell;
 
 /// Most active-set passes in one solve.
 pub const MAX_ACTIVE_SET: usize = 50;
@@ -376,10 +376,9 @@ pub fn correct_static(
     let gstar: Vec<f64> = gaps.iter().map(|gap| gap.gap(q)).collect();
     let k: Vec<f64> = gaps.iter().map(|gap| gap.k).collect();
     let mut active = Vec::new();
-    let lambda =
-        solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
-            what: format!("load case '{title}': {}", e.describe()),
-        })?;
+    let lambda = solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
+        what: format!("load case '{title}': {}", e.describe()),
+    })?;
     // The correction `K^-1 sum_j s_j lambda_j b_j`: one more solve.
     if lambda.iter().any(|&l| l != 0.0) {
         let mut w = work.into_inner();

@@ -162,7 +162,6 @@ pub struct Stepper {
     /// Set when the last refactorisation failed; steps are refused until a
     /// successful [`Stepper::set_step`].
     factor_error: Option<IntegrateError>,
-    mass: Option<MassFactor>,
     /// Nonlinear point laws; `None` keeps the linear step untouched.
     laws: Option<Box<LawSet>>,
 }
@@ -275,7 +274,6 @@ impl Stepper {
             dt,
             engine,
             factor_error: None,
-            mass: None,
             laws: None,
         };
         stepper.refactor()?;
@@ -451,19 +449,18 @@ impl Stepper {
                 index: 0,
             });
         }
-        if self.mass.is_none() {
-            self.mass = Some(self.factor_mass()?);
-        }
+        // Factored for this call only: the factor is as large as the step's own and
+        // only the initial acceleration needs it.
+        let mut mass = self.factor_mass()?;
         let xyz: Vec<[f64; 3]> = v0.iter().zip(u0).map(|(&v, &u)| [0.0, v, u]).collect();
         let mut rhs = vec![0.0; n];
         self.ops.residual_into(f0, &xyz, false, &mut rhs);
         let mut a = vec![0.0; n];
-        if let Some(mass) = &mut self.mass {
-            mass.solve_into(&rhs, &mut a);
-            if let Some(laws) = &mut self.laws {
-                initial_law_forces(laws, mass, u0, v0, &mut a);
-            }
+        mass.solve_into(&rhs, &mut a);
+        if let Some(laws) = &mut self.laws {
+            initial_law_forces(laws, &mut mass, u0, v0, &mut a);
         }
+        drop(mass);
         if let Some(dof) = a.iter().position(|x| !x.is_finite()) {
             return Err(IntegrateError::NonFiniteState {
                 step: 0,

@@ -126,7 +126,10 @@ impl UnilateralTerm {
     }
 
     /// The displacement of one step from rest under the end load in `self.load`.
-    fn response(&mut self, stepper: &mut Stepper) -> Result<Vec<f64>, crate::error::IntegrateError> {
+    fn response(
+        &mut self,
+        stepper: &mut Stepper,
+    ) -> Result<Vec<f64>, crate::error::IntegrateError> {
         let mut state = State::zeros(self.load.len(), 0.0);
         stepper.step(&mut state, &self.zero, &self.load, 0)?;
         Ok(state.u)
@@ -259,7 +262,9 @@ impl UnilateralTerm {
                 continue;
             }
             match response {
-                Response::Kept(x) => x.subtract(l, self.rates, &mut state.u, &mut state.v, &mut state.a),
+                Response::Kept(x) => {
+                    x.subtract(l, self.rates, &mut state.u, &mut state.v, &mut state.a)
+                }
                 Response::Combined(terms) => {
                     for (c, x) in terms {
                         x.subtract(l * c, self.rates, &mut state.u, &mut state.v, &mut state.a);

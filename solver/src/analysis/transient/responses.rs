@@ -79,7 +79,14 @@ impl Sparse {
     }
 
     /// `u -= l x`, `v -= l dv x`, `a -= l da x` over the runs.
-    pub(super) fn subtract(&self, l: f64, [dv, da]: [f64; 2], u: &mut [f64], v: &mut [f64], a: &mut [f64]) {
+    pub(super) fn subtract(
+        &self,
+        l: f64,
+        [dv, da]: [f64; 2],
+        u: &mut [f64],
+        v: &mut [f64],
+        a: &mut [f64],
+    ) {
         for (start, values) in &self.runs {
             let end = start + values.len();
             let rows = u[*start..end]
@@ -215,7 +222,9 @@ mod tests {
 
     #[test]
     fn subtracting_a_sparse_vector_matches_the_dense_update() {
-        let x: Vec<f64> = (0..50).map(|i| if i % 7 < 3 { i as f64 } else { 0.0 }).collect();
+        let x: Vec<f64> = (0..50)
+            .map(|i| if i % 7 < 3 { i as f64 } else { 0.0 })
+            .collect();
         let s = Sparse::new(&x);
         let (mut u, mut v, mut a) = (vec![1.0; 50], vec![2.0; 50], vec![3.0; 50]);
         s.subtract(0.5, [10.0, 100.0], &mut u, &mut v, &mut a);

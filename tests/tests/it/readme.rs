@@ -240,7 +240,11 @@ fn step(command: &str, bins: &Path, b: &str, packages: &Packages) -> Result<Step
                 text: text.clone(),
                 file: file.clone(),
             },
-            _ => return Err(format!("README: `{command}`: the test reads `grep -F \"TEXT\" FILE` only")),
+            _ => {
+                return Err(format!(
+                    "README: `{command}`: the test reads `grep -F \"TEXT\" FILE` only"
+                ))
+            }
         },
         Some("mkdir") => Step::Mkdir(words[1..].iter().filter(|w| *w != "-p").cloned().collect()),
         Some(w) if w.starts_with("B=") => Step::SetB(w[2..].to_string()),

@@ -587,7 +587,9 @@ fn simulate(
     time: String,
     out: Option<PathBuf>,
 ) -> PyResult<String> {
-    use coil_ident::forced::commands::{read_model, simulate_record, write_simulated, SimulateRequest};
+    use coil_ident::forced::commands::{
+        read_model, simulate_record, write_simulated, SimulateRequest,
+    };
     guarded(py, || {
         let model = read_model(&model).map_err(fail)?;
         let request = SimulateRequest {

@@ -18,6 +18,7 @@
 mod design;
 pub mod from_spring;
 pub mod reduced;
+mod source;
 pub mod springs;
 
 use crate::model::PantographSpec;

@@ -8,12 +8,12 @@
 //! the last), so that the head stage's rate is the candidate's `fe_rate_n_mm`. Its
 //! damping law is the design's calibration's Rayleigh law (`material.damping.state`
 //! alpha and beta) when the design has one; a design on a wire grade names none, so the
-//! 160ECT's calibrated law is assumed and said so ([`super::from_spring::ASSUMED_RAYLEIGH`]).
+//! 160ECT's calibrated law is assumed and said so ([`super::source::ASSUMED_RAYLEIGH`]).
 //! A rank that is not a verified candidate's, a candidate without a finite positive
 //! geometry, and a file without verified candidates are refused, naming the file and
 //! what was expected.
 
-use super::from_spring::{invalid, stem, Spring, ASSUMED_RAYLEIGH, MAX_SOURCE_BYTES};
+use super::source::{invalid, stem, Spring, ASSUMED_RAYLEIGH, MAX_SOURCE_BYTES};
 use crate::{Result, TuneError};
 use coil_tuner::case::SpringGeometry;
 use coil_tuner::fe::{FeSettings, SpringState};
@@ -228,126 +228,4 @@ pub(super) fn design_springs(path: &Path, rank: Option<&str>) -> Result<Vec<Spri
         });
     }
     Ok(springs)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::from_spring::{build_heads, HeadSpringSpec};
-    use crate::model::CatenaryDeckSpec;
-    use coil_design::target::{read_target, MaterialSource};
-    use coil_design::{design, DesignSettings};
-    use coil_tuner::fe::FeSettings;
-    use std::path::{Path, PathBuf};
-
-    /// A design on a wire grade (the 160ECT target, two candidates), written as
-    /// `coil-tune design` writes it.
-    fn design_file(dir: &Path) -> (PathBuf, Vec<f64>) {
-        let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/spring-design");
-        let mut target = read_target(&cases.join("160ect_target.json")).unwrap();
-        target.material = MaterialSource::Grade { grade: "DM".into() };
-        let settings = DesignSettings {
-            short_list: Some(2),
-            ..DesignSettings::default()
-        };
-        let result = design(&target, &settings).unwrap();
-        let file = dir.join("design.json");
-        std::fs::write(&file, coil_design::output::json(&result).unwrap()).unwrap();
-        (
-            file,
-            result.candidates.iter().map(|c| c.fe_rate_n_mm).collect(),
-        )
-    }
-
-    #[test]
-    fn a_design_rank_is_the_head_stage_at_the_designs_fe_rate() {
-        let dir = tempfile::tempdir().unwrap();
-        let (file, rates) = design_file(dir.path());
-        assert!(rates.len() >= 2, "{rates:?}");
-        let pantograph = CatenaryDeckSpec::en50318_reference(2, 0.25).pantograph;
-        let spec = HeadSpringSpec::default();
-        let fe = FeSettings::default();
-        let entry = |rank: &str| PathBuf::from(format!("{}:{rank}", file.display()));
-        // Rank 2: one stage, K = 4 k with k the design's FE rate of that candidate (the
-        // same model: the design's material on the candidate's finest mesh).
-        let heads = build_heads(&[entry("2")], &spec, &pantograph, &fe).unwrap();
-        assert_eq!(heads.len(), 1);
-        let h = &heads[0];
-        println!(
-            "{}: k = {} N/mm (design {} N/mm), K = {} N/m, c = {} N s/m, {}",
-            h.name, h.spring_rate_n_mm, rates[1], h.stiffness_n_m, h.damping_n_s_m, h.damping_law
-        );
-        assert!((h.spring_rate_n_mm / rates[1] - 1.0).abs() < 1e-9);
-        assert_eq!(h.stiffness_n_m, 4.0 * h.spring_rate_n_mm * 1e3);
-        assert_eq!(
-            h.name,
-            format!(
-                "{} rank 2",
-                dir.path().file_name().unwrap().to_string_lossy()
-            )
-        );
-        // A grade names no damping law: the assumed one, said so.
-        assert!(
-            h.assumptions.iter().any(|a| a.starts_with("assumed")),
-            "{:?}",
-            h.assumptions
-        );
-        // No rank: every candidate, rank 1 first.
-        let all = build_heads(&[file.clone()], &spec, &pantograph, &fe).unwrap();
-        assert_eq!(all.len(), rates.len());
-        assert!((all[0].spring_rate_n_mm / rates[0] - 1.0).abs() < 1e-9);
-        // A rank that does not exist, and one that is not a number, name the file and
-        // the ranks there are.
-        let listed: Vec<String> = (1..=rates.len()).map(|r| r.to_string()).collect();
-        for (rank, says) in [
-            ("9", "no candidate of rank 9"),
-            ("best", "`:best` is not a rank"),
-        ] {
-            let e = build_heads(&[entry(rank)], &spec, &pantograph, &fe)
-                .unwrap_err()
-                .to_string();
-            println!("{e}");
-            assert!(e.contains(says) && e.contains("design.json"), "{e}");
-            assert!(e.contains(&format!("one of {}", listed.join(", "))), "{e}");
-        }
-    }
-
-    #[test]
-    fn a_damaged_design_is_refused_naming_the_field() {
-        let dir = tempfile::tempdir().unwrap();
-        let file = dir.path().join("design.json");
-        let pantograph = CatenaryDeckSpec::en50318_reference(2, 0.25).pantograph;
-        let fe = FeSettings::default();
-        let candidate = |pitch: &str| {
-            format!(
-                r#"{{"rank": 1, "wire_diameter_mm": 3.0, "mean_diameter_mm": 24.0, "active_coils": 14.0,
-                   "pitch_mm": {pitch}, "fe_rate_n_mm": 3.9, "fe": {{"mesh": {{"elements_per_coil": [24]}}}}}}"#
-            )
-        };
-        let material = r#"{"youngs_modulus_mpa": 206000.0, "poisson_ratio": 0.3, "density_kg_m3": 7850.0,
-            "fe": {"elements_per_coil": 24, "element": 98, "lumped_mass": false, "static_force_n": 10.0, "modes": 3}}"#;
-        for (candidates, says) in [
-            ("[]".to_string(), "no FE-verified candidate"),
-            (
-                format!("[{}]", candidate("-6.2")),
-                "candidates[rank 1].pitch_mm = -6.2",
-            ),
-        ] {
-            std::fs::write(
-                &file,
-                format!(
-                    r#"{{"target": {{}}, "material": {material}, "candidates": {candidates}}}"#
-                ),
-            )
-            .unwrap();
-            let e = build_heads(
-                &[file.clone()],
-                &HeadSpringSpec::default(),
-                &pantograph,
-                &fe,
-            )
-            .unwrap_err()
-            .to_string();
-            assert!(e.contains(says) && e.contains("design.json"), "{e}");
-        }
-    }
 }

@@ -42,7 +42,9 @@
 //! Units: N/m, N s/m, kg in the stage spec; N/mm for one spring's rate.
 
 use super::reduced::{reduced_stage, reduced_stage_spec, ReducedStage};
-use super::springs::{head_stages, HeadStage, HeadStageSettings, SPRINGS_IN_PARALLEL};
+use super::source::{invalid, stem, Spring};
+pub use super::source::{ASSUMED_RAYLEIGH, MAX_SOURCE_BYTES, MAX_SPRINGS_IN_PARALLEL};
+use super::springs::{head_stages, HeadStageSettings, SPRINGS_IN_PARALLEL};
 use super::springs::{HeadStages, ZetaLevel};
 use crate::model::{PantographSpec, StageSpec};
 use crate::{Result, TuneError};
@@ -50,18 +52,6 @@ use coil_tuner::case::{read_case as read_measured_case, read_variants, VariantsF
 use coil_tuner::fe::{static_stiffness, FeSettings, SpringState};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-
-/// The damping law assumed for a spring that names none: the 160ECT's calibrated
-/// Rayleigh law on coil's model, alpha = 0.8 1/s (the paper's Table 2) and beta
-/// recalibrated to the measured zeta (docs/catenary.md, "Head stages from coil's
-/// springs").
-pub const ASSUMED_RAYLEIGH: [f64; 2] = [0.8, 1.2413e-4];
-
-/// Most springs in parallel.
-pub const MAX_SPRINGS_IN_PARALLEL: u32 = 64;
-
-/// Largest spring source file read (bytes).
-pub const MAX_SOURCE_BYTES: u64 = 1 << 20;
 
 fn default_springs() -> u32 {
     SPRINGS_IN_PARALLEL
@@ -197,20 +187,6 @@ enum SourceKind {
     Design(PathBuf, Option<String>),
 }
 
-/// One spring, ready to become a stage.
-#[derive(Debug, Clone)]
-pub(super) struct Spring {
-    pub(super) name: String,
-    pub(super) source: String,
-    pub(super) state: SpringState,
-    pub(super) rayleigh: [f64; 2],
-    pub(super) rayleigh_note: String,
-    pub(super) band: Option<HeadStage>,
-    /// The FE settings of the spring's own model (a design's mesh), instead of the
-    /// caller's.
-    pub(super) fe: Option<FeSettings>,
-}
-
 /// What was built for the head, for report.md and catenary.json.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BuiltHead {
@@ -249,10 +225,6 @@ pub struct BuiltHead {
     /// The stage spec that went into the pantograph.
     #[serde(skip)]
     pub stage: StageSpec,
-}
-
-pub(super) fn invalid(message: String) -> TuneError {
-    TuneError::Invalid(message)
 }
 
 /// Splits `PATH:NAME` (a colon after the last path separator, not a drive letter).
@@ -302,19 +274,6 @@ fn identify(path: &Path, name: Option<&str>) -> Result<SourceKind> {
         )));
     }
     Ok(kind)
-}
-
-/// A spring's name from its file: the stem, or the folder's name for the files whose
-/// name says only what they are (`case.json`, `calibration.json`, `design.json`).
-pub(super) fn stem(path: &Path) -> String {
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned());
-    match stem.as_deref() {
-        Some("case") | Some("calibration") | Some("design") | None => path
-            .parent()
-            .and_then(Path::file_name)
-            .map_or("spring".into(), |n| n.to_string_lossy().into_owned()),
-        Some(s) => s.to_string(),
-    }
 }
 
 /// The springs of a measured case and, optionally, of a variants file beside it.
@@ -604,5 +563,127 @@ mod tests {
         assert_eq!(split_name("a.json"), ("a.json", None));
         assert_eq!(split_name("C:/x/a.json"), ("C:/x/a.json", None));
         assert_eq!(split_name("x:y/a.json"), ("x:y/a.json", None));
+    }
+}
+
+#[cfg(test)]
+mod design_tests {
+    use super::{build_heads, HeadSpringSpec};
+    use crate::model::CatenaryDeckSpec;
+    use coil_design::target::{read_target, MaterialSource};
+    use coil_design::{design, DesignSettings};
+    use coil_tuner::fe::FeSettings;
+    use std::path::{Path, PathBuf};
+
+    /// A design on a wire grade (the 160ECT target, two candidates), written as
+    /// `coil-tune design` writes it.
+    fn design_file(dir: &Path) -> (PathBuf, Vec<f64>) {
+        let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/spring-design");
+        let mut target = read_target(&cases.join("160ect_target.json")).unwrap();
+        target.material = MaterialSource::Grade { grade: "DM".into() };
+        let settings = DesignSettings {
+            short_list: Some(2),
+            ..DesignSettings::default()
+        };
+        let result = design(&target, &settings).unwrap();
+        let file = dir.join("design.json");
+        std::fs::write(&file, coil_design::output::json(&result).unwrap()).unwrap();
+        (
+            file,
+            result.candidates.iter().map(|c| c.fe_rate_n_mm).collect(),
+        )
+    }
+
+    #[test]
+    fn a_design_rank_is_the_head_stage_at_the_designs_fe_rate() {
+        let dir = tempfile::tempdir().unwrap();
+        let (file, rates) = design_file(dir.path());
+        assert!(rates.len() >= 2, "{rates:?}");
+        let pantograph = CatenaryDeckSpec::en50318_reference(2, 0.25).pantograph;
+        let spec = HeadSpringSpec::default();
+        let fe = FeSettings::default();
+        let entry = |rank: &str| PathBuf::from(format!("{}:{rank}", file.display()));
+        // Rank 2: one stage, K = 4 k with k the design's FE rate of that candidate (the
+        // same model: the design's material on the candidate's finest mesh).
+        let heads = build_heads(&[entry("2")], &spec, &pantograph, &fe).unwrap();
+        assert_eq!(heads.len(), 1);
+        let h = &heads[0];
+        println!(
+            "{}: k = {} N/mm (design {} N/mm), K = {} N/m, c = {} N s/m, {}",
+            h.name, h.spring_rate_n_mm, rates[1], h.stiffness_n_m, h.damping_n_s_m, h.damping_law
+        );
+        assert!((h.spring_rate_n_mm / rates[1] - 1.0).abs() < 1e-9);
+        assert_eq!(h.stiffness_n_m, 4.0 * h.spring_rate_n_mm * 1e3);
+        assert_eq!(
+            h.name,
+            format!(
+                "{} rank 2",
+                dir.path().file_name().unwrap().to_string_lossy()
+            )
+        );
+        // A grade names no damping law: the assumed one, said so.
+        assert!(
+            h.assumptions.iter().any(|a| a.starts_with("assumed")),
+            "{:?}",
+            h.assumptions
+        );
+        // No rank: every candidate, rank 1 first.
+        let all = build_heads(std::slice::from_ref(&file), &spec, &pantograph, &fe).unwrap();
+        assert_eq!(all.len(), rates.len());
+        assert!((all[0].spring_rate_n_mm / rates[0] - 1.0).abs() < 1e-9);
+        // A rank that does not exist, and one that is not a number, name the file and
+        // the ranks there are.
+        let listed: Vec<String> = (1..=rates.len()).map(|r| r.to_string()).collect();
+        for (rank, says) in [
+            ("9", "no candidate of rank 9"),
+            ("best", "`:best` is not a rank"),
+        ] {
+            let e = build_heads(&[entry(rank)], &spec, &pantograph, &fe)
+                .unwrap_err()
+                .to_string();
+            println!("{e}");
+            assert!(e.contains(says) && e.contains("design.json"), "{e}");
+            assert!(e.contains(&format!("one of {}", listed.join(", "))), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_damaged_design_is_refused_naming_the_field() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("design.json");
+        let pantograph = CatenaryDeckSpec::en50318_reference(2, 0.25).pantograph;
+        let fe = FeSettings::default();
+        let candidate = |pitch: &str| {
+            format!(
+                r#"{{"rank": 1, "wire_diameter_mm": 3.0, "mean_diameter_mm": 24.0, "active_coils": 14.0,
+                   "pitch_mm": {pitch}, "fe_rate_n_mm": 3.9, "fe": {{"mesh": {{"elements_per_coil": [24]}}}}}}"#
+            )
+        };
+        let material = r#"{"youngs_modulus_mpa": 206000.0, "poisson_ratio": 0.3, "density_kg_m3": 7850.0,
+            "fe": {"elements_per_coil": 24, "element": 98, "lumped_mass": false, "static_force_n": 10.0, "modes": 3}}"#;
+        for (candidates, says) in [
+            ("[]".to_string(), "no FE-verified candidate"),
+            (
+                format!("[{}]", candidate("-6.2")),
+                "candidates[rank 1].pitch_mm = -6.2",
+            ),
+        ] {
+            std::fs::write(
+                &file,
+                format!(
+                    r#"{{"target": {{}}, "material": {material}, "candidates": {candidates}}}"#
+                ),
+            )
+            .unwrap();
+            let e = build_heads(
+                std::slice::from_ref(&file),
+                &HeadSpringSpec::default(),
+                &pantograph,
+                &fe,
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains(says) && e.contains("design.json"), "{e}");
+        }
     }
 }

@@ -245,9 +245,7 @@ impl UnilateralTerm {
             .filter(|&p| p >= n_links || self.slack.contains(&ids[p]))
             .filter(|&p| gstar[p] > 0.0 || p < n_links)
             .collect();
-        // Column j carries its element's sign: a slack link's correction acts against
-        // its own response (`1/k - G_jj`, module docs of `unilateral`).
-        let g = |i: usize, j: usize| responses[j].seen_by(i, gaps[i]) * gaps[j].sign;
+        let g = |i: usize, j: usize| responses[j].seen_by(i, gaps[i]);
         let lambda =
             solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
                 what: format!("load case '{title}' at t = {t} s: {}", e.describe()),

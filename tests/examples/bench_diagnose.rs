@@ -104,9 +104,9 @@ fn diagnose(
     let start = Instant::now();
     let output = Command::new(exe)
         .arg("diagnose")
-        .arg(&folder)
+        .arg(folder)
         .arg("--out")
-        .arg(&out)
+        .arg(out)
         .arg("-q")
         .output()
         .map_err(|e| format!("running {}: {e}", exe.display()))?;

@@ -262,7 +262,7 @@ fn compute(
     let candidates = search::candidates(&job, &ctx, &|text| progress(settings, &clock, text));
     let choice = select::choose(&ctx, &candidates);
     // The spectral noise floor of the recorded quantity (valid on band-limited
-    // records, data.rs).
+    // records, data/mod.rs).
     let noise_abs = decay.measured_noise.rms;
     let noise_floor = noise_abs / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     plausibility(&state, &base_phys, &case, &mut warnings);

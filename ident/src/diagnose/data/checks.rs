@@ -2,7 +2,10 @@
 //! not clipped, a displacement within the coils' travel, a static record with a
 //! loading branch.
 
-use super::*;
+use super::record::{bad, DecayData, CLIP_FRACTION, MIN_BRANCH, MIN_LEVELS};
+use crate::case::{Quantity, StaticRecord};
+use crate::error::{Result, TuneError};
+use coil_postproc::signal::Signal;
 
 /// Flat and clipped checks (module docs); returns the resolution.
 pub(super) fn check_levels(signal: &Signal, quantity: Quantity) -> Result<f64> {

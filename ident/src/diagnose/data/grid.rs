@@ -1,7 +1,9 @@
 //! The record's uniform time axis (module docs of [`super`], step 2) and the
 //! replacement of isolated sensor glitches (step 3).
 
-use super::*;
+use super::record::{Resampling, GLITCH_SIGMAS, JITTER_LIMIT, MAX_GLITCH_SHARE, STEP_TOLERANCE};
+use crate::case::MeasuredDecay;
+use crate::error::{Result, TuneError};
 
 /// The uniform time axis of a record (module docs, step 2): its times, step, values and
 /// the resampling if one was needed.

@@ -36,7 +36,7 @@
 //!
 //! Units: SI (the measured quantity's unit for `a` and `b`); `w` in rad/s, `sigma` in 1/s.
 
-use super::free_decay::crossings;
+use super::crossings::crossings;
 use crate::case::Quantity;
 use crate::diagnose::lm::{self, LmOptions};
 use serde::Serialize;

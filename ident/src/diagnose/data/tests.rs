@@ -1,6 +1,7 @@
 //! Tests of the conditioning and the checks.
 
 use super::*;
+use crate::case::StaticRecord;
 use std::path::PathBuf;
 
 fn signal(values: Vec<f64>, dt: f64) -> Signal {

@@ -102,6 +102,15 @@ impl CheckReport {
         let m = &self.fe.mesh;
         let last = m.elements_per_coil.last().copied().unwrap_or(0);
         match (m.method, m.last_change_percent) {
+            ("converged", Some(change)) if m.extrapolated => format!(
+                "extrapolated from {} beams/coil (Richardson; last change {change:+.3} %, the next mesh above {} beams)",
+                m.elements_per_coil
+                    .iter()
+                    .map(u32::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                fe::MAX_BEAMS
+            ),
             ("converged", Some(change)) => format!(
                 "{last} beams/coil ({} after {}; last change {change:+.3} %)",
                 if m.converged {
@@ -114,6 +123,10 @@ impl CheckReport {
                     .map(u32::to_string)
                     .collect::<Vec<_>>()
                     .join(", ")
+            ),
+            ("converged", None) => format!(
+                "{last} beams/coil (NOT converged: the next mesh is above {} beams)",
+                fe::MAX_BEAMS
             ),
             _ => format!("{last} beams/coil (fixed)"),
         }
@@ -272,7 +285,7 @@ impl CheckReport {
         if let (Some(m), Some(fb)) = (s.head_mass_kg, s.bounce_frequency_hz) {
             rows.push((
                 "bounce of head mass (Hz)",
-                format!("{fb:.2} ({m} kg)"),
+                format!("{fb:.2} ({} kg)", crate::output::sig(m, 4)),
                 none(),
             ));
         }

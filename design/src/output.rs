@@ -63,20 +63,7 @@ pub fn write(design: &Design, out: &OutDir, figure: bool) -> Result<()> {
     Ok(())
 }
 
-/// A number with `digits` significant digits, no trailing zeros ("5.3", "0.06694").
-pub fn sig(x: f64, digits: usize) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor() as i64;
-    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+pub use crate::sheet::sig;
 
 /// The working points in words.
 pub fn working_words(w: &Working) -> String {

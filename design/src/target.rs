@@ -32,12 +32,12 @@
 use crate::case::{read_json, CaseError};
 use crate::fe::{FeSettings, SpringState};
 use crate::fields::{root, FieldError, Object, Range};
-use crate::output::sig;
 use crate::sheet::en13906::{Coiling, EndType, Loading, Working};
 use crate::sheet::input::{
     choice, free_text, num, opt_bool, quality_grade, seating_coefficient, working, COILING,
     END_TYPES, LOADING,
 };
+use crate::sheet::sig;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -20,6 +20,21 @@ use en13906::{Sheet, Spring};
 use fe::FeValues;
 use serde::Serialize;
 
+/// A number with `digits` significant digits, no trailing zeros ("5.3", "0.06694").
+pub fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i64;
+    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// The sheet and the FE values of one spring (`coil-tune check --json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckReport {
@@ -285,7 +300,7 @@ impl CheckReport {
         if let (Some(m), Some(fb)) = (s.head_mass_kg, s.bounce_frequency_hz) {
             rows.push((
                 "bounce of head mass (Hz)",
-                format!("{fb:.2} ({} kg)", crate::output::sig(m, 4)),
+                format!("{fb:.2} ({} kg)", sig(m, 4)),
                 none(),
             ));
         }

@@ -47,6 +47,8 @@ __all__ = [
     "run_shard",
     "merge",
     "diagnose",
+    "simulate",
+    "frc",
     "catenary",
     "check",
     "design",
@@ -380,6 +382,71 @@ def diagnose(case, out, elements_per_coil=24, modes=4, plots=True):
     """
     return _json.loads(_call(_coil.diagnose, _path(case, "case"), _path(out, "out"),
                             elements_per_coil, modes, plots))
+
+
+def simulate(model, record, input, output, init, time="time_s", out=None):
+    """Drives a forced diagnosis's model (``model.json`` or ``model_linear.json``) with a
+    record's input, from the state fitted to its first ``init`` output samples
+    (``coil-tune simulate``, docs/forced.md): a DataFrame with simulated.csv's columns
+    ``time_s`` and ``output`` (the output's unit), one row per input sample; writes
+    ``out/simulated.csv`` when ``out`` is given. The output column may hold only those
+    ``init`` values; nothing after them is read. ``coil.diagnose`` on a case with forced
+    records writes the model.
+
+    >>> d = coil.diagnose(repo / "cases/forced/hardening", tmp / "forced", plots=False)
+    >>> d["cause"]
+    'cubic_stiffness'
+    >>> record = repo / "cases/forced/hardening/record_1.csv"
+    >>> sim = coil.simulate(tmp / "forced" / "model.json", record, input="force_n",
+    ...                     output="displacement_m", init=50)
+    >>> len(sim), list(sim.columns)
+    (4000, ['time_s', 'output'])
+    >>> measured = np.genfromtxt(record, delimiter=",", names=True)["displacement_m"]
+    >>> rms = lambda x: float(np.sqrt(np.mean(np.square(x))))
+    >>> bool(rms(sim["output"] - measured) < 0.02 * rms(measured))   # the record's 1 % noise
+    True
+    """
+    import pandas as pd
+
+    result = _json.loads(_call(_coil.simulate, _path(model, "model"), _path(record, "record"),
+                               input, output, init, time,
+                               None if out is None else _path(out, "out")))
+    table = pd.DataFrame({"time_s": result["time_s"], "output": result["output"]})
+    table.attrs["initial_state"] = result["initial_state"]
+    return table
+
+
+def frc(model, amplitude, from_hz, to_hz, points=400, harmonics=7, out=None):
+    """The forced response curve of a forced diagnosis's model under a harmonic input of
+    ``amplitude`` (the model's input unit) from ``from_hz`` to ``to_hz`` (``coil-tune
+    frc``, docs/forced.md): harmonic balance with ``harmonics`` harmonics continued
+    through the folds, each point's stability by Floquet. Returns ``(curve, backbone)``:
+    frc.csv's columns ``frequency_hz``, ``amplitude`` (first harmonic of the output, the
+    output's unit) and ``stable``, with the folds' frequencies in
+    ``curve.attrs["jumps_hz"]``, and backbone.csv's ``frequency_hz``, ``amplitude``,
+    ``peak_displacement``; writes both files into ``out`` when it is given.
+
+    >>> _ = coil.diagnose(repo / "cases/forced/hardening", tmp / "forced", plots=False)
+    >>> curve, backbone = coil.frc(tmp / "forced" / "model.json", amplitude=1.0,
+    ...                            from_hz=3.0, to_hz=8.0, out=tmp / "frc")
+    >>> list(curve.columns), sorted(f for f in os.listdir(tmp / "frc") if f.endswith(".csv"))
+    (['frequency_hz', 'amplitude', 'stable'], ['backbone.csv', 'frc.csv'])
+    >>> round(float(backbone["frequency_hz"][0]), 2)     # sqrt(k / m) / 2 pi at small amplitude
+    5.03
+    >>> peak = curve.loc[curve["amplitude"].idxmax()]    # the hardening spring lifts the peak
+    >>> round(float(peak["frequency_hz"]), 1), bool(peak["stable"])
+    (5.3, True)
+    """
+    import pandas as pd
+
+    result = _json.loads(_call(_coil.frc, _path(model, "model"), float(amplitude),
+                               float(from_hz), float(to_hz), points, harmonics,
+                               None if out is None else _path(out, "out")))
+    curve = pd.DataFrame(result["curve"], columns=["frequency_hz", "amplitude", "stable"])
+    curve.attrs["jumps_hz"] = result["jumps_hz"]
+    backbone = pd.DataFrame(result["backbone"],
+                            columns=["frequency_hz", "amplitude", "peak_displacement"])
+    return curve, backbone
 
 
 def catenary(case, out, springs=None, plots=True, damping=None, mass_share=True, reduced=False,

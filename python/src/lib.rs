@@ -543,6 +543,21 @@ fn diagnose(
         )));
     }
     guarded(py, || {
+        // A case with forced records (`records.forced`) is diagnosed as the command line
+        // does it: the lumped or spring model under the measured input (docs/forced.md).
+        if coil_ident::forced::lists_forced(&case).map_err(fail)? {
+            let settings = coil_ident::forced::ForcedSettings {
+                plots,
+                progress: false,
+                ..Default::default()
+            };
+            let outcome = coil_ident::forced::diagnose_forced(&case, &settings).map_err(fail)?;
+            let dir = OutDir::create(&out).map_err(fail)?;
+            coil_ident::forced::report::write(&outcome, &dir, plots).map_err(fail)?;
+            let path = out.join("diagnosis.json");
+            return std::fs::read_to_string(&path)
+                .map_err(|e| fail(format!("{}: {e}", path.display())));
+        }
         let mut settings = coil_ident::diagnose::DiagnoseSettings::default();
         settings.fe.elements_per_coil = elements_per_coil;
         settings.modes = modes;
@@ -552,6 +567,97 @@ fn diagnose(
         coil_ident::diagnose::write(&outcome, &dir, &settings).map_err(fail)?;
         let path = out.join("diagnosis.json");
         std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))
+    })
+}
+
+/// Drives a forced diagnosis's model (model.json) with a record's input from the state
+/// fitted to its first `init` outputs (`coil-tune simulate`, docs/forced.md). Writes
+/// simulated.csv into `out` when given; returns `{"time_s", "output", "initial_state"}`
+/// as JSON. Everything is read and computed before `out` is touched.
+#[pyfunction]
+#[pyo3(signature = (model, record, input, output, init, time=String::from("time_s"), out=None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate(
+    py: Python<'_>,
+    model: PathBuf,
+    record: PathBuf,
+    input: String,
+    output: String,
+    init: usize,
+    time: String,
+    out: Option<PathBuf>,
+) -> PyResult<String> {
+    use coil_ident::forced::commands::{
+        read_model, simulate_record, write_simulated, SimulateRequest,
+    };
+    guarded(py, || {
+        let model = read_model(&model).map_err(fail)?;
+        let request = SimulateRequest {
+            record,
+            time,
+            input,
+            output,
+            init,
+        };
+        let sim = simulate_record(&model, &request).map_err(fail)?;
+        if let Some(out) = out {
+            write_simulated(&sim, &OutDir::create(&out).map_err(fail)?).map_err(fail)?;
+        }
+        json(&serde_json::json!({
+            "time_s": sim.time_s,
+            "output": sim.output,
+            "initial_state": [sim.initial.0, sim.initial.1],
+        }))
+    })
+}
+
+/// The forced response curve of a forced diagnosis's model under a harmonic input of
+/// `amplitude` from `from_hz` to `to_hz` (`coil-tune frc`, docs/forced.md): harmonic
+/// balance through the folds, each point's stability by Floquet, and the backbone.
+/// Writes frc.csv and backbone.csv into `out` when given; returns the curve, the
+/// backbone and the folds (`jumps_hz`) as JSON.
+#[pyfunction]
+#[pyo3(signature = (model, amplitude, from_hz, to_hz, points=400, harmonics=7, out=None))]
+#[allow(clippy::too_many_arguments)]
+fn frc(
+    py: Python<'_>,
+    model: PathBuf,
+    amplitude: f64,
+    from_hz: f64,
+    to_hz: f64,
+    points: usize,
+    harmonics: usize,
+    out: Option<PathBuf>,
+) -> PyResult<String> {
+    use coil_ident::forced::commands::{frc_of, read_model, write_frc};
+    guarded(py, || {
+        let model = read_model(&model).map_err(fail)?;
+        let settings = coil_ident::forced::frc::FrcSettings {
+            amplitude,
+            from_hz,
+            to_hz,
+            points,
+            harmonics,
+        };
+        let result = frc_of(&model, &settings).map_err(fail)?;
+        if let Some(out) = out {
+            write_frc(&result, &OutDir::create(&out).map_err(fail)?).map_err(fail)?;
+        }
+        let curve = &result.points;
+        let backbone = &result.backbone;
+        json(&serde_json::json!({
+            "curve": {
+                "frequency_hz": curve.iter().map(|p| p.frequency_hz).collect::<Vec<_>>(),
+                "amplitude": curve.iter().map(|p| p.amplitude).collect::<Vec<_>>(),
+                "stable": curve.iter().map(|p| p.stable).collect::<Vec<_>>(),
+            },
+            "backbone": {
+                "frequency_hz": backbone.iter().map(|p| p.frequency_hz).collect::<Vec<_>>(),
+                "amplitude": backbone.iter().map(|p| p.amplitude).collect::<Vec<_>>(),
+                "peak_displacement": backbone.iter().map(|p| p.peak_displacement).collect::<Vec<_>>(),
+            },
+            "jumps_hz": result.jumps,
+        }))
     })
 }
 
@@ -812,6 +918,8 @@ fn _coil(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_shard, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(frc, m)?)?;
     m.add_function(wrap_pyfunction!(catenary, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;

@@ -115,3 +115,33 @@ def test_ctrl_c_stops_a_long_solve_within_a_second(tmp_path):
     assert latency < 2.0, latency
     assert sorted(p.name for p in out.iterdir()) == ["previous.txt"]
     assert not [p for p in tmp_path.iterdir() if ".coil-staging" in p.name]
+
+
+def test_forced_model_calls_refuse_bad_input_and_write_nothing(tmp_path):
+    """coil.simulate and coil.frc: the command line's checks, a CoilError naming what is
+    wrong, and nothing written into ``out``."""
+    coil.diagnose(REPO / "cases/forced/hardening", tmp_path / "forced", plots=False)
+    model = tmp_path / "forced" / "model.json"
+    record = REPO / "cases/forced/hardening/record_1.csv"
+    out = tmp_path / "out"
+    refused(lambda: coil.simulate(model, record, input="no_such", output="displacement_m",
+                                  init=50, out=out), "no_such")
+    refused(lambda: coil.simulate(model, record, input="force_n", output="displacement_m",
+                                  init=1, out=out), "at least 2")
+    refused(lambda: coil.simulate(model, record, input="force_n", output="displacement_m",
+                                  init=10**6, out=out))
+    refused(lambda: coil.simulate(model, record, input="force_n", output="displacement_m",
+                                  init=-1, out=out))
+    refused(lambda: coil.simulate(record, record, input="force_n", output="displacement_m",
+                                  init=50, out=out), "model")
+    nan = tmp_path / "nan.csv"
+    nan.write_text(record.read_text().replace("1.173709696e-1", "NaN", 1))
+    refused(lambda: coil.simulate(model, nan, input="force_n", output="displacement_m",
+                                  init=50, out=out))
+    refused(lambda: coil.frc(model, 1.0, 3.0, 8.0, points=0, out=out), "expected 2 to")
+    refused(lambda: coil.frc(model, 1.0, 3.0, 8.0, points=10**6, out=out), "expected 2 to")
+    refused(lambda: coil.frc(model, 1.0, 3.0, 8.0, harmonics=0, out=out), "expected 1 to 40")
+    refused(lambda: coil.frc(model, 1.0, 3.0, 8.0, harmonics=41, out=out), "expected 1 to 40")
+    refused(lambda: coil.frc(model, 1.0, 8.0, 3.0, out=out), "0 < from < to")
+    refused(lambda: coil.frc(model, float("nan"), 3.0, 8.0, out=out), "amplitude")
+    assert not out.exists()

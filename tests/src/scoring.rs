@@ -1,5 +1,5 @@
 //! Scoring a diagnosis against the truth that generated its case, for the generated-case
-//! test (`tests/tests/diagnose.rs`) and the benchmark (`examples/bench_diagnose.rs`).
+//! test (`tests/tests/it/diagnose.rs`) and the benchmark (`examples/bench_diagnose.rs`).
 //!
 //! A diagnosis is read from its `diagnosis.json` value (the spec's fields), so the
 //! scoring does not depend on the engine's Rust types: the named causes are `causes[*]

@@ -268,7 +268,7 @@ fn visible(dir: &Path) -> Vec<(String, Vec<u8>)> {
 /// the new set and nothing beside it. Needs `strace`; run with `--ignored` (a few
 /// hundred runs, about a minute).
 #[test]
-#[ignore]
+#[ignore = "needs strace and a few hundred runs (about a minute): cargo test --release -p coil-tune --test it boundary::a_kill_at_every_rename -- --ignored"]
 fn a_kill_at_every_rename_leaves_a_whole_set() {
     if Command::new("strace").arg("-V").output().is_err() {
         eprintln!("strace not found: skipped");

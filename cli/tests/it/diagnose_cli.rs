@@ -43,8 +43,8 @@ fn has_all(v: &serde_json::Value, wanted: &[&str], what: &str) {
 /// The README's case and a null case through the binary, two at a time: the cause its
 /// truth.json hides, the parameter within 15 %, the spec's fields, report.md and the
 /// figures, no temporary files. (Every shipped case is also diagnosed, in process, by
-/// `tests/tests/diagnose.rs`: the generator reproduces them bit for bit,
-/// `tests/tests/truth.rs`.)
+/// `tests/tests/it/diagnose.rs`: the generator reproduces them bit for bit,
+/// `tests/tests/it/truth.rs`.)
 #[test]
 fn shipped_cases_are_diagnosed() {
     let names = ["coupling_g5".to_string(), "null_g4".to_string()];

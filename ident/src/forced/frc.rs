@@ -179,9 +179,28 @@ pub fn floquet(model: &Lumped, x: &[f64], W: f64) -> f64 {
     }
 }
 
+/// The most points one curve may ask for (docs/files.md): about 5 ms each on the
+/// development machine, so the bound keeps one call under ten minutes.
+pub const MAX_POINTS: usize = 100_000;
+
+/// The most harmonics the balance may keep (the command line's `--harmonics` range).
+pub const MAX_HARMONICS: usize = 40;
+
 /// The forced response curve of `model` (module docs).
 #[allow(non_snake_case)]
 pub fn frc(model: &ForcedModel, settings: &FrcSettings) -> Result<Vec<FrcPoint>, String> {
+    if !(2..=MAX_POINTS).contains(&settings.points) {
+        return Err(format!(
+            "--points {}: expected 2 to {MAX_POINTS}",
+            settings.points
+        ));
+    }
+    if !(1..=MAX_HARMONICS).contains(&settings.harmonics) {
+        return Err(format!(
+            "--harmonics {}: expected 1 to {MAX_HARMONICS}",
+            settings.harmonics
+        ));
+    }
     if !(settings.from_hz > 0.0 && settings.to_hz > settings.from_hz) {
         return Err(format!(
             "--from {} and --to {}: expected 0 < from < to (Hz)",

@@ -635,7 +635,7 @@ mod tests {
     /// Timings on a chain the size of the benchmark spring: `cargo test --release -p
     /// coil-solver --lib blocked_kernel_timings -- --ignored --nocapture`.
     #[test]
-    #[ignore]
+    #[ignore = "timings, not a test (speed is measured by benchmarks): cargo test --release -p coil-solver --lib blocked_kernel_timings -- --ignored --nocapture"]
     fn blocked_kernel_timings() {
         let full = chain_with_hub(666, 1);
         let a = lower(&full);

@@ -12,6 +12,9 @@
 //!   package P must own X or E (read from the members' `Cargo.toml` and `examples/`), so
 //!   a command that cargo would refuse fails here too;
 //! - `B=...` sets `$B`; `mkdir -p DIRS` creates the folders;
+//! - `grep -F "TEXT" FILE` prints the lines of FILE (a file an earlier command wrote)
+//!   that hold TEXT, as grep does, so that a number the README quotes from a report is
+//!   compared like a printed one; no line found fails, as grep's exit status 1 would;
 //! - `cargo build ...` and `cargo test ...` are what built and runs this test: skipped;
 //! - `pip` and `python`: the Python quickstart needs a venv and a maturin build; `.ci/run`
 //!   runs it as written and compares its printed number with the README's.
@@ -208,6 +211,11 @@ enum Step {
     },
     Mkdir(Vec<String>),
     SetB(String),
+    /// `grep -F TEXT FILE`: the lines of FILE that hold TEXT.
+    Grep {
+        text: String,
+        file: String,
+    },
     /// A build or test command (what built this test).
     Skip,
     /// The Python quickstart, run and compared by `.ci/run`.
@@ -216,8 +224,8 @@ enum Step {
 
 /// What to run for `command`, or why the README's command would not run as written.
 fn step(command: &str, bins: &Path, b: &str, packages: &Packages) -> Result<Step, String> {
-    let words: Vec<String> = command
-        .split_whitespace()
+    let words: Vec<String> = shell_words(command)?
+        .into_iter()
         .map(|w| w.replace("$B", b))
         .collect();
     let exe = |name: &str| bins.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
@@ -227,6 +235,17 @@ fn step(command: &str, bins: &Path, b: &str, packages: &Packages) -> Result<Step
         }
         Some("cargo") => Step::Skip,
         Some("pip" | "python") => Step::Python,
+        Some("grep") => match &words[1..] {
+            [flag, text, file] if flag == "-F" => Step::Grep {
+                text: text.clone(),
+                file: file.clone(),
+            },
+            _ => {
+                return Err(format!(
+                    "README: `{command}`: the test reads `grep -F \"TEXT\" FILE` only"
+                ))
+            }
+        },
         Some("mkdir") => Step::Mkdir(words[1..].iter().filter(|w| *w != "-p").cloned().collect()),
         Some(w) if w.starts_with("B=") => Step::SetB(w[2..].to_string()),
         Some(program) if program.starts_with(b) && !b.is_empty() => {
@@ -245,6 +264,32 @@ fn step(command: &str, bins: &Path, b: &str, packages: &Packages) -> Result<Step
             ))
         }
     })
+}
+
+/// A command's words as a POSIX shell splits them: whitespace separates words outside
+/// quotes; single and double quotes group (no escapes or expansions inside: the README's
+/// commands need none).
+fn shell_words(command: &str) -> Result<Vec<String>, String> {
+    let mut words = Vec::new();
+    let mut word: Option<String> = None;
+    let mut quote: Option<char> = None;
+    for c in command.chars() {
+        match (quote, c) {
+            (Some(q), c) if c == q => quote = None,
+            (Some(_), c) => word.get_or_insert_with(String::new).push(c),
+            (None, '"' | '\'') => {
+                quote = Some(c);
+                word.get_or_insert_with(String::new);
+            }
+            (None, c) if c.is_whitespace() => words.extend(word.take()),
+            (None, c) => word.get_or_insert_with(String::new).push(c),
+        }
+    }
+    if let Some(q) = quote {
+        return Err(format!("README: `{command}`: an unclosed {q}"));
+    }
+    words.extend(word);
+    Ok(words)
 }
 
 /// `cargo run --release -p P [--bin X | --example E] -- ARGS`, checked against the
@@ -534,6 +579,19 @@ fn run_block(
                     std::fs::create_dir_all(work.join(d)).expect("mkdir");
                 }
             }
+            Step::Grep { text, file } => {
+                let body = std::fs::read_to_string(work.join(&file))
+                    .unwrap_or_else(|e| panic!("README: `{command}`: {file}: {e}"));
+                let lines: Vec<&str> = body.lines().filter(|l| l.contains(&text)).collect();
+                assert!(
+                    !lines.is_empty(),
+                    "README: `{command}`: no line of {file} holds {text:?}"
+                );
+                for line in lines {
+                    printed.push_str(line);
+                    printed.push('\n');
+                }
+            }
             Step::Run { program, args } => {
                 assert!(
                     program.is_file(),
@@ -819,6 +877,20 @@ fn the_command_reader_joins_lines_and_drops_comments() {
     assert!(wrong.is_err_and(|why| why.contains("package coil-tuner has no binary coil-tune")));
     assert!(step("cargo run --release -p coil-tune --example quickstart").is_err());
     assert!(step("cargo run --release -p coil-mesher --example quickstart").is_ok());
+    // Quotes group words, as the shell's do.
+    assert_eq!(
+        step(r#"grep -F "valley, alpha = 0" out/paper/report.md"#),
+        Ok(Step::Grep {
+            text: "valley, alpha = 0".into(),
+            file: "out/paper/report.md".into(),
+        })
+    );
+    assert_eq!(
+        shell_words("a 'b  c' \"\" d"),
+        Ok(vec!["a".into(), "b  c".into(), String::new(), "d".into()])
+    );
+    assert!(step("grep valley out/paper/report.md").is_err());
+    assert!(step("grep -F \"open out/x").is_err());
 }
 
 #[test]

@@ -44,16 +44,17 @@ pub enum Command {
     Simulate {
         /// The model file (model.json or model_linear.json of a forced diagnosis).
         model: PathBuf,
-        /// The record (CSV, any dialect).
+        /// The record: CSV of any dialect, a level 5 `.mat` file or UFF 58 (recognised
+        /// by content; values as written).
         #[arg(long)]
         record: PathBuf,
-        /// Its time column (s).
+        /// Its time column or `.mat` variable (s); a UFF dataset's abscissa is its time.
         #[arg(long, default_value = "time_s")]
         time: String,
-        /// Its input column.
+        /// Its input column, `.mat` variable or UFF dataset (index or `node:direction`).
         #[arg(long)]
         input: String,
-        /// Its output column (only the first --init cells are read).
+        /// Its output column, variable or dataset (only the first --init values are read).
         #[arg(long)]
         output: String,
         /// Output samples the initial state is fitted to.

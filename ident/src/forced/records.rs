@@ -215,8 +215,9 @@ pub fn read_record(entry: &ForcedEntry, head: Option<usize>) -> Result<(ForcedRe
         entry.input.as_str(),
         entry.output.as_str(),
     ];
+    let units = [entry.input_unit.as_str(), entry.output_unit.as_str()];
     let (fields, format) =
-        coil_postproc::record::dialect::read_columns(path, &names).map_err(post)?;
+        coil_postproc::record::read_columns(path, &names, &units).map_err(post)?;
     let fail = |line: u64, problem: String, expected: &str| {
         TuneError::Invalid(format!(
             "{}:{line}: {problem}; expected {expected}",
@@ -334,4 +335,156 @@ fn check_uniform(
         }
     }
     Ok(dt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A short forced record: a sine force and a lagging displacement, 200 samples at 100 Hz.
+    fn histories() -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.01).collect();
+        let u = t
+            .iter()
+            .map(|t| (2.0 * std::f64::consts::PI * 5.0 * t).sin())
+            .collect();
+        let y = t
+            .iter()
+            .map(|t| 1e-3 * (2.0 * std::f64::consts::PI * 5.0 * t - 0.3).sin())
+            .collect();
+        (t, u, y)
+    }
+
+    fn entry(
+        file: PathBuf,
+        time: &str,
+        input: &str,
+        output: &str,
+        output_unit: &str,
+    ) -> ForcedEntry {
+        ForcedEntry {
+            file,
+            time: time.into(),
+            input: input.into(),
+            output: output.into(),
+            input_quantity: InputQuantity::Force,
+            output_quantity: OutputQuantity::Displacement,
+            input_unit: "N".into(),
+            output_unit: output_unit.into(),
+        }
+    }
+
+    fn uff(u: &[f64], y: &[f64], output_unit: &str) -> Vec<u8> {
+        let dataset = |node, label: &str, unit: &str, values: &[f64]| coil_io::uff::Uff58 {
+            description: "forced record".into(),
+            name: label.into(),
+            node,
+            direction: 3,
+            ordinate_type: 1,
+            length_exponent: 0,
+            ordinate_label: label.into(),
+            ordinate_unit: unit.into(),
+            start_s: 0.0,
+            step_s: 0.01,
+            values: values.to_vec(),
+        };
+        coil_io::uff::uff58_bytes(
+            &[
+                dataset(1, "force", "N", u),
+                dataset(2, "displacement", output_unit, y),
+            ],
+            false,
+        )
+    }
+
+    /// The same histories as CSV, as a MAT-file (v7, compressed) and as UFF 58 read alike;
+    /// a UFF dataset in another unit than the case's, or MAT variables of different
+    /// lengths, are refused naming the dataset or variable.
+    #[test]
+    fn forced_records_read_alike_from_csv_mat_and_uff() {
+        let dir = tempfile::tempdir().unwrap();
+        let (t, u, y) = histories();
+        let mut csv = String::from("time_s,force_n,disp_m\n");
+        for i in 0..t.len() {
+            csv.push_str(&format!("{},{:e},{:e}\n", t[i], u[i], y[i]));
+        }
+        std::fs::write(dir.path().join("r.csv"), csv).unwrap();
+        let doubles = |v: &[f64]| coil_postproc::record::mat::doubles(v);
+        let (bt, bu, by) = (doubles(&t), doubles(&u), doubles(&y));
+        let mat = coil_postproc::record::mat::level5_bytes(
+            &[
+                ("t", 9, &bt, t.len()),
+                ("f", 9, &bu, u.len()),
+                ("x", 9, &by, y.len()),
+            ],
+            true,
+        );
+        std::fs::write(dir.path().join("r.mat"), mat).unwrap();
+        std::fs::write(dir.path().join("r.uff"), uff(&u, &y, "m")).unwrap();
+        let read = |e: ForcedEntry| read_record(&e, None).map(|(r, _)| r);
+        let csv = read(entry(
+            dir.path().join("r.csv"),
+            "time_s",
+            "force_n",
+            "disp_m",
+            "m",
+        ))
+        .unwrap();
+        let mat = read(entry(dir.path().join("r.mat"), "t", "f", "x", "m")).unwrap();
+        let uff_record = read(entry(
+            dir.path().join("r.uff"),
+            "time_s",
+            "1:3",
+            "2:+3",
+            "m",
+        ))
+        .unwrap();
+        assert!(mat.format.starts_with("MAT-file"), "{}", mat.format);
+        assert!(
+            uff_record.format.starts_with("UFF"),
+            "{}",
+            uff_record.format
+        );
+        for r in [&mat, &uff_record] {
+            assert_eq!(r.input.len(), csv.input.len());
+            assert!((r.dt - csv.dt).abs() < 1e-12, "{} {}", r.dt, csv.dt);
+            for (a, b) in r
+                .input
+                .iter()
+                .zip(&csv.input)
+                .chain(r.output.iter().zip(&csv.output))
+            {
+                // The CSV and the ASCII UFF carry 12 to 13 significant digits.
+                assert!((a - b).abs() <= 1e-11 * b.abs().max(1e-3), "{a} {b}");
+            }
+        }
+        // --init reads only the first outputs, whatever the format.
+        let (head, n) = read_record(
+            &entry(dir.path().join("r.uff"), "t", "1:3", "2:3", "m"),
+            Some(20),
+        )
+        .unwrap();
+        assert_eq!((head.output.len(), n), (20, 20));
+        // The UFF states mm where the case says m: refused, nothing converted silently.
+        std::fs::write(dir.path().join("mm.uff"), uff(&u, &y, "mm")).unwrap();
+        let e = read(entry(dir.path().join("mm.uff"), "t", "1:3", "2:3", "m")).unwrap_err();
+        assert!(e.to_string().contains("mismatched units"), "{e}");
+        // A channel that is not in the file names the ones that are.
+        let e = read(entry(dir.path().join("r.uff"), "t", "1:3", "9:3", "m")).unwrap_err();
+        assert!(e.to_string().contains("node 2"), "{e}");
+        // MAT variables of different lengths, or a missing one.
+        let short = coil_postproc::record::mat::level5_bytes(
+            &[
+                ("t", 9, &bt, t.len()),
+                ("f", 9, &bu, u.len()),
+                ("x", 9, &by[..80], 10),
+            ],
+            false,
+        );
+        std::fs::write(dir.path().join("short.mat"), short).unwrap();
+        let e = read(entry(dir.path().join("short.mat"), "t", "f", "x", "m")).unwrap_err();
+        assert!(e.to_string().contains("10 samples against 200"), "{e}");
+        let e = read(entry(dir.path().join("r.mat"), "time", "f", "x", "m")).unwrap_err();
+        assert!(e.to_string().contains("no such variable"), "{e}");
+    }
 }

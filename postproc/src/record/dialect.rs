@@ -289,14 +289,15 @@ pub fn read(spec: &RecordSpec, bytes: Vec<u8>) -> Result<Record> {
     })
 }
 
-/// Reads the columns `names` of a CSV file of any dialect as written (no unit conversion),
-/// empty cells as `None`: the input and output histories of a forced record, whose units
-/// (volts, newtons) the case states. Returns the cells and the dialect in words.
+/// Reads the columns `names` of a CSV file's bytes of any dialect as written (no unit
+/// conversion), empty cells as `None`: the input and output histories of a forced record,
+/// whose units (volts, newtons) the case states. Returns the cells and the dialect in
+/// words.
 pub fn read_columns(
     path: &std::path::Path,
+    bytes: Vec<u8>,
     names: &[&str],
 ) -> Result<(crate::signal::OptionalFields, String)> {
-    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_RECORD_BYTES, "a record")?;
     let (normalised, dialect) = normalise(path, bytes)?;
     let fields = crate::signal::read_optional_fields_in(path, normalised.into_bytes(), names)?;
     Ok((fields, dialect.describe()))

@@ -542,6 +542,54 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
     super::spec::finish(record, &at)
 }
 
+/// The variables `names` of a MAT-file's bytes as written (no unit conversion), each a
+/// real numeric vector, all of one length: a forced record's time, input and output
+/// ([`super::read_columns`]). Only the variables named are inflated.
+pub fn read_columns(path: &Path, bytes: &[u8], names: &[&str]) -> Result<Vec<Vec<f64>>> {
+    let mut file = MatFile::open(path, bytes)?;
+    let vars = file.variables()?;
+    let mut length = None;
+    let mut named = Vec::with_capacity(names.len());
+    for name in names {
+        let at = format!("variable `{}`", coil_io::excerpt(name));
+        let v = vars.iter().find(|v| v.name == *name).ok_or_else(|| {
+            fail(
+                path,
+                &at,
+                format!("no such variable (the file holds {})", listing(&vars)),
+                "the variable the case's forced record names",
+            )
+        })?;
+        if !v.is_numeric_vector() {
+            return Err(fail(
+                path,
+                &at,
+                format!("{}, not a real numeric vector", v.describe()),
+                "a real numeric row or column vector",
+            ));
+        }
+        file.check_size(v)?;
+        match length {
+            None => length = Some((v.len(), *name)),
+            Some((n, first)) if n != v.len() => {
+                return Err(fail(
+                    path,
+                    &at,
+                    format!(
+                        "{} samples against {n} in `{}`",
+                        v.len(),
+                        coil_io::excerpt(first)
+                    ),
+                    "time, input and output of one length",
+                ))
+            }
+            Some(_) => {}
+        }
+        named.push(v.clone());
+    }
+    named.iter().map(|v| file.values(v)).collect()
+}
+
 /// The bytes of a level 5 MAT-file (little-endian) of real row vectors, each
 /// `(name, element type, stored bytes, number of values)` (type 9 double, 2 uint8, ...),
 /// each array compressed (v7) or not (v6): the reader's inverse, for tests and examples.

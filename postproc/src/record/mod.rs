@@ -83,14 +83,76 @@ pub fn read_record(spec: &RecordSpec) -> Result<Record> {
     match detect(&bytes) {
         Format::Uff => uff::read(spec, &bytes),
         Format::Mat => mat::read(spec, &bytes),
-        Format::MatHdf5 => Err(fail(
-            path,
-            "1",
-            "a MATLAB v7.3 MAT-file (HDF5), which coil does not read".to_string(),
-            "a level 5 MAT-file: in MATLAB, save it again with `save(name, '-v7')`",
-        )),
+        Format::MatHdf5 => Err(hdf5(path)),
         Format::Csv => dialect::read(spec, bytes),
     }
+}
+
+/// The histories of a forced record in any of the formats above, as written (no unit
+/// conversion: the case states the units, which may be volts or newtons): `names` is the
+/// time column or variable, then the channels (CSV columns, `.mat` variables, UFF datasets
+/// by index or `node:direction`, whose abscissa is the time: the time name is not read);
+/// `units` the case's unit of each channel (checked against a UFF dataset's own label).
+/// Returns the cells (`None` for an empty CSV cell; rows of a binary format numbered from
+/// 1 as its "lines") and the format in words.
+pub fn read_columns(
+    path: &std::path::Path,
+    names: &[&str],
+    units: &[&str],
+) -> Result<(crate::signal::OptionalFields, String)> {
+    let bytes = coil_io::confine::read_bounded_bytes(path, coil_io::MAX_RECORD_BYTES, "a record")?;
+    let (time_s, channels, format) = match detect(&bytes) {
+        Format::Csv => return dialect::read_columns(path, bytes, names),
+        Format::MatHdf5 => return Err(hdf5(path)),
+        Format::Mat => {
+            let mut columns = mat::read_columns(path, &bytes, names)?.into_iter();
+            let time_s = columns.next().unwrap_or_default();
+            let listed: Vec<String> = names
+                .iter()
+                .map(|n| format!("`{}`", coil_io::excerpt(n)))
+                .collect();
+            let format = format!("MAT-file level 5 (variables {})", listed.join(", "));
+            (time_s, columns.collect::<Vec<_>>(), format)
+        }
+        Format::Uff => {
+            let channels = names.get(1..).unwrap_or_default();
+            let (time_s, columns) = uff::read_columns(path, &bytes, channels, units)?;
+            let listed: Vec<String> = channels
+                .iter()
+                .map(|n| format!("`{}`", coil_io::excerpt(n)))
+                .collect();
+            let format = format!(
+                "UFF dataset 58 (channels {}; time from the abscissa)",
+                listed.join(", ")
+            );
+            (time_s, columns, format)
+        }
+    };
+    let n = time_s.len();
+    let values = std::iter::once(time_s)
+        .chain(channels)
+        .map(|c| c.into_iter().map(Some).collect())
+        .collect();
+    Ok((
+        crate::signal::OptionalFields {
+            header: names.iter().map(|n| n.to_string()).collect(),
+            header_line: 1,
+            values,
+            first_resolution: Vec::new(),
+            lines: (1..=n as u64).collect(),
+        },
+        format,
+    ))
+}
+
+/// The refusal of a MATLAB v7.3 file.
+fn hdf5(path: &std::path::Path) -> PostError {
+    fail(
+        path,
+        "1",
+        "a MATLAB v7.3 MAT-file (HDF5), which coil does not read".to_string(),
+        "a level 5 MAT-file: in MATLAB, save it again with `save(name, '-v7')`",
+    )
 }
 
 /// A record of acceleration as a checked [`Signal`] ([`signal_of`]); a velocity or

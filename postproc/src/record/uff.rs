@@ -551,20 +551,9 @@ fn file_unit(
     }))
 }
 
-/// Reads the channel `spec` names from a UFF file's bytes.
-pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
-    super::spec::no_time_variable(spec)?;
-    let path = &spec.file;
-    let file = read_file(path, bytes)?;
-    if file.datasets.is_empty() {
-        return Err(fail(
-            path,
-            "1",
-            "no dataset 58 in the file".into(),
-            "a time response as UFF dataset 58 or 58b",
-        ));
-    }
-    let d = choose(path, &file, spec.channel.as_deref())?;
+/// A time response's abscissa in s, checked: function type 1, a time abscissa (a stated
+/// unit must be a time unit; none stated is seconds), uniform when uneven.
+fn time_axis(path: &Path, d: &Dataset58) -> Result<Vec<f64>> {
     let at = d.at();
     if d.function_type != 1 {
         return Err(fail(
@@ -574,7 +563,6 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "function type 1, a time response",
         ));
     }
-    // A stated abscissa unit must be a time unit; none stated is seconds.
     let time_factor = match label(&d.abscissa.unit) {
         Some(l) => units::time_factor(l),
         None => Some(1.0),
@@ -591,7 +579,6 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
             "time as the abscissa (data type 17, unit `s`)",
         ));
     };
-    let unit = super::spec::resolve_unit(spec, &at, file_unit(spec, d, file.length_factor)?)?;
     let time_s: Vec<f64> = if time_factor == 1.0 {
         d.x.clone()
     } else {
@@ -600,6 +587,104 @@ pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
     if !d.even {
         super::spec::check_uniform(path, &at, &time_s)?;
     }
+    Ok(time_s)
+}
+
+/// The datasets `channels` (each a dataset index from 1 or `node:direction`) of a UFF
+/// file's bytes as written (the file's own units, no conversion) and their common time
+/// axis in s: a forced record's input and output ([`super::read_columns`]). Each must be
+/// a time response on the same abscissa; a dataset that states its ordinate's unit must
+/// state the one the case gives for it (`units`, one per channel), compared without
+/// case, blanks and `^`: the values are not converted, so another unit is an error.
+pub fn read_columns(
+    path: &Path,
+    bytes: &[u8],
+    channels: &[&str],
+    units: &[&str],
+) -> Result<(Vec<f64>, Vec<Vec<f64>>)> {
+    let file = read_file(path, bytes)?;
+    let mut time: Option<(Vec<f64>, String)> = None;
+    let mut values = Vec::with_capacity(channels.len());
+    let plain = |u: &str| -> String {
+        u.chars()
+            .filter(|c| !c.is_whitespace() && *c != '^')
+            .flat_map(char::to_lowercase)
+            .collect()
+    };
+    for (channel, unit) in channels.iter().zip(units) {
+        let d = choose(path, &file, Some(channel))?;
+        if let Some(stated) = label(&d.ordinate.unit) {
+            if plain(stated) != plain(unit) {
+                return Err(fail(
+                    path,
+                    &d.at(),
+                    format!(
+                        "the unit `{}` where the case gives `{}` (mismatched units)",
+                        coil_io::excerpt(stated),
+                        coil_io::excerpt(unit)
+                    ),
+                    "the unit the dataset states, in the case's forced record",
+                ));
+            }
+        }
+        let time_s = time_axis(path, d)?;
+        match &time {
+            None => time = Some((time_s, d.at())),
+            Some((t, first)) => {
+                let step = if t.len() > 1 {
+                    (t[1] - t[0]).abs()
+                } else {
+                    1.0
+                };
+                let same = t.len() == time_s.len()
+                    && t.iter()
+                        .zip(&time_s)
+                        .all(|(a, b)| (a - b).abs() <= 1e-6 * step);
+                if !same {
+                    return Err(fail(
+                        path,
+                        &d.at(),
+                        format!(
+                            "{} samples from {} s every {} s, another time axis than {first}'s",
+                            time_s.len(),
+                            time_s.first().copied().unwrap_or(0.0),
+                            d.step
+                        ),
+                        "input and output sampled together (one abscissa)",
+                    ));
+                }
+            }
+        }
+        values.push(d.y.clone());
+    }
+    let (time_s, _) = time.ok_or_else(|| {
+        fail(
+            path,
+            "1",
+            "no channel named".into(),
+            "the input and output channels",
+        )
+    })?;
+    Ok((time_s, values))
+}
+
+/// Reads the channel `spec` names from a UFF file's bytes, in SI.
+pub fn read(spec: &RecordSpec, bytes: &[u8]) -> Result<Record> {
+    super::spec::no_time_variable(spec)?;
+    let path = &spec.file;
+    let file = read_file(path, bytes)?;
+    if file.datasets.is_empty() {
+        return Err(fail(
+            path,
+            "1",
+            "no dataset 58 in the file".into(),
+            "a time response as UFF dataset 58 or 58b",
+        ));
+    }
+    let d = choose(path, &file, spec.channel.as_deref())?;
+    let at = d.at();
+    let time_s = time_axis(path, d)?;
+    let unit = super::spec::resolve_unit(spec, &at, file_unit(spec, d, file.length_factor)?)?;
     let values = if unit.to_si == 1.0 {
         d.y.clone()
     } else {

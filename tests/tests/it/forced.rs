@@ -427,3 +427,82 @@ fn backbone_matches_the_exact_duffing_period() {
     assert!(worst < 1e-6, "{worst}");
     assert!(last.frequency_hz > 1.1 * 5.0);
 }
+
+/// The same forced record as CSV, as a MAT-file and as UFF 58 (the readers of decay
+/// records, docs/measured-case.md): the same cause and the same parameters, within what
+/// the text formats' printed digits move (the CSV carries 10 significant digits).
+#[test]
+fn a_forced_case_diagnoses_alike_from_csv_mat_and_uff() {
+    let case = cases()
+        .into_iter()
+        .find(|c| c.cause == "cubic_stiffness")
+        .expect("a hardening case");
+    let r = record(&case.oscillator, case.excitations[0], 30.0, 0.01, 7);
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("csv");
+    write_case(&csv, "csv", std::slice::from_ref(&r)).unwrap();
+    let n = r.force_n.len();
+    let time: Vec<f64> = (0..n).map(|i| i as f64 * r.dt).collect();
+    let doubles = coil_postproc::record::mat::doubles;
+    let (bt, bu, by) = (doubles(&time), doubles(&r.force_n), doubles(&r.measured_m));
+    let mat = coil_postproc::record::mat::level5_bytes(
+        &[("t", 9, &bt, n), ("force", 9, &bu, n), ("disp", 9, &by, n)],
+        true,
+    );
+    let dataset = |node, unit: &str, values: &[f64]| coil_io::uff::Uff58 {
+        description: "forced".into(),
+        name: format!("channel {node}"),
+        node,
+        direction: 3,
+        ordinate_type: 1,
+        length_exponent: 0,
+        ordinate_label: "forced".into(),
+        ordinate_unit: unit.into(),
+        start_s: 0.0,
+        step_s: r.dt,
+        values: values.to_vec(),
+    };
+    let uff = coil_io::uff::uff58_bytes(
+        &[dataset(1, "N", &r.force_n), dataset(2, "m", &r.measured_m)],
+        true,
+    );
+    let mut causes = Vec::new();
+    for (name, file, bytes, time, input, output) in [
+        (
+            "csv",
+            "record_1.csv",
+            None,
+            "time_s",
+            "force_n",
+            "displacement_m",
+        ),
+        ("mat", "record.mat", Some(mat), "t", "force", "disp"),
+        ("uff", "record.uff", Some(uff), "time_s", "1:3", "2:3"),
+    ] {
+        let folder = dir.path().join(name);
+        if let Some(bytes) = bytes {
+            std::fs::create_dir_all(&folder).unwrap();
+            std::fs::write(folder.join(file), bytes).unwrap();
+            let entry = serde_json::json!({
+                "file": file, "time": time, "input": input, "output": output,
+                "input_quantity": "force", "output_quantity": "displacement",
+                "input_unit": "N", "output_unit": "m"
+            });
+            let case = serde_json::json!({ "name": name, "records": { "forced": [entry] } });
+            std::fs::write(folder.join("case.json"), case.to_string()).unwrap();
+        }
+        let outcome = diagnose_forced(&folder, &ForcedSettings::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let doc = report::document(&outcome);
+        let k3 = doc["extended"]["parameters"]["cubic_stiffness_n_m3"]
+            .as_f64()
+            .unwrap_or(f64::NAN);
+        causes.push((name, doc["cause"].clone(), k3));
+    }
+    let (_, cause, k3) = &causes[0];
+    assert_eq!(cause, "cubic_stiffness", "{causes:?}");
+    for (name, c, k) in &causes[1..] {
+        assert_eq!(c, cause, "{name}: {causes:?}");
+        assert!(((k - k3) / k3).abs() < 1e-4, "{name}: {causes:?}");
+    }
+}

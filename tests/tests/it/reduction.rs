@@ -108,8 +108,8 @@ fn guided_reduction_matches_the_full_static_and_modal_model() {
     let f_red = red.frequencies_hz(1.0, &[0.0]).expect("frequencies");
     eprintln!("full f = {f_full:?}\nreduced (4 modes) f = {f_red:?}");
     eprintln!("fixed-interface f = {:?}", red.fixed_interface_hz);
-    // docs/reduction.md prints them to 0.01 Hz: 108.71, 109.15, 128.75, 146.00 (the held
-    // spring's bending pair, its first surge mode, the next pair).
+    // docs/reduction.md prints them to 0.01 Hz: 108.71, 109.15, 128.75, 146.00 (the
+    // third is the held spring's first surge mode).
     for (f, printed) in red
         .fixed_interface_hz
         .iter()

@@ -24,7 +24,7 @@ pub enum Command {
         out: Option<PathBuf>,
         /// Beams per coil of the FE helix to start from: the rate is refined by doubling
         /// them until it moves less than 0.1 %.
-        #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(4..=512))]
+        #[arg(long, default_value_t = 24, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(4..=512))]
         elements_per_coil: u32,
     },
     /// Design to a target (TARGET.json, docs/spring-design.md): search standard wires,
@@ -42,11 +42,11 @@ pub enum Command {
         objective: Option<crate::target::Objective>,
         /// Short-list this many FE-verified candidates, verifying down the ranking
         /// (default: the target's `short_list`, else 8; 1 to 32).
-        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=32))]
+        #[arg(long, allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..=32))]
         short_list: Option<u64>,
         /// With a wire grade: the beams per coil the converged FE check starts from
         /// (default 24). Refused with a calibration, whose E belongs to its mesh.
-        #[arg(long, value_parser = clap::value_parser!(u32).range(4..=512))]
+        #[arg(long, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(4..=512))]
         elements_per_coil: Option<u32>,
         /// Use this calibration.json (of `coil-tune calibrate`) as the material instead
         /// of the target's `material` (its grade, if any, still gives Rm).
@@ -76,7 +76,8 @@ pub fn run(command: Command) -> Result<()> {
             calibration,
             no_plots,
         } => {
-            let mut target = crate::target::read_target(&target)?;
+            let path = target;
+            let mut target = crate::target::read_target(&path)?;
             if let Some(file) = calibration {
                 target.material = crate::target::with_calibration(&target.material, file);
             }
@@ -85,7 +86,13 @@ pub fn run(command: Command) -> Result<()> {
                 short_list: short_list.map(|n| n as usize),
                 elements_per_coil,
             };
-            let design = crate::design(&target, &settings)?;
+            let design = crate::design(&target, &settings).map_err(|e| match e {
+                // A bound of the search or of the FE verification: say which file.
+                crate::TuneError::Invalid(message) => {
+                    crate::TuneError::Invalid(format!("{}: {message}", path.display()))
+                }
+                other => other,
+            })?;
             let out = OutDir::create(out)?;
             crate::output::write(&design, &out, !no_plots)?;
             out.commit()?;
@@ -108,7 +115,13 @@ fn check_command(
         elements_per_coil,
         ..Default::default()
     };
-    let report = crate::sheet::check(&input, &settings)?;
+    let report = crate::sheet::check(&input, &settings).map_err(|e| match e {
+        // The FE model's size limit: say which file.
+        crate::TuneError::Invalid(message) => {
+            crate::TuneError::Invalid(format!("{}: {message}", spring.display()))
+        }
+        other => other,
+    })?;
     let json_text = report.json()?;
     let out = out.map(OutDir::create).transpose()?;
     if let Some(out) = &out {

@@ -83,6 +83,9 @@ pub struct Design {
     pub feasible: usize,
     /// How many springs the FE model verified (short list, rejected, corrected).
     pub fe_runs: usize,
+    /// Feasible springs passed over because their FE model would have more than
+    /// [`sheet::fe::MAX_BEAMS`] beams.
+    pub fe_skipped: usize,
     /// How many failed each check.
     pub rejections: Vec<(String, usize)>,
     /// The FE-verified short list, best first.
@@ -91,7 +94,8 @@ pub struct Design {
     pub rejected: Vec<Verified>,
     /// What geometry can buy of the target zeta (with a target zeta and a damping law).
     pub damping: Option<DampingVerdict>,
-    /// (mass kg, handbook rate N/mm) of every feasible spring, for the figure.
+    /// (mass kg, handbook rate N/mm) of the feasible springs for the figure: all of them,
+    /// or every k-th when there are more than [`MAX_FIGURE_POINTS`].
     #[serde(skip)]
     pub feasible_points: Vec<(f64, f64)>,
     /// Wall time (s).
@@ -113,6 +117,9 @@ pub struct DesignSettings {
 /// The most springs the FE verification runs in one design (the short list, the
 /// springs rejected on the way down the ranking and their FE-corrected versions).
 pub const MAX_VERIFIED: usize = 64;
+
+/// The most feasible springs design.png draws (every k-th of a larger set).
+pub const MAX_FIGURE_POINTS: usize = 20_000;
 
 /// The most short-listed springs of one wire diameter.
 pub const PER_WIRE: usize = 2;
@@ -185,52 +192,128 @@ fn corrected(
     })
 }
 
+/// The next batch of at most `want` springs down the ranking: the best untried ones
+/// whose wire diameter has fewer than [`PER_WIRE`] springs accepted or in the batch. A
+/// spring passed over because its wire was full with springs still being verified is
+/// taken up again once one of those is rejected; `first` is the first untried index.
+#[allow(clippy::too_many_arguments)]
+fn next_batch(
+    feasible: &[search::Feasible],
+    target: &Target,
+    material: &Material,
+    tried: &mut [bool],
+    first: &mut usize,
+    per_wire: &BTreeMap<u64, usize>,
+    seen: &mut std::collections::BTreeSet<Geometry>,
+    skipped: &mut usize,
+    want: usize,
+) -> Vec<(usize, search::Candidate, Option<String>)> {
+    while *first < feasible.len() && tried[*first] {
+        *first += 1;
+    }
+    let mut batch = Vec::new();
+    let mut pending: BTreeMap<u64, usize> = BTreeMap::new();
+    for i in *first..feasible.len() {
+        if batch.len() == want {
+            break;
+        }
+        if tried[i] {
+            continue;
+        }
+        let f = &feasible[i];
+        if f.active_coils * f64::from(material.fe.elements_per_coil) > sheet::fe::MAX_BEAMS {
+            // Its FE model is above the limit (docs/files.md): counted, not run.
+            tried[i] = true;
+            *skipped += 1;
+            continue;
+        }
+        let spring = (f.wire_diameter_mm, f.mean_diameter_mm, f.active_coils);
+        if seen.contains(&geometry(spring)) {
+            // Already verified as another spring's FE correction.
+            tried[i] = true;
+            continue;
+        }
+        let k = wire_key(f.wire_diameter_mm);
+        if per_wire.get(&k).copied().unwrap_or(0) + pending.get(&k).copied().unwrap_or(0) < PER_WIRE
+        {
+            *pending.entry(k).or_default() += 1;
+            tried[i] = true;
+            seen.insert(geometry(spring));
+            batch.push((i + 1, f.candidate(target, material), None));
+        }
+    }
+    batch
+}
+
+/// A spring's wire, mean diameter and active coils (micrometres, quarter turns): the same
+/// spring reached twice (down the ranking and as a correction) is verified once.
+type Geometry = (u64, u64, u64);
+
+fn geometry((d, mean, n): (f64, f64, f64)) -> Geometry {
+    (wire_key(d), wire_key(mean), (n * 4.0).round() as u64)
+}
+
+/// The key of a wire diameter in the per-wire counts (micrometres).
+fn wire_key(d: f64) -> u64 {
+    (d * 1000.0).round() as u64
+}
+
 /// Verifies down the ranking (module docs of [`verify`]): batches of the best springs
 /// not yet tried, at most [`PER_WIRE`] per wire diameter, until the short list is full,
 /// the feasible set is exhausted or [`MAX_VERIFIED`] springs ran; a spring off the rate
 /// by FE is retried once with its coils corrected by the FE rate.
 fn verify_down(
-    feasible: &[search::Candidate],
+    feasible: &[search::Feasible],
     target: &Target,
     material: &Material,
     weight_kg: Option<f64>,
     band: Option<&band::LawBand>,
-) -> Result<(Vec<Verified>, Vec<Verified>, usize)> {
+) -> Result<(Vec<Verified>, Vec<Verified>, usize, usize)> {
     let mut accepted: Vec<Verified> = Vec::new();
     let mut rejected: Vec<Verified> = Vec::new();
     let mut per_wire: BTreeMap<u64, usize> = BTreeMap::new();
-    let mut next = 0usize;
+    let mut tried = vec![false; feasible.len()];
+    let mut seen = std::collections::BTreeSet::new();
+    let mut skipped = 0usize;
+    let mut first = 0usize;
     let mut ran = 0usize;
-    let key = |d: f64| (d * 1000.0).round() as u64;
     while accepted.len() < target.short_list && ran < MAX_VERIFIED {
         let want = (target.short_list - accepted.len()).min(MAX_VERIFIED - ran);
-        let mut batch = Vec::new();
-        let mut pending: BTreeMap<u64, usize> = BTreeMap::new();
-        while batch.len() < want && next < feasible.len() {
-            let c = &feasible[next];
-            next += 1;
-            let k = key(c.spring.wire_diameter_mm);
-            let used =
-                per_wire.get(&k).copied().unwrap_or(0) + pending.get(&k).copied().unwrap_or(0);
-            if used < PER_WIRE {
-                *pending.entry(k).or_default() += 1;
-                batch.push((next, c.clone(), None));
-            }
-        }
+        let batch = next_batch(
+            feasible,
+            target,
+            material,
+            &mut tried,
+            &mut first,
+            &per_wire,
+            &mut seen,
+            &mut skipped,
+            want,
+        );
         if batch.is_empty() {
             break;
         }
         ran += batch.len();
         let mut retry = Vec::new();
         for v in verify::verify(&batch, target, material, weight_kg, band)? {
-            let k = key(v.wire_diameter_mm);
             if v.fe_verified {
-                *per_wire.entry(k).or_default() += 1;
+                *per_wire.entry(wire_key(v.wire_diameter_mm)).or_default() += 1;
                 accepted.push(v);
             } else {
                 if v.corrected_from.is_none() {
                     if let Some((c, why)) = corrected(target, material, &v) {
-                        retry.push((v.search_rank, c, Some(why)));
+                        let s = &c.spring;
+                        let small = s.active_coils * f64::from(material.fe.elements_per_coil)
+                            <= sheet::fe::MAX_BEAMS;
+                        if small
+                            && seen.insert(geometry((
+                                s.wire_diameter_mm,
+                                s.mean_diameter_mm,
+                                s.active_coils,
+                            )))
+                        {
+                            retry.push((v.search_rank, c, Some(why)));
+                        }
                     }
                 }
                 rejected.push(v);
@@ -240,7 +323,7 @@ fn verify_down(
             retry.truncate(MAX_VERIFIED - ran);
             ran += retry.len();
             for v in verify::verify(&retry, target, material, weight_kg, band)? {
-                let k = key(v.wire_diameter_mm);
+                let k = wire_key(v.wire_diameter_mm);
                 if v.fe_verified && per_wire.get(&k).copied().unwrap_or(0) < PER_WIRE {
                     *per_wire.entry(k).or_default() += 1;
                     accepted.push(v);
@@ -270,7 +353,7 @@ fn verify_down(
     for (i, v) in rejected.iter_mut().enumerate() {
         v.deck = verify::deck_name(i + 1, false);
     }
-    Ok((accepted, rejected, ran))
+    Ok((accepted, rejected, ran, skipped))
 }
 
 /// Runs a design (module docs).
@@ -289,7 +372,7 @@ pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
             band::LawBand::calibrate(reference, &material.fe, material.identified_law.as_ref())
         })
         .transpose()?;
-    let (candidates, rejected, fe_runs) = verify_down(
+    let (candidates, rejected, fe_runs, fe_skipped) = verify_down(
         &found.feasible,
         &target,
         &material,
@@ -304,10 +387,12 @@ pub fn design(target: &Target, settings: &DesignSettings) -> Result<Design> {
         feasible_points: found
             .feasible
             .iter()
-            .map(|c| (c.sheet.spring_mass_kg, c.sheet.rate_n_mm))
+            .step_by(found.feasible.len().div_ceil(MAX_FIGURE_POINTS).max(1))
+            .map(|c| (c.spring_mass_kg, c.rate_n_mm))
             .collect(),
         tried: found.tried,
         fe_runs,
+        fe_skipped,
         rejections: found.rejections,
         candidates,
         rejected,
@@ -351,7 +436,8 @@ fn verdict(target_zeta: f64, candidates: &[Verified], target: &Target) -> Option
         .min_by(|a, b| a.gap_percent.abs().total_cmp(&b.gap_percent.abs()))?;
     let text = if reachable {
         format!(
-            "zeta = {target_zeta} lies within the verified candidates' range under {}: the geometry can deliver it if that law holds",
+            "zeta = {} lies within the verified candidates' range under {}: the geometry can deliver it if that law holds",
+            output::sig(target_zeta, 4),
             laws.iter()
                 .filter(|l| l.reachable)
                 .map(|l| l.law.as_str())
@@ -360,8 +446,9 @@ fn verdict(target_zeta: f64, candidates: &[Verified], target: &Target) -> Option
         )
     } else {
         format!(
-            "zeta = {target_zeta} at K = {} N/mm cannot be met by the wire alone: at this rate and weight a stiffness-proportional law puts zeta on the sqrt(K) curve, a dashpot at the weight on 1/sqrt(K), a loss factor leaves it where it is, so every candidate lands at {:.5} to {:.5} (closest: {}, the target {:+.1} % from it); a damper or another material would have to supply the difference",
-            target.rate_n_mm,
+            "zeta = {} at K = {} N/mm cannot be met by the wire alone: at this rate and weight a stiffness-proportional law puts zeta on the sqrt(K) curve, a dashpot at the weight on 1/sqrt(K), a loss factor leaves it where it is, so every candidate lands at {:.5} to {:.5} (closest: {}, the target {:+.1} % from it); a damper or another material would have to supply the difference",
+            output::sig(target_zeta, 4),
+            output::sig(target.rate_n_mm, 6),
             laws.iter().map(|l| l.min).fold(f64::INFINITY, f64::min),
             laws.iter().map(|l| l.max).fold(f64::NEG_INFINITY, f64::max),
             nearest.law,

@@ -63,20 +63,7 @@ pub fn write(design: &Design, out: &OutDir, figure: bool) -> Result<()> {
     Ok(())
 }
 
-/// A number with `digits` significant digits, no trailing zeros ("5.3", "0.06694").
-pub fn sig(x: f64, digits: usize) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor() as i64;
-    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+pub use crate::sheet::sig;
 
 /// The working points in words.
 pub fn working_words(w: &Working) -> String {
@@ -198,7 +185,7 @@ pub fn report(design: &Design) -> String {
     };
     let _ = writeln!(
         s,
-        "Search (EN 13906-1 checks{}, the envelope; docs/spring-design.md): {} springs within the rate tolerance tried, {} feasible; failed checks (a spring may fail several): {}.\n\nFE verification: {} springs run down the ranking, at most {} per wire diameter; FE on the {fe_mesh}.\n",
+        "Search (EN 13906-1 checks{}, the envelope; docs/spring-design.md): {} springs within the rate tolerance tried, {} feasible; failed checks (a spring may fail several): {}.\n\nFE verification: {} springs run down the ranking, at most {} per wire diameter; FE on the {fe_mesh}.{}\n",
         if t.loading == Loading::Dynamic { " with fatigue at 10^7 cycles" } else { "" },
         design.tried,
         design.feasible,
@@ -214,13 +201,24 @@ pub fn report(design: &Design) -> String {
         },
         design.fe_runs,
         crate::PER_WIRE,
+        if design.fe_skipped > 0 {
+            format!(
+                " {} feasible springs not verified: their FE model would have more than {} beams (docs/files.md).",
+                design.fe_skipped,
+                crate::sheet::fe::MAX_BEAMS
+            )
+        } else {
+            String::new()
+        },
     );
     let _ = writeln!(
         s,
         "## Candidates (FE-verified, best first)\n\n{}",
         table(design)
     );
-    if design.candidates.is_empty() {
+    if design.tried == 0 {
+        s.push_str("No standard wire and mean diameter gives this rate within the tolerance with 2 to 630 / d - 2 active coils (EN 15800's longest free length, 630 mm) inside the envelope: the rate, the tolerance or the envelope is outside what one spring of this grade can give.\n\n");
+    } else if design.candidates.is_empty() {
         s.push_str("No spring passes every check and the FE verification: widen the envelope or the tolerance.\n\n");
     }
     for v in design
@@ -305,6 +303,9 @@ pub fn summary(design: &Design) -> String {
                 format!("; zeta {}", zeta_line(&v.damping_ratio))
             }
         );
+    }
+    if design.tried == 0 {
+        s.push_str("no spring of this grade gives the rate within the tolerance with 2 to 630 / d - 2 active coils inside the envelope (report.md)\n");
     }
     if let Some(d) = &design.damping {
         let _ = writeln!(s, "{}", d.text);

@@ -32,7 +32,9 @@ use crate::sheet::en13906::{
     rate_n_mm, Coiling, EndType, Loading, Sheet, Spring, StressCorrection, Working,
 };
 use crate::sheet::grades::{tensile_strength_mpa, STANDARD_WIRE_DIAMETERS_MM};
+use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Step of the mean-diameter grid (mm).
 pub const DIAMETER_STEP_MM: f64 = 0.1;
@@ -40,7 +42,7 @@ pub const DIAMETER_STEP_MM: f64 = 0.1;
 pub const PITCH_STEP_MM: f64 = 0.05;
 /// Step of the active coils.
 pub const COIL_STEP: f64 = 0.25;
-/// The most springs a search checks (about 2 s on one core).
+/// The most springs a search checks (about 1.4 s of CPU; counted before it starts).
 pub const MAX_TRIED: usize = 2_000_000;
 /// EN 15800's longest free length (mm): the active coils stop below it.
 pub const MAX_FREE_LENGTH_MM: f64 = 630.0;
@@ -94,18 +96,20 @@ fn envelope_checks(target: &Target, sheet: &Sheet, spring: &Spring) -> Vec<(&'st
     ]
 }
 
-/// Grid values `lo <= k step <= hi`.
+/// Grid values `lo <= k step <= hi`, each the double nearest `k step` (`k / (1 / step)`
+/// for the grids' steps 0.1, 0.05 and 0.25: 24.7, not 24.700000000000003).
 fn grid(lo: f64, hi: f64, step: f64) -> impl Iterator<Item = f64> {
     let first = (lo / step - 1e-9).ceil() as i64;
     let last = (hi / step + 1e-9).floor() as i64;
-    (first..=last).map(move |k| k as f64 * step)
+    let per_unit = (1.0 / step).round();
+    (first..=last).map(move |k| k as f64 / per_unit)
 }
 
 /// What the search looked at: every candidate that passes, and how many were tried.
 #[derive(Debug, Clone, Serialize)]
 pub struct Search {
     /// The feasible springs, best first.
-    pub feasible: Vec<Candidate>,
+    pub feasible: Vec<Feasible>,
     /// Springs within the rate tolerance that were checked.
     pub tried: usize,
     /// How many failed each check (check name, count).
@@ -196,9 +200,21 @@ impl<'a> Grid<'a> {
 pub fn candidate(
     target: &Target,
     material: &Material,
+    wire: (f64, f64),
+    mean: f64,
+    n: f64,
+) -> (Candidate, Vec<&'static str>) {
+    candidate_with(target, material, wire, mean, n, true)
+}
+
+/// [`candidate`]; without `details` the sheet's words are left out (the search).
+fn candidate_with(
+    target: &Target,
+    material: &Material,
     (d, rm): (f64, f64),
     mean: f64,
     n: f64,
+    details: bool,
 ) -> (Candidate, Vec<&'static str>) {
     let grid = Grid::new(target, material);
     let g = material.shear_modulus_mpa;
@@ -231,9 +247,10 @@ pub fn candidate(
         Working::Lengths(l1, _) => l1,
     };
     let allowance = spring.end_allowance_mm();
-    let pitch = ((shortest - allowance) / n / PITCH_STEP_MM - 1e-9).ceil() * PITCH_STEP_MM;
+    let pitch =
+        ((shortest - allowance) / n / PITCH_STEP_MM - 1e-9).ceil() / (1.0 / PITCH_STEP_MM).round();
     spring.free_length_mm = allowance + n * pitch.max(d + PITCH_STEP_MM);
-    let sheet = spring.sheet();
+    let sheet = spring.sheet_with(details);
     let mut failed: Vec<&'static str> = sheet.failed();
     failed.extend(
         envelope_checks(target, &sheet, &spring)
@@ -258,33 +275,96 @@ pub fn candidate(
     )
 }
 
-/// Searches the geometry (module docs); refuses a search of more than [`MAX_TRIED`]
-/// springs before it starts.
+/// A feasible spring as the search keeps it: its wire, mean diameter and coils and the
+/// numbers it is ranked and drawn by (56 bytes; the sheet is rebuilt, by [`candidate`],
+/// for the springs the FE verification runs), so the search's memory is bounded by its
+/// count, not by the sheets.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Feasible {
+    /// d (mm).
+    pub wire_diameter_mm: f64,
+    /// Rm of the wire (MPa).
+    pub tensile_strength_mpa: f64,
+    /// D (mm).
+    pub mean_diameter_mm: f64,
+    /// n.
+    pub active_coils: f64,
+    /// Wire mass (kg).
+    pub spring_mass_kg: f64,
+    /// Handbook rate (N/mm).
+    pub rate_n_mm: f64,
+    /// The ranking's stress margin.
+    pub stress_margin: f64,
+}
+
+impl Feasible {
+    /// The spring with its sheet, as the search built it.
+    pub fn candidate(&self, target: &Target, material: &Material) -> Candidate {
+        let wire = (self.wire_diameter_mm, self.tensile_strength_mpa);
+        candidate(
+            target,
+            material,
+            wire,
+            self.mean_diameter_mm,
+            self.active_coils,
+        )
+        .0
+    }
+}
+
+/// The springs of one wire: the feasible ones, how many were tried, the failed checks.
+fn search_wire(
+    grid: &Grid<'_>,
+    wire: (f64, f64),
+) -> (Vec<Feasible>, usize, BTreeMap<&'static str, usize>) {
+    let mut feasible = Vec::new();
+    let mut tried = 0usize;
+    let mut rejections = BTreeMap::new();
+    for mean in grid.means(wire.0) {
+        let (n_lo, n_hi) = grid.coils(wire.0, mean);
+        for n in self::grid(n_lo, n_hi, COIL_STEP) {
+            tried += 1;
+            let (c, failed) = candidate_with(grid.target, grid.material, wire, mean, n, false);
+            for name in &failed {
+                *rejections.entry(*name).or_default() += 1;
+            }
+            if failed.is_empty() {
+                feasible.push(Feasible {
+                    wire_diameter_mm: wire.0,
+                    tensile_strength_mpa: wire.1,
+                    mean_diameter_mm: mean,
+                    active_coils: n,
+                    spring_mass_kg: c.sheet.spring_mass_kg,
+                    rate_n_mm: c.sheet.rate_n_mm,
+                    stress_margin: c.stress_margin,
+                });
+            }
+        }
+    }
+    (feasible, tried, rejections)
+}
+
+/// Searches the geometry (module docs), the wires in parallel (rayon); refuses a search
+/// of more than [`MAX_TRIED`] springs before it starts.
 pub fn search(target: &Target, material: &Material) -> Result<Search, String> {
     let grid = Grid::new(target, material);
     let count = grid.count();
     if count > MAX_TRIED {
         return Err(format!(
-            "the search would check {count} springs (rate {:.4} N/mm per spring within {} %, every standard wire and mean diameter the envelope admits, up to {MAX_FREE_LENGTH_MM} mm of free length); the limit is {MAX_TRIED}: narrow the envelope (max_outer_diameter_mm, min_inner_diameter_mm) or the rate tolerance",
+            "the search would check {count} springs (rate {:.4} N/mm per spring within {} %, every standard wire and mean diameter the envelope admits, up to {MAX_FREE_LENGTH_MM} mm of free length); the limit is {MAX_TRIED}: narrow the envelope (max_outer_diameter_mm, min_inner_diameter_mm) or the rate tolerance (rate_tolerance_percent)",
             grid.rate, target.rate_tolerance_percent
         ));
     }
+    let wires: Vec<(f64, f64)> = grid.wires().collect();
+    let per_wire: Vec<_> = wires.par_iter().map(|&w| search_wire(&grid, w)).collect();
     let mut feasible = Vec::new();
     let mut tried = 0usize;
-    let mut rejections: std::collections::BTreeMap<String, usize> = Default::default();
-    for wire in grid.wires() {
-        for mean in grid.means(wire.0) {
-            let (n_lo, n_hi) = grid.coils(wire.0, mean);
-            for n in self::grid(n_lo, n_hi, COIL_STEP) {
-                tried += 1;
-                let (c, failed) = candidate(target, material, wire, mean, n);
-                for name in &failed {
-                    *rejections.entry(name.to_string()).or_default() += 1;
-                }
-                if failed.is_empty() {
-                    feasible.push(c);
-                }
-            }
+    let mut rejections: BTreeMap<String, usize> = BTreeMap::new();
+    for (f, t, r) in per_wire {
+        feasible.extend(f);
+        tried += t;
+        for (name, k) in r {
+            *rejections.entry(name.to_string()).or_default() += k;
         }
     }
     rank(&mut feasible, target.objective, grid.rate);
@@ -296,11 +376,11 @@ pub fn search(target: &Target, material: &Material) -> Result<Search, String> {
 }
 
 /// Sorts best first (module docs).
-pub fn rank(candidates: &mut [Candidate], objective: Objective, rate: f64) {
-    let key = |c: &Candidate| match objective {
-        Objective::Lightest => c.sheet.spring_mass_kg,
+pub fn rank(candidates: &mut [Feasible], objective: Objective, rate: f64) {
+    let key = |c: &Feasible| match objective {
+        Objective::Lightest => c.spring_mass_kg,
         Objective::StressMargin => -c.stress_margin,
     };
-    let miss = |c: &Candidate| (c.sheet.rate_n_mm / rate - 1.0).abs();
+    let miss = |c: &Feasible| (c.rate_n_mm / rate - 1.0).abs();
     candidates.sort_by(|a, b| key(a).total_cmp(&key(b)).then(miss(a).total_cmp(&miss(b))));
 }

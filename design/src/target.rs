@@ -11,12 +11,13 @@
 //! damping` whose identified law is predicted too), `objective` (`lightest` or
 //! `stress_margin`). `damping_coefficient_n_s_m` (with `weight_kg`) may replace
 //! `damping_ratio`: `zeta = c / (2 sqrt(K m))` on the target rate. Optional, with the
-//! defaults written into `design.json`'s `assumptions`: `end_type` (`closed_ground`),
+//! defaults written into `design.json`'s `target`: `end_type` (`closed_ground`),
 //! `coiling` (`cold`), `loading` (`dynamic`), `seating_coefficient` (0.5: both ends
-//! fixed, the top guided, as the paper's test), `surge_band_hz` ([lo, hi]: the surge
-//! mode must stay outside), `short_list` (8, at least 1), `shot_peened` (false: the
-//! fatigue diagram), `quality_grade` (EN 15800 grade of the tolerances, 2), `source` and
-//! `notes` (free text). An unknown key, here or inside `envelope` or `material`, is
+//! fixed, the top guided, as the paper's test; 0.5 to 2), `surge_band_hz` ([lo, hi]: the
+//! surge mode must stay outside), `short_list` (8, a whole number from 1 to 32),
+//! `shot_peened` (false: the fatigue diagram), `quality_grade` (EN 15800 grade of the
+//! tolerances, 2), `source`, `notes`, `name` and `comment` (free text: strings). A
+//! `damping` beside a grade alone is refused (it needs a calibration). An unknown key, here or inside `envelope` or `material`, is
 //! refused with the list of known ones; an explicit `null` is refused (leave the key out).
 //!
 //! Bounds checked before the search starts (docs/files.md): at most
@@ -32,7 +33,11 @@ use crate::case::{read_json, CaseError};
 use crate::fe::{FeSettings, SpringState};
 use crate::fields::{root, FieldError, Object, Range};
 use crate::sheet::en13906::{Coiling, EndType, Loading, Working};
-use crate::sheet::input::{choice, opt_bool, quality_grade, working, COILING, END_TYPES, LOADING};
+use crate::sheet::input::{
+    choice, free_text, num, opt_bool, quality_grade, seating_coefficient, working, COILING,
+    END_TYPES, LOADING,
+};
+use crate::sheet::sig;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -165,6 +170,12 @@ pub const MATERIAL_KEYS: [&str; 3] = ["calibration", "grade", "damping"];
 /// is a different product; the bound keeps the search's work finite, docs/files.md).
 pub const MAX_SPRINGS_IN_PARALLEL: f64 = 64.0;
 
+/// The bounds of `weight_kg` (kg, exclusive): a gram's thousandth to a thousand tonnes
+/// (the FE model carries it as a point mass; outside, the figures are a unit slip).
+pub const MIN_WEIGHT_KG: f64 = 1e-6;
+/// See [`MIN_WEIGHT_KG`].
+pub const MAX_WEIGHT_KG: f64 = 1e6;
+
 /// The most springs the FE verification runs (a short list of at most this many).
 pub const MAX_SHORT_LIST: f64 = 32.0;
 
@@ -182,6 +193,21 @@ pub fn with_calibration(source: &MaterialSource, file: PathBuf) -> MaterialSourc
             grade: Some(grade.clone()),
             damping: None,
         },
+    }
+}
+
+/// An optional whole number from 1 to `max` (`meaning` says what it counts).
+fn whole(o: &Object<'_>, key: &str, max: f64, meaning: &str) -> Result<Option<f64>, FieldError> {
+    let expected = format!("{meaning}, a whole number from 1 to {max}");
+    match o.get(key) {
+        None => Ok(None),
+        Some(f) => {
+            let n = f.number(Range::Count, &expected)?;
+            if n > max {
+                return Err(f.error(format!("{} is out of range", num(n)), expected));
+            }
+            Ok(Some(n))
+        }
     }
 }
 
@@ -230,7 +256,15 @@ fn read_material(o: &Object<'_>, path: &Path) -> Result<MaterialSource, FieldErr
                 .opt_string("damping", "a damping.json path (coil-tune damping)")?
                 .map(beside),
         },
-        (None, Some(grade)) => MaterialSource::Grade { grade },
+        (None, Some(grade)) => {
+            if let Some(f) = m.get("damping") {
+                return Err(f.error(
+                    "a damping.json beside a grade alone",
+                    "a damping.json only beside a calibration (its law is carried from the calibrated decay); leave `damping` out with a grade",
+                ));
+            }
+            MaterialSource::Grade { grade }
+        }
         (None, None) => {
             return Err(m.error(
                 "neither a calibration nor a grade",
@@ -246,6 +280,7 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
     let top = root(path, &node);
     let o = top.object("a design target (docs/spring-design.md)")?;
     o.strict(&TARGET_KEYS)?;
+    free_text(&o, &["source", "notes", "name", "comment"])?;
     let working = working(&o)?.ok_or_else(|| {
         o.error(
             "no working points",
@@ -255,7 +290,11 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
     let envelope = read_envelope(&o)?;
     let material = read_material(&o, path)?;
     let rate = o.number("rate_n_mm", Range::Positive, "the target rate (N/mm)")?;
-    let weight = o.opt_number("weight_kg", Range::Positive, "the suspended mass (kg)")?;
+    let weight = o.opt_number(
+        "weight_kg",
+        Range::Open(MIN_WEIGHT_KG, MAX_WEIGHT_KG),
+        "the suspended mass (kg)",
+    )?;
     let mut zeta = o.opt_number("damping_ratio", Range::Open(0.0, 1.0), "a damping ratio")?;
     if let Some(c) = o.opt_number(
         "damping_coefficient_n_s_m",
@@ -270,8 +309,8 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
                     let field = o.require("damping_coefficient_n_s_m", "")?;
                     return Err(field
                         .error(
-                            format!("c = {c} N s/m gives zeta = c / (2 sqrt(K m)) = {z:.4} at K = {rate} N/mm and {w} kg"),
-                            format!("a coefficient below critical damping, {:.1} N s/m", 2.0 * (rate * 1e3 * w).sqrt()),
+                            format!("c = {} N s/m gives zeta = c / (2 sqrt(K m)) = {} at K = {} N/mm and {} kg", num(c), num(z), num(rate), num(w)),
+                            format!("a coefficient below critical damping, {} N s/m", num(2.0 * (rate * 1e3 * w).sqrt())),
                         )
                         .into());
                 }
@@ -313,22 +352,13 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         weight_kg: weight,
         damping_ratio: zeta,
         working,
-        springs_in_parallel: o
-            .opt_number(
-                "springs_in_parallel",
-                Range::Open(0.5, MAX_SPRINGS_IN_PARALLEL + 0.5),
-                &format!("the springs in parallel, a whole number from 1 to {MAX_SPRINGS_IN_PARALLEL}"),
-            )?
-            .map(|n| {
-                let field = o.require("springs_in_parallel", "")?;
-                if n.fract() == 0.0 {
-                    Ok(n)
-                } else {
-                    Err(field.error(format!("found {n}"), "a whole number of springs"))
-                }
-            })
-            .transpose()?
-            .unwrap_or(1.0) as u32,
+        springs_in_parallel: whole(
+            &o,
+            "springs_in_parallel",
+            MAX_SPRINGS_IN_PARALLEL,
+            "the springs in parallel",
+        )?
+        .unwrap_or(1.0) as u32,
         envelope,
         material,
         objective: choice(
@@ -343,22 +373,15 @@ pub fn read_target(path: &Path) -> Result<Target, CaseError> {
         end_type: choice(&o, "end_type", &END_TYPES, Some(EndType::ClosedGround))?,
         coiling: choice(&o, "coiling", &COILING, Some(Coiling::Cold))?,
         loading: choice(&o, "loading", &LOADING, Some(Loading::Dynamic))?,
-        seating_coefficient: o
-            .opt_number(
-                "seating_coefficient",
-                Range::Positive,
-                "the seating coefficient",
-            )?
-            .unwrap_or(0.5),
+        seating_coefficient: seating_coefficient(&o)?,
         surge_band_hz: band,
-        short_list: o
-            .opt_number(
-                "short_list",
-                Range::Open(0.5, MAX_SHORT_LIST + 0.5),
-                &format!("how many candidates the FE verifies, a whole number from 1 to {MAX_SHORT_LIST}"),
-            )?
-            .map(|n| n.round())
-            .unwrap_or(8.0) as usize,
+        short_list: whole(
+            &o,
+            "short_list",
+            MAX_SHORT_LIST,
+            "how many candidates the FE verifies",
+        )?
+        .unwrap_or(8.0) as usize,
         shot_peened: opt_bool(&o, "shot_peened", "whether the springs are shot-peened")?
             .unwrap_or(false),
         quality_grade: quality_grade(&o)?,
@@ -479,16 +502,16 @@ pub fn material(target: &Target) -> Result<Material, crate::TuneError> {
                 }),
                 identified_law: identified_law.flatten(),
                 source: format!(
-                    "{}: E = {:.1} MPa, nu = {} (G = {g:.1} MPa), rho = {} kg/m^3, {} elements per coil, Rayleigh alpha = {}, beta = {} calibrated to zeta = {} at {} kg; Rm from EN 10270-1 {grade}{law_note}",
+                    "{}: E = {:.1} MPa, nu = {} (G = {g:.1} MPa), rho = {} kg/m^3, {} elements per coil, Rayleigh alpha = {} 1/s, beta = {} s calibrated to zeta = {} at {} kg; Rm from EN 10270-1 {grade}{law_note}",
                     calibration.display(),
                     s.youngs_modulus_mpa,
-                    s.poisson_ratio,
-                    s.density_kg_m3,
+                    sig(s.poisson_ratio, 6),
+                    sig(s.density_kg_m3, 6),
                     file.settings.fe.elements_per_coil,
-                    s.alpha,
-                    s.beta,
-                    file.targets.damping_ratio,
-                    s.mass_kg
+                    sig(s.alpha, 4),
+                    sig(s.beta, 4),
+                    sig(file.targets.damping_ratio, 4),
+                    sig(s.mass_kg, 6)
                 ),
             })
         }

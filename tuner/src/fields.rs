@@ -102,6 +102,10 @@ impl<'a> Field<'a> {
 
     fn found(&self) -> String {
         match &self.node.value {
+            // 1e300 as 1e300, not as 301 digits.
+            Value::Number(x) if *x != 0.0 && !(1e-4..1e7).contains(&x.abs()) => {
+                format!("found {x:e}")
+            }
             Value::Number(x) => format!("found {x}"),
             Value::String(s) => format!("found the string \"{s}\""),
             other => format!("found {}", other.kind()),

@@ -116,7 +116,7 @@ impl Tolerances {
             )
             .ok_or_else(|| {
                 TuneError::Invalid(format!(
-                    "spring {name}: D = {} mm, w = D/d = {:.2}, grade {}: outside the EN 15800 coil-diameter table coil knows (0.63 <= D <= 31.5 mm, 4 <= w <= 20, grades 1-3); give --coil-diameter-tol in mm",
+                    "spring {name}: D = {} mm, w = D/d = {:.2}, grade {}: outside the EN 15800 coil-diameter table (0.63 <= D <= 200 mm, 4 <= w <= 20, grades 1-3); give --coil-diameter-tol in mm",
                     spring.mean_diameter_mm,
                     spring.mean_diameter_mm / spring.wire_diameter_mm,
                     self.coil_diameter_grade

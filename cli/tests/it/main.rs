@@ -8,5 +8,6 @@ mod damping_cli;
 mod diagnose_cli;
 mod forced_cli;
 mod fuzz;
+mod fuzz_spring;
 mod fuzz_surfaces;
 mod mesh_cli;

@@ -357,6 +357,12 @@ impl Spring {
 
     /// The sheet.
     pub fn sheet(&self) -> Sheet {
+        self.sheet_with(true)
+    }
+
+    /// The sheet; without `details` the checks' `detail` and the fatigue `basis` are
+    /// left empty (the numbers and verdicts are the same: a design's search).
+    pub fn sheet_with(&self, details: bool) -> Sheet {
         let (d, mean, n, l0) = (
             self.wire_diameter_mm,
             self.mean_diameter_mm,
@@ -398,7 +404,7 @@ impl Spring {
         let pitch = lw / n;
         let rm = self.tensile_strength_mpa;
         let mass = rho * (PI * d * d / 4.0) * self.total_coils * PI * mean * 1e-9;
-        let fatigue = self.fatigue(k * tau(f1), k * tau(f2));
+        let fatigue = self.fatigue_with(k * tau(f1), k * tau(f2), details);
         let inertia = PI * d.powi(4) / 64.0;
         let bending = 2.0 * e * g * inertia * l0 / (PI * n * mean * (e + 2.0 * g));
         let shear = e * inertia * l0 / (PI * n * (mean / 2.0).powi(3));
@@ -453,12 +459,17 @@ impl Spring {
             bounce_frequency_hz: bounce,
             checks: Vec::new(),
         };
-        sheet.checks = self.checks(&sheet);
+        sheet.checks = self.checks(&sheet, details);
         sheet
     }
 
     /// The fatigue check at the corrected stresses `tau_k1`, `tau_k2` (MPa).
     pub fn fatigue(&self, tau_k1: f64, tau_k2: f64) -> Fatigue {
+        self.fatigue_with(tau_k1, tau_k2, true)
+    }
+
+    /// [`Spring::fatigue`], its `basis` in words only with `details`.
+    fn fatigue_with(&self, tau_k1: f64, tau_k2: f64, details: bool) -> Fatigue {
         let d = self.wire_diameter_mm;
         fatigue::check(
             tau_k1,
@@ -468,11 +479,12 @@ impl Spring {
             self.wire_grade.as_deref(),
             self.tensile_strength_mpa,
             super::grades::tensile_strength_mpa("DH", d).ok(),
+            details,
         )
     }
 
-    /// The checks of the sheet (module docs).
-    fn checks(&self, s: &Sheet) -> Vec<Check> {
+    /// The checks of the sheet (module docs); each `detail` in words only with `details`.
+    fn checks(&self, s: &Sheet, details: bool) -> Vec<Check> {
         let cold = self.coiling == Coiling::Cold;
         let (w_lo, w_hi, n_lo) = if cold {
             (4.0, 20.0, 2.0)
@@ -480,76 +492,80 @@ impl Spring {
             (3.0, 12.0, 3.0)
         };
         let working = ("tau2", s.shear_stress_2_mpa);
-        let check = |name, passed, detail: String| Check {
+        let check = |name, passed, detail: &dyn Fn() -> String| Check {
             name,
             passed,
-            detail,
+            detail: if details { detail() } else { String::new() },
         };
         let f = &s.fatigue;
         let mut checks = vec![
             check(
                 "spring_index",
                 (w_lo..=w_hi).contains(&s.spring_index),
-                format!("w = {:.3} in [{w_lo}, {w_hi}]", s.spring_index),
+                &|| format!("w = {:.3} in [{w_lo}, {w_hi}]", s.spring_index),
             ),
-            check(
-                "active_coils",
-                self.active_coils >= n_lo,
-                format!("n = {} >= {n_lo}", self.active_coils),
-            ),
+            check("active_coils", self.active_coils >= n_lo, &|| {
+                format!("n = {} >= {n_lo}", self.active_coils)
+            }),
             check(
                 "working_points",
                 s.deflection_1_mm >= 0.0 && s.deflection_2_mm > s.deflection_1_mm,
-                format!(
-                    "0 <= s1 = {:.3} < s2 = {:.3} mm",
-                    s.deflection_1_mm, s.deflection_2_mm
-                ),
+                &|| {
+                    format!(
+                        "0 <= s1 = {:.3} < s2 = {:.3} mm",
+                        s.deflection_1_mm, s.deflection_2_mm
+                    )
+                },
             ),
             check(
                 "minimum_length",
                 s.length_2_mm >= s.minimum_length_mm,
-                format!(
-                    "L2 = {:.3} >= Ln = Lc + Sa = {:.3} mm",
-                    s.length_2_mm, s.minimum_length_mm
-                ),
+                &|| {
+                    format!(
+                        "L2 = {:.3} >= Ln = Lc + Sa = {:.3} mm",
+                        s.length_2_mm, s.minimum_length_mm
+                    )
+                },
             ),
             check(
                 "solid_stress",
                 s.solid_shear_stress_mpa <= s.permissible_solid_stress_mpa,
-                format!(
-                    "tau_c = {:.1} <= 0.56 Rm = {:.1} MPa",
-                    s.solid_shear_stress_mpa, s.permissible_solid_stress_mpa
-                ),
+                &|| {
+                    format!(
+                        "tau_c = {:.1} <= 0.56 Rm = {:.1} MPa",
+                        s.solid_shear_stress_mpa, s.permissible_solid_stress_mpa
+                    )
+                },
             ),
             check(
                 "buckling",
                 s.buckling_deflection_mm
                     .is_none_or(|sk| sk > s.deflection_2_mm),
-                match s.buckling_deflection_mm {
+                &|| match s.buckling_deflection_mm {
                     None => "stable at any deflection".to_string(),
                     Some(sk) => format!("sk = {sk:.2} > s2 = {:.2} mm", s.deflection_2_mm),
                 },
             ),
-            check(
-                "pitch",
-                s.gap_mm > 0.0,
-                format!("a0 = m0 - d = {:.3} mm > 0", s.gap_mm),
-            ),
+            check("pitch", s.gap_mm > 0.0, &|| {
+                format!("a0 = m0 - d = {:.3} mm > 0", s.gap_mm)
+            }),
         ];
         if self.loading == Loading::Static {
             checks.push(check(
                 "working_stress",
                 working.1 <= s.permissible_working_stress_mpa,
-                format!(
-                    "{} = {:.1} <= 0.5 Rm = {:.1} MPa",
-                    working.0, working.1, s.permissible_working_stress_mpa
-                ),
+                &|| {
+                    format!(
+                        "{} = {:.1} <= 0.5 Rm = {:.1} MPa",
+                        working.0, working.1, s.permissible_working_stress_mpa
+                    )
+                },
             ));
         } else {
             checks.push(check(
                 "fatigue",
                 f.passed,
-                format!(
+                &|| format!(
                     "tau_kh = {:.1} <= tau_kH = {:.1} MPa at tau_k1 = {:.1} MPa (tau_k1 <= {:.1}, tau_k2 = {:.1} <= {:.1} MPa; {})",
                     f.stroke_stress_mpa,
                     f.permissible_stroke_stress_mpa,
@@ -662,6 +678,36 @@ mod tests {
             s.stroke_stress_mpa
         );
         assert!((s.fatigue.permissible_stroke_stress_mpa - 275.20).abs() < 0.02);
+    }
+
+    /// The stress correction factors against values published by others, none
+    /// computed by this code: Bergsträsser's k at w = 6.92 is HeliSpring's 1.2026
+    /// (verification output of spring S.198, dsoftcon.be), at C = 10.8 1.124 and at
+    /// C = 0.213 / 0.035 1.234 (Budynas and Nisbett, Shigley's Mechanical Engineering
+    /// Design, 10th ed., Examples 10-1 and 10-6, which use K_B = (4C + 2)/(4C - 3), the
+    /// same factor); Wahl's at C = 6.76 is 1.221 ("Comprehensive Spring Design",
+    /// section 7.13.1, as published by Victory Spring), and 1.40, 1.18, 1.14 at C = 4,
+    /// 8, 10 (machinecalcs.com, "The Wahl correction factor"). Each within half a unit
+    /// of the last printed digit.
+    #[test]
+    fn correction_factors_match_published_values() {
+        for (w, printed, half_digit) in [
+            (6.92, 1.2026, 5e-5),
+            (10.8, 1.124, 5e-4),
+            (0.213 / 0.035, 1.234, 5e-4),
+        ] {
+            let k = bergstraesser(w);
+            assert!((k - printed).abs() <= half_digit, "Bergstraesser {w}: {k}");
+        }
+        for (w, printed, half_digit) in [
+            (6.76, 1.221, 5e-4),
+            (4.0, 1.40, 5e-3),
+            (8.0, 1.18, 5e-3),
+            (10.0, 1.14, 5e-3),
+        ] {
+            let k = wahl(w);
+            assert!((k - printed).abs() <= half_digit, "Wahl {w}: {k}");
+        }
     }
 
     /// Closed forms the sheet must satisfy whatever the inputs: the two stress forms

@@ -125,7 +125,9 @@ pub struct Fatigue {
 /// The fatigue check at lower and upper corrected stresses `tau_k1`, `tau_k2` (MPa) of a
 /// `grade` wire of diameter `d_mm`, with `rm` its Rm and `rm_dh` DH's Rm at d (both MPa,
 /// `None` when the grade is unknown: then DH's line is scaled by nothing and the basis
-/// says the strength was given, not a grade).
+/// says the strength was given, not a grade). Without `details` the `basis` is left
+/// empty (a design's search checks millions of springs and words none of them).
+#[allow(clippy::too_many_arguments)]
 pub fn check(
     tau_k1: f64,
     tau_k2: f64,
@@ -134,38 +136,37 @@ pub fn check(
     grade: Option<&str>,
     rm: f64,
     rm_dh: Option<f64>,
+    details: bool,
 ) -> Fatigue {
     let surface = if shot_peened {
         "shot-peened"
     } else {
         "not shot-peened"
     };
-    let upper = grade.map(|g| g.trim().to_ascii_uppercase());
-    let (scale, basis) = match (upper.as_deref(), rm_dh) {
-        (Some("DH" | "SH"), _) => (
-            1.0,
-            format!(
+    let grade = grade.map(str::trim);
+    let dh = grade.is_some_and(|g| g.eq_ignore_ascii_case("DH") || g.eq_ignore_ascii_case("SH"));
+    let scale = match rm_dh {
+        Some(rm_dh) if !dh => rm / rm_dh,
+        _ => 1.0,
+    };
+    let basis = if !details {
+        String::new()
+    } else {
+        match (grade, rm_dh) {
+            _ if dh => format!(
                 "EN 13906-1 Goodman diagram, EN 10270-1 DH, {surface}, N = 1e7 (springONE's digitisation)"
             ),
-        ),
-        (Some(g), Some(dh)) => (
-            rm / dh,
-            format!(
-                "estimated: EN 13906-1 gives no diagram for {g}; DH's ({surface}, N = 1e7) scaled by Rm {rm:.0} / {dh:.0} MPa"
+            (Some(g), Some(dh)) => format!(
+                "estimated: EN 13906-1 gives no diagram for {}; DH's ({surface}, N = 1e7) scaled by Rm {rm:.0} / {dh:.0} MPa",
+                g.to_ascii_uppercase()
             ),
-        ),
-        _ => match rm_dh {
-            Some(dh) => (
-                rm / dh,
-                format!(
-                    "estimated: DH's diagram ({surface}, N = 1e7) scaled by the given Rm {rm:.0} / DH's {dh:.0} MPa"
-                ),
+            (None, Some(dh)) => format!(
+                "estimated: DH's diagram ({surface}, N = 1e7) scaled by the given Rm {rm:.0} / DH's {dh:.0} MPa"
             ),
-            None => (
-                1.0,
-                format!("EN 13906-1 DH diagram ({surface}, N = 1e7) unscaled: d outside DH's table"),
+            (_, None) => format!(
+                "EN 13906-1 DH diagram ({surface}, N = 1e7) unscaled: d outside DH's table"
             ),
-        },
+        }
     };
     let line = dh_line(d_mm, shot_peened, scale);
     let stroke = tau_k2 - tau_k1;
@@ -213,9 +214,27 @@ mod tests {
     /// A 1.4 mm wire at tau_kh = 739 MPa is far above any diagram: refused.
     #[test]
     fn a_large_stroke_stress_is_refused() {
-        let f = check(100.0, 839.0, 1.4, false, Some("DH"), 2000.0, Some(2000.0));
+        let f = check(
+            100.0,
+            839.0,
+            1.4,
+            false,
+            Some("DH"),
+            2000.0,
+            Some(2000.0),
+            true,
+        );
         assert!(!f.passed && f.utilisation > 1.5, "{f:?}");
-        let f = check(100.0, 839.0, 1.4, true, Some("DH"), 2000.0, Some(2000.0));
+        let f = check(
+            100.0,
+            839.0,
+            1.4,
+            true,
+            Some("DH"),
+            2000.0,
+            Some(2000.0),
+            true,
+        );
         assert!(!f.passed, "{f:?}");
     }
 }

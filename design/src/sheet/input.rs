@@ -11,7 +11,7 @@
 //! `shear_modulus_mpa`, `youngs_modulus_mpa` and `density_kg_m3` are required with
 //! `tensile_strength_mpa`; with a grade they default to EN 13906-1's handbook values
 //! for EN 10270-1 wire (81500 MPa, 206000 MPa, 7850 kg/m^3).
-//! Optional: `seating_coefficient` (0.5), `stress_correction` (`bergstraesser`, the
+//! Optional: `seating_coefficient` (0.5; 0.5 to 2), `stress_correction` (`bergstraesser`, the
 //! default, or `wahl`), `wire_tolerance_mm` (0: `dmax = d`), `measured_rate_n_mm`,
 //! `shot_peened` (false), `quality_grade` (EN 15800 grade 1, 2 or 3; 2),
 //! `head_mass_kg` (the bounce frequency of that mass on the spring), `source` and
@@ -128,6 +128,47 @@ pub(crate) fn opt_bool(
     }
 }
 
+/// A number for a message: plain when short, else in exponent form (1e300, not 301 digits).
+pub(crate) fn num(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e7).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// EN 13906-1's seating coefficient nu of the buckling formula, 0.5 when absent: 0.5
+/// (both ends fixed and guided) to 2 (one end free); outside that range it is no seating.
+pub(crate) fn seating_coefficient(o: &Object<'_>) -> Result<f64, FieldError> {
+    let meaning = "the seating coefficient nu of EN 13906-1's buckling formula: 0.5 (both ends fixed and guided), 0.7, 1, up to 2 (one end free)";
+    match o.get("seating_coefficient") {
+        None => Ok(0.5),
+        Some(f) => {
+            let nu = f.number(Range::Positive, meaning)?;
+            if !(0.5..=2.0).contains(&nu) {
+                return Err(f.error(format!("{} is out of range", num(nu)), meaning));
+            }
+            Ok(nu)
+        }
+    }
+}
+
+/// Free-text members (`source`, `notes`, ...): a JSON string when present (a number or
+/// an object there is a slip, not a note).
+pub(crate) fn free_text(o: &Object<'_>, keys: &[&str]) -> Result<(), FieldError> {
+    for key in keys {
+        if let Some(f) = o.get(key) {
+            if !matches!(f.node.value, Value::String(_)) {
+                return Err(f.error(
+                    format!("found {}", f.node.value.kind()),
+                    "free text (a JSON string)",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// EN 15800's quality grade (1, 2 or 3), 2 when absent.
 pub(crate) fn quality_grade(o: &Object<'_>) -> Result<u8, FieldError> {
     match o.get("quality_grade") {
@@ -136,7 +177,7 @@ pub(crate) fn quality_grade(o: &Object<'_>) -> Result<u8, FieldError> {
             let g = f.number(Range::Count, "the EN 15800 quality grade")?;
             if g > 3.0 {
                 return Err(f.error(
-                    format!("found {g}"),
+                    format!("found {}", num(g)),
                     "the EN 15800 quality grade: 1, 2 or 3",
                 ));
             }
@@ -176,7 +217,7 @@ fn mean_diameter(o: &Object<'_>, d: f64) -> Result<f64, FieldError> {
         };
         let field = o.require(key, "")?;
         return Err(field.error(
-            format!("D = {mean} mm is not larger than d = {d} mm"),
+            format!("D = {} mm is not larger than d = {} mm", num(mean), num(d)),
             "a mean diameter larger than the wire (outer diameter larger than 2 d)",
         ));
     }
@@ -237,6 +278,7 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
     let top = root(path, &node);
     let o = top.object("a spring (docs/spring-design.md)")?;
     o.strict(&SPRING_KEYS)?;
+    free_text(&o, &["source", "notes", "name"])?;
     let d = o.number(
         "wire_diameter_mm",
         Range::Positive,
@@ -248,7 +290,7 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
     let total = total_field.number(Range::Positive, "the total coils nt")?;
     if total < n {
         return Err(total_field
-            .error(format!("nt = {total} < n = {n}"), "nt >= n")
+            .error(format!("nt = {} < n = {}", num(total), num(n)), "nt >= n")
             .into());
     }
     let (strength, grade) = strength(&o, d)?;
@@ -278,13 +320,7 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
         youngs_modulus_mpa: e,
         density_kg_m3: rho,
         tensile_strength_mpa: strength,
-        seating_coefficient: o
-            .opt_number(
-                "seating_coefficient",
-                Range::Positive,
-                "the seating coefficient nu (0.5 both ends fixed and guided ... 2 one end free)",
-            )?
-            .unwrap_or(0.5),
+        seating_coefficient: seating_coefficient(&o)?,
         working,
         loading: choice(&o, "loading", &LOADING, None)?,
         stress_correction: choice(
@@ -309,7 +345,90 @@ pub fn read_spring(path: &Path) -> Result<Spring, CaseError> {
         )?,
     };
     spring.free_length_mm = free_length(&o, &spring)?;
+    model_domain(&o, &spring)?;
     Ok(spring)
+}
+
+/// The material and geometry coil's FE model beside the sheet takes, refused naming the
+/// key: moduli and density of a spring metal in their units (a unit slip, 206 for
+/// 206000 MPa or 7.85 for 7850 kg/m^3, is caught), Poisson's ratio `E / (2 G) - 1` of an
+/// isotropic metal (0 to 0.5), at least [`coil_mesher::MIN_COILS`] active coil, the
+/// spring index within [`coil_mesher::SPRING_INDEX`] and a free pitch below 2 pi D.
+fn model_domain(o: &Object<'_>, spring: &Spring) -> Result<(), FieldError> {
+    let field = |keys: &[&str]| {
+        keys.iter()
+            .find_map(|k| o.get(k))
+            .map_or_else(|| o.error("", ""), |f| f.error("", ""))
+    };
+    let refuse = |keys: &[&str], problem: String, expected: &str| {
+        let mut e = field(keys);
+        e.problem = problem;
+        e.expected = expected.to_string();
+        Err(e)
+    };
+    let (e, g, rho) = (
+        spring.youngs_modulus_mpa,
+        spring.shear_modulus_mpa,
+        spring.density_kg_m3,
+    );
+    if !(1e3..=1e6).contains(&e) {
+        return refuse(
+            &["youngs_modulus_mpa"],
+            format!("E = {} MPa", num(e)),
+            "a spring metal's E in MPa, 1e3 to 1e6 (steel 206000)",
+        );
+    }
+    if !(1e3..=1e6).contains(&g) {
+        return refuse(
+            &["shear_modulus_mpa"],
+            format!("G = {} MPa", num(g)),
+            "a spring metal's G in MPa, 1e3 to 1e6 (steel 81500)",
+        );
+    }
+    let nu = e / (2.0 * g) - 1.0;
+    if !(0.0..0.5).contains(&nu) {
+        return refuse(
+            &["shear_modulus_mpa", "youngs_modulus_mpa"],
+            format!(
+                "E = {} and G = {} MPa give Poisson's ratio E / (2 G) - 1 = {nu:.4}",
+                num(e),
+                num(g)
+            ),
+            "an isotropic metal's G between E / 3 and E / 2 (Poisson's ratio 0 to 0.5; steel 0.26)",
+        );
+    }
+    if !(1e3..=25e3).contains(&rho) {
+        return refuse(
+            &["density_kg_m3"],
+            format!("{} kg/m^3", num(rho)),
+            "a spring metal's density in kg/m^3, 1000 to 25000 (steel 7850; 7.85 would be kg/dm^3)",
+        );
+    }
+    let n = spring.active_coils;
+    if n < coil_mesher::MIN_COILS {
+        return refuse(&["active_coils"], format!("n = {}", num(n)), "at least 1 active coil for coil's FE model (EN 13906-1 asks for 2; the sheet checks it)");
+    }
+    let (lo, hi) = coil_mesher::SPRING_INDEX;
+    let w = spring.mean_diameter_mm / spring.wire_diameter_mm;
+    if !(lo..=hi).contains(&w) {
+        return refuse(
+            &["mean_diameter_mm", "outer_diameter_mm"],
+            format!("D / d = {}", num(w)),
+            "a spring index from 3 to 100 for coil's FE model (EN 13906-1 recommends 4 to 20; below 3 the wire is too curved for beams, above 100 the figures are likely a unit slip)",
+        );
+    }
+    let pitch = (spring.free_length_mm - spring.end_allowance_mm()) / n;
+    if pitch >= 2.0 * std::f64::consts::PI * spring.mean_diameter_mm {
+        return refuse(
+            &["free_length_mm", "pitch_mm"],
+            format!(
+                "the free coils' pitch m0 = {} mm is above 2 pi D",
+                num(pitch)
+            ),
+            "a pitch below 2 pi D (a pitch angle under 63 degrees: a helical spring)",
+        );
+    }
+    Ok(())
 }
 
 /// L0: `free_length_mm`, or from `pitch_mm` (`L0 = Lc - (n - 1) dmax + n m0`); the
@@ -322,7 +441,11 @@ fn free_length(o: &Object<'_>, spring: &Spring) -> Result<f64, FieldError> {
             let lc = spring.solid_length_mm();
             if l0 <= lc {
                 return Err(f.error(
-                    format!("L0 = {l0} mm is not longer than the solid length Lc = {lc:.3} mm"),
+                    format!(
+                        "L0 = {} mm is not longer than the solid length Lc = {} mm",
+                        num(l0),
+                        num(lc)
+                    ),
                     "a free length above the solid length (nt, d and the end type set Lc)",
                 ));
             }
@@ -335,7 +458,11 @@ fn free_length(o: &Object<'_>, spring: &Spring) -> Result<f64, FieldError> {
             )?;
             if pitch <= dmax {
                 return Err(f.error(
-                    format!("m0 = {pitch} mm is not larger than dmax = {dmax} mm"),
+                    format!(
+                        "m0 = {} mm is not larger than dmax = {} mm",
+                        num(pitch),
+                        num(dmax)
+                    ),
                     "a pitch larger than the wire (a gap between the free coils)",
                 ));
             }

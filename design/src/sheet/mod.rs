@@ -20,6 +20,21 @@ use en13906::{Sheet, Spring};
 use fe::FeValues;
 use serde::Serialize;
 
+/// A number with `digits` significant digits, no trailing zeros ("5.3", "0.06694").
+pub fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i64;
+    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// The sheet and the FE values of one spring (`coil-tune check --json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckReport {
@@ -102,6 +117,15 @@ impl CheckReport {
         let m = &self.fe.mesh;
         let last = m.elements_per_coil.last().copied().unwrap_or(0);
         match (m.method, m.last_change_percent) {
+            ("converged", Some(change)) if m.extrapolated => format!(
+                "extrapolated from {} beams/coil (Richardson; last change {change:+.3} %, the next mesh above {} beams)",
+                m.elements_per_coil
+                    .iter()
+                    .map(u32::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                fe::MAX_BEAMS
+            ),
             ("converged", Some(change)) => format!(
                 "{last} beams/coil ({} after {}; last change {change:+.3} %)",
                 if m.converged {
@@ -114,6 +138,10 @@ impl CheckReport {
                     .map(u32::to_string)
                     .collect::<Vec<_>>()
                     .join(", ")
+            ),
+            ("converged", None) => format!(
+                "{last} beams/coil (NOT converged: the next mesh is above {} beams)",
+                fe::MAX_BEAMS
             ),
             _ => format!("{last} beams/coil (fixed)"),
         }
@@ -272,7 +300,7 @@ impl CheckReport {
         if let (Some(m), Some(fb)) = (s.head_mass_kg, s.bounce_frequency_hz) {
             rows.push((
                 "bounce of head mass (Hz)",
-                format!("{fb:.2} ({m} kg)"),
+                format!("{fb:.2} ({} kg)", sig(m, 4)),
                 none(),
             ));
         }

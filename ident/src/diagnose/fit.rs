@@ -15,7 +15,9 @@
 //! Records of displacement or velocity carry the sensor's offset and a slow drift: an
 //! offset `c0` and a linear drift `c1 t` are fitted with every model, by the same
 //! linear least squares (two more columns beside the unit responses of a linear model;
-//! projected out of the residual of a nonlinear one), so they cost no search. The fit
+//! projected out of the residual of a nonlinear one), so they cost no search. A record
+//! holding a slow line (another mode of the rig, `data::slow_line`) has its damped
+//! cosine and sine fitted the same way. The fit
 //! compares the measured quantity itself (a displacement with a displacement): no
 //! record is differentiated for the fit.
 //!
@@ -26,6 +28,7 @@
 //! optionally followed by a static block (see [`StaticBlock`]), each block divided by
 //! its noise level so that they weigh by their information.
 
+use super::data::SlowLine;
 use super::effects::CATALOGUE;
 use super::lm::{self, LmOptions, Residuals};
 use super::model::{Physical, ReducedSpring};
@@ -86,6 +89,10 @@ pub struct Segment {
     /// first record's noise floor over this one's, so that records of different
     /// quantities or sensors weigh by their information.
     pub weight: f64,
+    /// A slow line in this record (another mode of the rig, `data::slow_line`): its
+    /// angular frequency (rad/s) and decay rate (1/s); its form is fitted beside the
+    /// model as the offset and drift are.
+    pub slow_line: Option<(f64, f64)>,
 }
 
 impl Segment {
@@ -97,6 +104,7 @@ impl Segment {
             quantity,
             mass_delta_kg: 0.0,
             weight: 1.0,
+            slow_line: None,
         }
     }
 
@@ -200,14 +208,20 @@ impl Problem<'_> {
             .collect()
     }
 
-    /// The offset and drift columns over the first `n` samples of `segment` (none for
-    /// an acceleration record): 1 and the time over the record's length.
+    /// The columns fitted beside the model over the first `n` samples of `segment`:
+    /// the offset and drift (1 and the time over the record's length; none for an
+    /// acceleration record), and a slow line's damped cosine and sine.
     fn drift_columns(segment: &Segment, n: usize) -> Vec<Vec<f64>> {
-        if !segment.drift() {
-            return Vec::new();
+        let mut columns = Vec::new();
+        if segment.drift() {
+            let len = segment.span.len().max(1) as f64;
+            columns.push(vec![1.0; n]);
+            columns.push((0..n).map(|i| i as f64 / len).collect());
         }
-        let len = segment.span.len().max(1) as f64;
-        vec![vec![1.0; n], (0..n).map(|i| i as f64 / len).collect()]
+        if let Some((omega, sigma)) = segment.slow_line {
+            columns.extend(SlowLine::columns(omega, sigma, segment.step_s, n));
+        }
+        columns
     }
 
     fn linear(&self) -> bool {
@@ -273,8 +287,9 @@ impl Problem<'_> {
                     let columns: Vec<Vec<f64>> =
                         drift.iter().map(|b| b[local.clone()].to_vec()).collect();
                     let rest: Vec<f64> = local.clone().map(|i| measured[i] - out[i]).collect();
-                    let c = lm::linear_least_squares(&columns, &rest)
-                        .ok_or("the offset and drift are not identifiable from the record")?;
+                    let c = lm::linear_least_squares(&columns, &rest).ok_or(
+                        "the offset, drift and slow line are not identifiable from the record",
+                    )?;
                     for (b, ci) in drift.iter().zip(&c) {
                         for (s, x) in out.iter_mut().zip(b) {
                             *s += ci * x;

@@ -208,61 +208,19 @@ fn compute(
     clock: Instant,
 ) -> Result<Outcome> {
     let n = decay.signal.values().len();
-    let half = n / 2;
     let measured = decay.signal.values().to_vec();
     let step = decay.signal.step_s();
 
     progress(settings, &clock, "baseline (the paper's loops)");
-    let static_fit = statics
-        .as_ref()
-        .map(|(r, b)| signatures::static_fit(r, b.clone()))
-        .transpose()?;
-    let k_measured = match (&static_fit, case.targets.stiffness_n_mm) {
-        (Some(s), _) => s.linear_k_n_mm,
-        (None, Some(k)) => k,
-        (None, None) => crate::fe::static_stiffness(&SpringState::nominal(&case), &settings.fe)?.0,
-    };
-    let mut state = SpringState::nominal(&case);
-    loops::tune_youngs_modulus(&mut state, &settings.fe, k_measured, 1e-6, None)?;
-    let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
-
-    let paper = |range: Range<usize>| paper_calibration(&decay, range, &state, &case, settings);
-    // A decay that sticks (dry friction) rests after its last crest: the paper's
-    // decrement reads the crests while the weight moves, not the sensor's noise after.
-    let moving = moving_samples(&decay);
-    if moving < n {
-        warnings.push(format!(
-            "the oscillation stops at {:.3} s ({} of {n} samples): the weight rests after its \
-             last crest, and the paper's decrement reads the crests before it",
-            decay.signal.time_s()[moving - 1],
-            moving
-        ));
-    }
-    let (base_phys, period_s, zeta) = paper(0..moving)?;
-    // A short record's first half may be too short for the decrement's filter (a 25-cycle
-    // video record at 30 Hz): the baseline's forecast then starts from the whole
-    // record's calibration, and the run says so.
-    let half_phys = match paper(0..half.min(moving)) {
-        // A first half of a few cycles can give the decrement a negative damping or
-        // a period far from the whole record's: no calibration to forecast from.
-        Ok((p, _, z)) if z <= 0.0 || (p.mass_kg / base_phys.mass_kg).ln().abs() > LN_2 => {
-            warnings.push(format!(
-                "the paper's calibration on the first half gives zeta = {z:.3e} and a mass of \
-                 {:.4} kg against {:.4} kg on the whole record; the baseline's forecast uses \
-                 the whole record's calibration",
-                p.mass_kg, base_phys.mass_kg
-            ));
-            base_phys
-        }
-        Ok((p, _, _)) => p,
-        Err(e) => {
-            warnings.push(format!(
-                "the paper's calibration fails on the first half ({e}); the baseline's \
-                 forecast uses the whole record's calibration"
-            ));
-            base_phys
-        }
-    };
+    let Calibration {
+        static_fit,
+        state,
+        guided,
+        base_phys,
+        half_phys,
+        period_s,
+        zeta,
+    } = calibrate(&case, &decay, statics.as_ref(), settings, &mut warnings)?;
     let fit_target = &decay.measured;
     let quantity = decay.quantity;
     progress(settings, &clock, "reference (linear model by output error)");
@@ -270,22 +228,8 @@ fn compute(
     let noise = (reference.full.rss / joint.measured.len() as f64).sqrt();
 
     progress(settings, &clock, "signatures");
-    let w_ref = std::f64::consts::TAU / period_s;
-    let stiffness_n_m = guided.stiffness_n_m(&reference.full.physical);
     let free = ReducedSpring::build(&state, &settings.fe, Mount::FreeRotation, settings.modes)?;
-    let (kz, c, kt) = free.boundary_stiffness(&reference.full.physical);
-    let figures = BaselineFigures {
-        mass_kg: reference.full.physical.mass_kg,
-        stiffness_n_m,
-        frequency_hz: 1.0 / period_s,
-        // The largest displacement amplitude: peak acceleration over w^2.
-        amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs())) / (w_ref * w_ref),
-        preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / stiffness_n_m,
-        damping_ratio: 0.5 * reference.full.physical.beta_s * w_ref,
-        kz,
-        c,
-        kt,
-    };
+    let figures = baseline_figures(&guided, &free, &reference, &measured, period_s, &case);
     let (sigs, spectrum) = signatures::compute(&decay, static_fit, &figures)?;
 
     let statics_block = statics
@@ -318,7 +262,7 @@ fn compute(
     let candidates = search::candidates(&job, &ctx, &|text| progress(settings, &clock, text));
     let choice = select::choose(&ctx, &candidates);
     // The spectral noise floor of the recorded quantity (valid on band-limited
-    // records, data.rs).
+    // records, data/mod.rs).
     let noise_abs = decay.measured_noise.rms;
     let noise_floor = noise_abs / (fit_target.iter().map(|a| a * a).sum::<f64>() / n as f64).sqrt();
     plausibility(&state, &base_phys, &case, &mut warnings);
@@ -370,6 +314,126 @@ fn compute(
         stiffness_source: k_source,
         joint_records: joint.others(),
     })
+}
+
+/// The paper's model calibrated to the records (module docs, step 2): the static fit,
+/// the spring at the calibrated E and its guided reduced model, the linear model on the
+/// whole record and on its first half, the decrement's damped period and zeta.
+struct Calibration {
+    static_fit: Option<evidence::StaticSummary>,
+    state: SpringState,
+    guided: ReducedSpring,
+    base_phys: Physical,
+    half_phys: Physical,
+    period_s: f64,
+    zeta: f64,
+}
+
+/// The baseline's calibration ([`Calibration`]): E from the static record's stiffness
+/// (or the case's target, or the nominal spring's), then the paper's decrement and
+/// mass loop on the moving part of the record and on its first half.
+fn calibrate(
+    case: &MeasuredCase,
+    decay: &DecayData,
+    statics: Option<&(crate::case::StaticRecord, Range<usize>)>,
+    settings: &DiagnoseSettings,
+    warnings: &mut Vec<String>,
+) -> Result<Calibration> {
+    let n = decay.signal.values().len();
+    let static_fit = statics
+        .map(|(r, b)| signatures::static_fit(r, b.clone()))
+        .transpose()?;
+    let k_measured = match (&static_fit, case.targets.stiffness_n_mm) {
+        (Some(s), _) => s.linear_k_n_mm,
+        (None, Some(k)) => k,
+        (None, None) => crate::fe::static_stiffness(&SpringState::nominal(case), &settings.fe)?.0,
+    };
+    let mut state = SpringState::nominal(case);
+    loops::tune_youngs_modulus(&mut state, &settings.fe, k_measured, 1e-6, None)?;
+    let guided = ReducedSpring::build(&state, &settings.fe, Mount::Guided, settings.modes)?;
+
+    let paper = |range: Range<usize>| paper_calibration(decay, range, &state, case, settings);
+    // A decay that sticks (dry friction) rests after its last crest: the paper's
+    // decrement reads the crests while the weight moves, not the sensor's noise after.
+    let moving = moving_samples(decay);
+    if moving < n {
+        warnings.push(format!(
+            "the oscillation stops at {:.3} s ({} of {n} samples): the weight rests after its \
+             last crest, and the paper's decrement reads the crests before it",
+            decay.signal.time_s()[moving - 1],
+            moving
+        ));
+    }
+    let (base_phys, period_s, zeta) = paper(0..moving)?;
+    let half_phys = first_half(paper(0..(n / 2).min(moving)), base_phys, warnings);
+    Ok(Calibration {
+        static_fit,
+        state,
+        guided,
+        base_phys,
+        half_phys,
+        period_s,
+        zeta,
+    })
+}
+
+/// The paper's calibration on the first half, for the baseline's forecast; the whole
+/// record's (with a warning) when the first half gives none or an implausible one.
+fn first_half(
+    attempt: Result<(Physical, f64, f64)>,
+    base_phys: Physical,
+    warnings: &mut Vec<String>,
+) -> Physical {
+    // A short record's first half may be too short for the decrement's filter (a 25-cycle
+    // video record at 30 Hz): the baseline's forecast then starts from the whole
+    // record's calibration, and the run says so.
+    match attempt {
+        // A first half of a few cycles can give the decrement a negative damping or
+        // a period far from the whole record's: no calibration to forecast from.
+        Ok((p, _, z)) if z <= 0.0 || (p.mass_kg / base_phys.mass_kg).ln().abs() > LN_2 => {
+            warnings.push(format!(
+                "the paper's calibration on the first half gives zeta = {z:.3e} and a mass of \
+                 {:.4} kg against {:.4} kg on the whole record; the baseline's forecast uses \
+                 the whole record's calibration",
+                p.mass_kg, base_phys.mass_kg
+            ));
+            base_phys
+        }
+        Ok((p, _, _)) => p,
+        Err(e) => {
+            warnings.push(format!(
+                "the paper's calibration fails on the first half ({e}); the baseline's \
+                 forecast uses the whole record's calibration"
+            ));
+            base_phys
+        }
+    }
+}
+
+/// What the effects read of the calibrated linear reference (`effects::BaselineFigures`).
+fn baseline_figures(
+    guided: &ReducedSpring,
+    free: &ReducedSpring,
+    reference: &ModelRun,
+    measured: &[f64],
+    period_s: f64,
+    case: &MeasuredCase,
+) -> BaselineFigures {
+    let w_ref = std::f64::consts::TAU / period_s;
+    let stiffness_n_m = guided.stiffness_n_m(&reference.full.physical);
+    let (kz, c, kt) = free.boundary_stiffness(&reference.full.physical);
+    BaselineFigures {
+        mass_kg: reference.full.physical.mass_kg,
+        stiffness_n_m,
+        frequency_hz: 1.0 / period_s,
+        // The largest displacement amplitude: peak acceleration over w^2.
+        amplitude_m: measured.iter().fold(0.0_f64, |m, a| m.max(a.abs())) / (w_ref * w_ref),
+        preload_m: reference.full.physical.mass_kg * case.gravity_m_s2 / stiffness_n_m,
+        damping_ratio: 0.5 * reference.full.physical.beta_s * w_ref,
+        kz,
+        c,
+        kt,
+    }
 }
 
 /// The linear model on every record: the baseline (the paper's calibration on the whole

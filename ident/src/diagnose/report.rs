@@ -249,6 +249,51 @@ fn with_errors(
     (values, errors)
 }
 
+/// The names of the catalogue effects `set`.
+fn effect_names(set: &[usize]) -> Vec<String> {
+    set.iter()
+        .map(|&i| CATALOGUE[i].name().to_string())
+        .collect()
+}
+
+/// Every candidate tried as the report lists it, with its figures and tests.
+fn candidate_list(candidates: &[CandidateRun], choice: &Choice) -> Vec<Candidate> {
+    candidates
+        .iter()
+        .zip(&choice.scores)
+        .map(|(c, score)| {
+            let ok = c.run.as_ref().ok();
+            let (parameters, parameters_se) = match (ok, score) {
+                (Some(r), Some(s)) => with_errors(&c.effects, &r.full.physical, &s.rel_se),
+                (Some(r), None) => (
+                    super::run::parameters(&c.effects, &r.full.physical),
+                    BTreeMap::new(),
+                ),
+                _ => (BTreeMap::new(), BTreeMap::new()),
+            };
+            Candidate {
+                effect: c.label(),
+                effects: effect_names(&c.effects),
+                residual_rms: ok.map(|r| r.residual_rms),
+                evidence: c.evidence.clone(),
+                forecast_rms: ok.map(|r| r.forecast_rms),
+                rolling_forecast_rms: ok.map(|r| r.rolling.clone()).unwrap_or_default(),
+                parameters,
+                parameters_se,
+                delta_bic: score.as_ref().map(|s| s.delta_bic),
+                effective_samples: score.as_ref().map(|s| s.n_eff),
+                significant: score.as_ref().is_some_and(|s| s.tests.passed()),
+                tests: score.as_ref().map(|s| s.tests.clone()),
+                mass_kg: ok.map(|r| r.full.physical.mass_kg),
+                rayleigh_beta: ok.map(|r| r.full.physical.beta_s),
+                initial_state: ok.map(|r| r.full.initial_state.clone()).unwrap_or_default(),
+                fit_error: c.run.as_ref().err().cloned(),
+                bounds: c.bounds.clone(),
+            }
+        })
+        .collect()
+}
+
 /// Builds the report's data.
 #[allow(clippy::too_many_arguments)]
 pub fn assemble(
@@ -274,45 +319,7 @@ pub fn assemble(
         residual_rms: base.run.residual_rms,
         forecast_rms: base.run.forecast_rms,
     };
-    let names = |set: &[usize]| -> Vec<String> {
-        set.iter()
-            .map(|&i| CATALOGUE[i].name().to_string())
-            .collect()
-    };
-    let list: Vec<Candidate> = candidates
-        .iter()
-        .zip(&choice.scores)
-        .map(|(c, score)| {
-            let ok = c.run.as_ref().ok();
-            let (parameters, parameters_se) = match (ok, score) {
-                (Some(r), Some(s)) => with_errors(&c.effects, &r.full.physical, &s.rel_se),
-                (Some(r), None) => (
-                    super::run::parameters(&c.effects, &r.full.physical),
-                    BTreeMap::new(),
-                ),
-                _ => (BTreeMap::new(), BTreeMap::new()),
-            };
-            Candidate {
-                effect: c.label(),
-                effects: names(&c.effects),
-                residual_rms: ok.map(|r| r.residual_rms),
-                evidence: c.evidence.clone(),
-                forecast_rms: ok.map(|r| r.forecast_rms),
-                rolling_forecast_rms: ok.map(|r| r.rolling.clone()).unwrap_or_default(),
-                parameters,
-                parameters_se,
-                delta_bic: score.as_ref().map(|s| s.delta_bic),
-                effective_samples: score.as_ref().map(|s| s.n_eff),
-                significant: score.as_ref().is_some_and(|s| s.tests.passed()),
-                tests: score.as_ref().map(|s| s.tests.clone()),
-                mass_kg: ok.map(|r| r.full.physical.mass_kg),
-                rayleigh_beta: ok.map(|r| r.full.physical.beta_s),
-                initial_state: ok.map(|r| r.full.initial_state.clone()).unwrap_or_default(),
-                fit_error: c.run.as_ref().err().cloned(),
-                bounds: c.bounds.clone(),
-            }
-        })
-        .collect();
+    let list = candidate_list(candidates, choice);
     let chosen = choice.cause.and_then(|i| {
         let c = &candidates[i];
         let score = choice.scores[i].as_ref()?;
@@ -323,7 +330,7 @@ pub fn assemble(
             with_errors(&c.effects, &run.full.physical, &score.rel_se);
         Extended {
             effect: c.label(),
-            effects: names(&c.effects),
+            effects: effect_names(&c.effects),
             parameters,
             parameters_se,
             residual_rms: run.residual_rms,
@@ -371,7 +378,10 @@ pub fn assemble(
         .filter(|e| e.residual_rms > UNEXPLAINED_NOISE * floor)
         .map(|e| {
             format!(
-                "the extended model ({}) still misses the records by a residual RMS of {:.4},                  {:.1} times the noise floor of {:.4}; it leaves {:.0} % of the linear model's                  error (model error ratio {:.3}): the named cause explains part of the misfit,                  and something the catalogue does not hold may remain",
+                "the extended model ({}) still misses the records by a residual RMS of {:.4}, \
+                 {:.1} times the noise floor of {:.4}; it leaves {:.0} % of the linear model's \
+                 error (model error ratio {:.3}): the named cause explains part of the misfit, \
+                 and something the catalogue does not hold may remain",
                 e.effect,
                 e.residual_rms,
                 e.residual_rms / floor.max(1e-300),

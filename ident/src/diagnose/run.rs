@@ -114,6 +114,7 @@ impl Joint {
                 quantity: d.quantity,
                 mass_delta_kg: delta,
                 weight,
+                slow_line: d.slow_line.map(|l| (l.omega_rad_s, l.decay_rate_1_s)),
             });
             if k > 0 {
                 files.push(d.signal.source().to_path_buf());

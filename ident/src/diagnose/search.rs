@@ -62,6 +62,41 @@ pub struct Job<'a> {
     pub decrement_beta_s: f64,
 }
 
+/// One set's fit at any window: the model, the knobs and the records (what each step of
+/// [`Job::fit`] builds its problems from).
+struct Plan<'p> {
+    model: &'p ReducedSpring,
+    knobs: Vec<Knob>,
+    statics: Option<&'p StaticBlock>,
+    /// The set adds a point law: the initial state is fitted beside the knobs.
+    nonlinear: bool,
+    joint: &'p Joint,
+    sigma: f64,
+}
+
+impl Plan<'_> {
+    /// The problem on the first `fraction` of every record from `start` (and, for a
+    /// nonlinear set, the initial state `init`).
+    fn problem(&self, start: Physical, fraction: f64, init: Option<Vec<f64>>) -> Problem<'_> {
+        Problem {
+            model: self.model,
+            start,
+            knobs: self.knobs.clone(),
+            measured: &self.joint.measured,
+            segments: &self.joint.segments,
+            fraction,
+            sigma: self.sigma,
+            statics: self.statics,
+            initial_state: init,
+        }
+    }
+
+    /// The initial state a fit hands to the next window (a nonlinear set's only).
+    fn state(&self, f: &Fitted) -> Option<Vec<f64>> {
+        self.nonlinear.then(|| f.initial_state.clone())
+    }
+}
+
 impl Job<'_> {
     fn uses_static(set: &[usize]) -> bool {
         set.iter()
@@ -431,6 +466,10 @@ impl Job<'_> {
             .collect()
     }
 
+    /// Fits `set` from `seeds` (and the records' initial state `init`): a seed fit
+    /// picks the best start ([`Job::seed_fit`]), continuation over growing windows
+    /// fits it to the whole record ([`Job::window_fits`]), and a window whose forecast
+    /// misses is fitted again from the whole record's values ([`Job::refit_missed`]).
     fn fit(
         &self,
         set: &[usize],
@@ -441,96 +480,71 @@ impl Job<'_> {
         let nonlinear = seeds.iter().any(|s| model.is_nonlinear(s));
         let mut knobs: Vec<Knob> = set.iter().map(|&i| Knob::Effect(i)).collect();
         knobs.extend(self.joint.knobs());
-        let statics = self.statics.filter(|_| Self::uses_static(set));
-        let problem = |start: Physical, fraction: f64, init: Option<Vec<f64>>| Problem {
+        let plan = Plan {
             model,
-            start,
-            knobs: knobs.clone(),
-            measured: &self.joint.measured,
-            segments: &self.joint.segments,
-            fraction,
+            knobs,
+            statics: self.statics.filter(|_| Self::uses_static(set)),
+            nonlinear,
+            joint: self.joint,
             sigma: self.noise.max(1e-300),
-            statics,
-            initial_state: init,
         };
-        let state = |f: &Fitted| nonlinear.then(|| f.initial_state.clone());
-        // Each start also from the initial state of the first cycles
-        // ([`Job::early_state`]) when it differs from `init` by more than 5 %: a record
-        // whose frequency sweeps (a strong softening spring) leaves the whole record's
-        // linear fit with the wrong amplitude and phase at the start, and the nonlinear
-        // fit, whose frequency depends on the amplitude, loses the phase from there.
-        let early = if nonlinear {
-            self.early_state().unwrap_or_default()
-        } else {
-            Vec::new()
-        };
+        let inits = self.starting_states(nonlinear, init);
+        let seed = self.seed_fit(&plan, set, seeds, &inits)?;
+        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+            eprintln!(
+                "  {set:?}: seed rss {:.4e} {:?}",
+                seed.rss, seed.physical.effects
+            );
+        }
+        let [quarter, half_fit, full, three] = self.window_fits(&plan, set, &seed)?;
+        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+            eprintln!(
+                "  {:?}: full {} iterations {} runs, half {} iterations {} runs",
+                set, full.iterations, full.evaluations, half_fit.iterations, half_fit.evaluations
+            );
+        }
+        let rolling = [quarter, half_fit, three];
+        Ok(self.refit_missed(&plan, full, rolling))
+    }
+
+    /// The initial states a nonlinear fit starts from: `init`, and also the state of the
+    /// first cycles ([`Job::early_state`]) when it differs from `init` by more than 5 %:
+    /// a record whose frequency sweeps (a strong softening spring) leaves the whole
+    /// record's linear fit with the wrong amplitude and phase at the start, and the
+    /// nonlinear fit, whose frequency depends on the amplitude, loses the phase from
+    /// there. A linear fit solves its state by least squares (`None`).
+    fn starting_states(&self, nonlinear: bool, init: Vec<f64>) -> Vec<Option<Vec<f64>>> {
+        if !nonlinear {
+            return vec![None];
+        }
+        let early = self.early_state().unwrap_or_default();
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         let differs = early.len() == init.len() && {
             let d: Vec<f64> = early.iter().zip(&init).map(|(a, b)| a - b).collect();
             norm(&d) > 0.05 * norm(&init)
         };
-        let inits: Vec<Option<Vec<f64>>> = if !nonlinear {
-            vec![None]
-        } else if differs {
-            vec![Some(init), Some(early.clone())]
+        if differs {
+            vec![Some(init), Some(early)]
         } else {
             vec![Some(init)]
-        };
-        // Each start is fitted on the first quarter for a few iterations (a seed only:
-        // they tell a good start from a bad one); the best is fitted to convergence
-        // there (the first rolling origin), then on the first half (the forecast's),
-        // the whole record, and the first three quarters (the last rolling origin).
-        let try_seeds = |seeds: &[Physical]| -> Result<Fitted, String> {
-            let mut best: Option<Fitted> = None;
-            let mut last_error = String::from("no starting value");
-            for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
-                let iterations = self.max_iterations.min(SEED_ITERATIONS);
-                let mut seed = fit::run(
-                    &problem(start, select::ORIGINS[0], first.clone()),
-                    iterations,
-                );
-                // A long record's first quarter may hold more cycles than a nonlinear seed
-                // keeps its phase over: the start is also fitted on the first
-                // `SHORT_CYCLES` cycles, then on the quarter, and the better quarter fit
-                // goes on.
-                let cycles = self.signatures.cycles;
-                if nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
-                    let short = fit::run(
-                        &problem(start, SHORT_CYCLES / cycles, first.clone()),
-                        iterations,
-                    )
-                    .and_then(|f| {
-                        fit::run(
-                            &problem(f.physical, select::ORIGINS[0], state(&f)),
-                            iterations,
-                        )
-                    });
-                    seed = match (seed, short) {
-                        (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
-                        (Err(_), Ok(b)) => Ok(b),
-                        (a, Err(_)) => a,
-                    };
-                }
-                match seed {
-                    Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
-                    Ok(_) => {}
-                    Err(e) => {
-                        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-                            eprintln!("  {set:?}: start {start:?} failed: {e}");
-                        }
-                        last_error = e
-                    }
-                }
-            }
-            best.ok_or(last_error)
-        };
-        // A start beyond a softening spring's stability limit starts inside it; when
-        // every start fails (a factorisation, a point law that does not converge, a
-        // motion past the limit), they are tried again from a safer start, each effect
-        // at [`SAFER`] of its value; a candidate that still fails is reported as failed
-        // with the reason, and the others go on.
+        }
+    }
+
+    /// Each start fitted on the first quarter for a few iterations (a seed only: they
+    /// tell a good start from a bad one); the best goes on. A start beyond a softening
+    /// spring's stability limit starts inside it; when every start fails (a
+    /// factorisation, a point law that does not converge, a motion past the limit),
+    /// they are tried again from a safer start, each effect at [`SAFER`] of its value,
+    /// and a set that still fails is reported as failed with the reason.
+    fn seed_fit(
+        &self,
+        plan: &Plan<'_>,
+        set: &[usize],
+        seeds: &[Physical],
+        inits: &[Option<Vec<f64>>],
+    ) -> std::result::Result<Fitted, String> {
         let seeds: Vec<Physical> = seeds.iter().map(|p| self.inside_limit(*p)).collect();
-        let seed = try_seeds(&seeds).or_else(|first| {
+        self.best_seed(plan, set, &seeds, inits).or_else(|first| {
             let safer: Vec<Physical> = seeds
                 .iter()
                 .map(|p| {
@@ -539,29 +553,85 @@ impl Job<'_> {
                     q
                 })
                 .collect();
-            try_seeds(&safer).map_err(|again| {
+            self.best_seed(plan, set, &safer, inits).map_err(|again| {
                 format!(
-                    "every start failed ({first}), and again with each effect at {SAFER} of its start ({again})"
+                    "every start failed ({first}), and again with each effect at {SAFER} of \
+                     its start ({again})"
                 )
             })
-        })?;
-        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-            eprintln!(
-                "  {set:?}: seed rss {:.4e} {:?}",
-                seed.rss, seed.physical.effects
+        })
+    }
+
+    /// The best first-quarter seed fit over `seeds` and `inits` ([`Job::seed_fit`]). A
+    /// long record's first quarter may hold more cycles than a nonlinear seed keeps its
+    /// phase over: the start is also fitted on the first [`SHORT_CYCLES`] cycles, then
+    /// on the quarter, and the better quarter fit goes on.
+    fn best_seed(
+        &self,
+        plan: &Plan<'_>,
+        set: &[usize],
+        seeds: &[Physical],
+        inits: &[Option<Vec<f64>>],
+    ) -> std::result::Result<Fitted, String> {
+        let mut best: Option<Fitted> = None;
+        let mut last_error = String::from("no starting value");
+        let iterations = self.max_iterations.min(SEED_ITERATIONS);
+        let cycles = self.signatures.cycles;
+        for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
+            let mut seed = fit::run(
+                &plan.problem(start, select::ORIGINS[0], first.clone()),
+                iterations,
             );
+            if plan.nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
+                let short = fit::run(
+                    &plan.problem(start, SHORT_CYCLES / cycles, first.clone()),
+                    iterations,
+                )
+                .and_then(|f| {
+                    fit::run(
+                        &plan.problem(f.physical, select::ORIGINS[0], plan.state(&f)),
+                        iterations,
+                    )
+                });
+                seed = match (seed, short) {
+                    (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
+                    (Err(_), Ok(b)) => Ok(b),
+                    (a, Err(_)) => a,
+                };
+            }
+            match seed {
+                Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
+                Ok(_) => {}
+                Err(e) => {
+                    if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
+                        eprintln!("  {set:?}: start {start:?} failed: {e}");
+                    }
+                    last_error = e
+                }
+            }
         }
+        best.ok_or(last_error)
+    }
+
+    /// Continuation from the seed over growing windows: the first quarter to
+    /// convergence (the first rolling origin), the first half (the forecast's), the
+    /// whole record and the first three quarters (the last rolling origin). The set
+    /// nests the reference (its effects at zero): a fit that ends above the reference's
+    /// misfit on the same window lost the phase on the way from the shorter window (a
+    /// short record, a strong drift); it restarts from the reference's mass, beta and
+    /// initial state with the first quarter's effect values, and keeps the better.
+    fn window_fits(
+        &self,
+        plan: &Plan<'_>,
+        set: &[usize],
+        seed: &Fitted,
+    ) -> std::result::Result<[Fitted; 4], String> {
         let stage = |name: &'static str| move |e: String| format!("the {name} fit: {e}");
-        let quarter = fit::run(
-            &problem(seed.physical, select::ORIGINS[0], state(&seed)),
-            self.max_iterations,
-        )
-        .map_err(stage("first quarter's"))?;
-        // The set nests the reference (its effects at zero): a fit that ends above the
-        // reference's misfit on the same window lost the phase on the way from the
-        // shorter window (a short record, a strong drift). It restarts from the
-        // reference's mass, beta and initial state with the first quarter's effect
-        // values, and keeps the better of the two.
+        let run = |start: Physical, fraction: f64, init: Option<Vec<f64>>| {
+            fit::run(&plan.problem(start, fraction, init), self.max_iterations)
+        };
+        let quarter = run(seed.physical, select::ORIGINS[0], plan.state(seed))
+            .map_err(stage("first quarter's"))?;
         let rescue = |fitted: Fitted, fraction: f64, reference: &Fitted| -> Fitted {
             if fitted.rss <= reference.rss {
                 return fitted;
@@ -570,42 +640,30 @@ impl Job<'_> {
             for &i in set {
                 restart.effects[i] = quarter.physical.effects[i];
             }
-            let init = nonlinear.then(|| reference.initial_state.clone());
-            match fit::run(&problem(restart, fraction, init), self.max_iterations) {
+            let init = plan.nonlinear.then(|| reference.initial_state.clone());
+            match run(restart, fraction, init) {
                 Ok(again) if again.rss < fitted.rss => again,
                 _ => fitted,
             }
         };
-        let half_fit = fit::run(
-            &problem(quarter.physical, 0.5, state(&quarter)),
-            self.max_iterations,
-        )
-        .map_err(stage("first half's"))?;
+        let half_fit =
+            run(quarter.physical, 0.5, plan.state(&quarter)).map_err(stage("first half's"))?;
         let half_fit = rescue(half_fit, 0.5, &self.reference.half);
-        let full = fit::run(
-            &problem(half_fit.physical, 1.0, state(&half_fit)),
-            self.max_iterations,
-        )
-        .map_err(stage("whole record's"))?;
+        let full =
+            run(half_fit.physical, 1.0, plan.state(&half_fit)).map_err(stage("whole record's"))?;
         let full = rescue(full, 1.0, &self.reference.full);
-        let three = fit::run(
-            &problem(full.physical, select::ORIGINS[2], state(&full)),
-            self.max_iterations,
-        )
-        .map_err(stage("first three quarters'"))?;
-        if std::env::var_os("COIL_DIAGNOSE_TRACE").is_some() {
-            eprintln!(
-                "  {:?}: full {} iterations {} runs, half {} iterations {} runs",
-                set, full.iterations, full.evaluations, half_fit.iterations, half_fit.evaluations
-            );
-        }
-        let mut rolling = [quarter, half_fit, three];
+        let three = run(full.physical, select::ORIGINS[2], plan.state(&full))
+            .map_err(stage("first three quarters'"))?;
+        Ok([quarter, half_fit, full, three])
+    }
+
+    /// A window's fit whose forecast misses may sit in another local minimum of its own
+    /// objective than the whole record's (a short record: the mass and the effect trade
+    /// off over a few cycles). It is fitted again from the whole record's values and
+    /// kept only if that lowers its own window's misfit: a better optimum of the same
+    /// objective, chosen without the held-out samples.
+    fn refit_missed(&self, plan: &Plan<'_>, full: Fitted, mut rolling: [Fitted; 3]) -> ModelRun {
         let first = model_run(full.clone(), rolling[1].clone(), self.joint, &rolling);
-        // A window's fit whose forecast misses may sit in another local minimum of its
-        // own objective than the whole record's (a short record: the mass and the
-        // effect trade off over a few cycles). It is fitted again from the whole
-        // record's values and kept only if that lowers its own window's misfit: a
-        // better optimum of the same objective, chosen without the held-out samples.
         let mut changed = false;
         for (i, window) in rolling.iter_mut().enumerate() {
             let missed = first.rolling[i] > select::FORECAST_RATIO * self.reference.rolling[i];
@@ -613,7 +671,7 @@ impl Job<'_> {
                 continue;
             }
             let again = fit::run(
-                &problem(full.physical, select::ORIGINS[i], state(&full)),
+                &plan.problem(full.physical, select::ORIGINS[i], plan.state(&full)),
                 self.max_iterations,
             );
             if let Some(again) = again.ok().filter(|a| a.rss < window.rss) {
@@ -622,9 +680,9 @@ impl Job<'_> {
             }
         }
         if !changed {
-            return Ok(first);
+            return first;
         }
-        Ok(model_run(full, rolling[1].clone(), self.joint, &rolling))
+        model_run(full, rolling[1].clone(), self.joint, &rolling)
     }
 }
 

@@ -448,7 +448,13 @@ pub fn summary(o: &ForcedOutcome) -> String {
         Some(i) => {
             let c = &o.candidates[i];
             let (p, _) = c.fitted.as_ref().map(parameters).unwrap_or_default();
-            let words: Vec<String> = p.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            let words: Vec<String> = p
+                .iter()
+                .map(|(k, v)| match v.as_f64() {
+                    Some(x) => format!("{k} = {x:.6e}"),
+                    None => format!("{k} = {v}"),
+                })
+                .collect();
             s.push_str(&format!(
                 "cause: {} ({}), {}; gain: residual_rms_ratio {:.4}, forecast_rms_ratio {:.4}",
                 first_cause(o, c).name(),

@@ -7,7 +7,7 @@
 //! calibration.json `coil-tune calibrate` writes (its `state`, `targets`, `settings`).
 
 use coil_design::sheet::{check, input::read_spring};
-use coil_design::target::{read_target, MaterialSource};
+use coil_design::target::{read_target, MaterialSource, Objective};
 use coil_design::{design, output, DesignSettings};
 use coil_tuner::case::{read_case, read_variants};
 use coil_tuner::fe::{self, FeSettings, SpringState};
@@ -275,4 +275,99 @@ fn an_identified_law_and_a_damping_coefficient_are_used() {
     for c in &result.candidates {
         assert!((c.damping_ratio["identified_hysteretic"] - 0.00175).abs() < 1e-12);
     }
+}
+
+/// Text a person reads: no Rust debug text (`Some(`, `Forces(`, `StressMargin`, ...) and
+/// no number printed with more than six decimals.
+fn assert_plain(name: &str, text: &str) {
+    for debug in [
+        "Some(",
+        "None",
+        "Forces(",
+        "Lengths(",
+        "StressMargin",
+        "Lightest",
+        "ClosedGround",
+        "Bergstraesser,",
+        "Dynamic",
+        "Static",
+        "{ ",
+        "\\u{",
+    ] {
+        assert!(!text.contains(debug), "{name}: `{debug}` in\n{text}");
+    }
+    let mut decimals = 0usize;
+    let mut after_point = false;
+    for c in text.chars() {
+        match c {
+            '.' => {
+                after_point = true;
+                decimals = 0;
+            }
+            '0'..='9' if after_point => {
+                decimals += 1;
+                assert!(
+                    decimals <= 6,
+                    "{name}: a number with 7+ decimals in\n{text}"
+                );
+            }
+            _ => after_point = false,
+        }
+    }
+}
+
+/// The acceptance's 160ECT target on the calibration (K 3.9275 N/mm +- 1 %, working
+/// forces 51.4 and 77 N, the envelope of `160ect_target.json` that admits the paper's
+/// spring, dynamic loading): `lightest` returns a short list of springs each verified
+/// by FE within 1 % and passing the fatigue check; `stress_margin` holds the paper's
+/// spring or one within 1 % of its FE K and its mass; report.md and the sheet read as
+/// plain text.
+#[test]
+fn the_acceptance_target_lightest_and_stress_margin() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, state) = calibration(dir.path());
+    let mut target = read_target(&cases().join("spring-design/160ect_target.json")).unwrap();
+    target.material = MaterialSource::Calibration {
+        calibration: file,
+        grade: None,
+        damping: None,
+    };
+    target.rate_tolerance_percent = 1.0;
+    target.working = coil_design::sheet::en13906::Working::Forces(51.4, 77.0);
+    let (k, _) = fe::static_stiffness(&state, &FeSettings::default()).unwrap();
+    let mass = 7850.0 * std::f64::consts::PI.powi(2) * 9.0 / 4.0 * 16.0 * 24.0 * 1e-9;
+    for objective in [Objective::Lightest, Objective::StressMargin] {
+        target.objective = objective;
+        let result = design(&target, &DesignSettings::default()).unwrap();
+        assert!(
+            result.candidates.len() >= 2,
+            "{objective:?}: {} candidates",
+            result.candidates.len()
+        );
+        for c in &result.candidates {
+            assert!(c.fe_verified && c.fatigue_passed, "{objective:?}: {c:?}");
+            assert!((c.fe_rate_n_mm / 3.9275 - 1.0).abs() <= 0.01, "{c:?}");
+            assert!(c.stroke_stress_mpa <= c.permissible_stroke_stress_mpa);
+        }
+        let ranks: Vec<usize> = result.candidates.iter().map(|c| c.rank).collect();
+        assert_eq!(ranks, (1..=ranks.len()).collect::<Vec<_>>());
+        if objective == Objective::StressMargin {
+            assert!(
+                result.candidates.iter().any(|c| {
+                    (c.fe_rate_n_mm / k - 1.0).abs() <= 0.01
+                        && (c.spring_mass_kg / mass - 1.0).abs() <= 0.01
+                }),
+                "no candidate within 1 % of K {k} and mass {mass}: {}",
+                output::summary(&result)
+            );
+        }
+        eprintln!("{objective:?}:\n{}", output::summary(&result));
+        assert_plain("report.md", &output::report(&result));
+    }
+    let spring = read_spring(&cases().join("spring-design/160ect_spring.json")).unwrap();
+    let report = check(&spring, &FeSettings::default()).unwrap();
+    assert_plain(
+        "sheet.md",
+        &report.markdown(Path::new("160ect_spring.json")),
+    );
 }

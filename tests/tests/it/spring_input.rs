@@ -307,3 +307,39 @@ fn fatigue_by_hand_on_three_springs() {
     );
     assert!(peened.fatigue.passed);
 }
+
+/// The 1.4 mm example: a DM wire of 1.4 mm, D 9.5 mm, at 30 / 100 N under
+/// dynamic loading has a stroke stress tau_kh of about 739 MPa and a working stress
+/// tau2 under 0.5 Rm (the old check let it through with a margin of a few per cent);
+/// the fatigue check refuses it (tau_kH at its tau_k1 is about a third of that).
+#[test]
+fn the_one_point_four_millimetre_example_is_refused_for_dynamic_loading() {
+    let dir = tempfile::tempdir().unwrap();
+    let spring = serde_json::json!({
+        "wire_diameter_mm": 1.4, "mean_diameter_mm": 9.5, "active_coils": 10,
+        "total_coils": 12, "pitch_mm": 5.0, "end_type": "closed_ground", "coiling": "cold",
+        "wire_grade": "DM", "force_1_n": 30, "force_2_n": 100, "loading": "dynamic"
+    });
+    let s = read_spring(&write(dir.path(), "s.json", &spring))
+        .unwrap()
+        .sheet();
+    assert!(
+        (s.stroke_stress_mpa - 739.0).abs() < 15.0,
+        "{}",
+        s.stroke_stress_mpa
+    );
+    assert!(s.shear_stress_2_mpa < s.permissible_working_stress_mpa);
+    assert!(
+        !s.fatigue.passed && s.fatigue.utilisation > 2.0,
+        "{:?}",
+        s.fatigue
+    );
+    assert!(s.failed().contains(&"fatigue"), "{:?}", s.failed());
+    // The same spring under static loading passes the working-stress check.
+    let mut fixed = spring.clone();
+    fixed["loading"] = "static".into();
+    let s = read_spring(&write(dir.path(), "t.json", &fixed))
+        .unwrap()
+        .sheet();
+    assert!(!s.failed().contains(&"working_stress"), "{:?}", s.failed());
+}

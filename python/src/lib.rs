@@ -1,6 +1,6 @@
 //! coil-python owns the Python binding (`import coil`): argument parsing, the GIL guard, JSON
-//! results, no numerics. It may import coil-io, coil-solver, coil-mesher, coil-postproc,
-//! coil-tuner and coil-ident; nothing imports it.
+//! results, no numerics. It may import every library crate (coil-io up to coil-ident,
+//! coil-design and coil-catenary); nothing imports it.
 //!
 //! `coil._coil`: the native half of the Python package (python/coil/__init__.py is the
 //! other). A thin layer: every function parses its arguments, calls one library function

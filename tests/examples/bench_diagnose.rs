@@ -14,7 +14,7 @@
 //! `../shared/real` beside the repository; read where they are, never copied); `all`
 //! (the default) is every generated case of the confusion table and the real recordings.
 //!
-//! The budget (issue 28's acceptance): the median wall time within [`MEDIAN_BUDGET_S`]
+//! The budget a lab engineer can wait for between two records: the median wall time within [`MEDIAN_BUDGET_S`]
 //! and the worst within [`WORST_BUDGET_S`] on the 2-core machine.
 //!
 //! Every selected case (`coil_tests::truth::standard_cases()`, one effect each;

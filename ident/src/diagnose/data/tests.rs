@@ -344,7 +344,7 @@ fn noise_floor_on_a_band_limited_record() {
 /// `cargo test -p coil-ident --lib real_recordings -- --ignored --nocapture` (the
 /// folder is `../shared/real` beside the repository, or `$COIL_SHARED_REAL`).
 #[test]
-#[ignore = "reads the shared real recordings when they exist"]
+#[ignore = "reads the shared real recordings (../shared/real), which CI does not have: cargo test --release -p coil-ident --lib real_recordings -- --ignored --nocapture"]
 fn real_recordings_are_conditioned() {
     let root = std::env::var_os("COIL_SHARED_REAL")
         .map(PathBuf::from)

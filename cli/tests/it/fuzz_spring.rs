@@ -589,40 +589,52 @@ const TARGET_CLASSES: [&str; 10] = [
     "in domain",
 ];
 
-/// SPRING.json through `coil-tune check`, class by class.
-#[test]
-fn spring_files_under_generated_bad_input() {
-    let base = base_spring();
-    let keys = spring_keys();
+/// Every class of `classes` on `base`, `per_class()` inputs each, through `command`
+/// reading them as `file`; the surface's table and verdict at the end.
+fn surface_under_generated_bad_input(
+    name: &'static str,
+    command: &str,
+    file: &str,
+    classes: &[&'static str],
+    (base, keys): (Value, Vec<Key>),
+    seed: u64,
+) {
     let mut surface = Surface {
-        name: "SPRING.json (check)",
+        name,
         classes: BTreeMap::new(),
     };
-    let mut rng = Rng(0x2545f4914f6cdd1d);
-    for class in SPRING_CLASSES {
+    let mut rng = Rng(seed);
+    for &class in classes {
         for i in 0..per_class() {
             let input = generate(class, &base, &keys, &mut rng);
-            one(&mut surface, "check", "spring.json", &input, i);
+            one(&mut surface, command, file, &input, i);
         }
     }
     surface.finish();
 }
 
+/// SPRING.json through `coil-tune check`, class by class.
+#[test]
+fn spring_files_under_generated_bad_input() {
+    surface_under_generated_bad_input(
+        "SPRING.json (check)",
+        "check",
+        "spring.json",
+        &SPRING_CLASSES,
+        (base_spring(), spring_keys()),
+        0x2545f4914f6cdd1d,
+    );
+}
+
 /// TARGET.json (and the design flags) through `coil-tune design`, class by class.
 #[test]
 fn target_files_under_generated_bad_input() {
-    let base = base_target();
-    let keys = target_keys();
-    let mut surface = Surface {
-        name: "TARGET.json (design)",
-        classes: BTreeMap::new(),
-    };
-    let mut rng = Rng(0x9e3779b97f4a7c15);
-    for class in TARGET_CLASSES {
-        for i in 0..per_class() {
-            let input = generate(class, &base, &keys, &mut rng);
-            one(&mut surface, "design", "target.json", &input, i);
-        }
-    }
-    surface.finish();
+    surface_under_generated_bad_input(
+        "TARGET.json (design)",
+        "design",
+        "target.json",
+        &TARGET_CLASSES,
+        (base_target(), target_keys()),
+        0x9e3779b97f4a7c15,
+    );
 }

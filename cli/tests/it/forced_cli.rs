@@ -311,9 +311,19 @@ fn bad_forced_input_on_a_spring_case_is_refused_and_nothing_is_written() {
     write_spring_case(&case, &ENTRY.replace(r#""input": "force_n", "#, ""));
     fails(&diagnose, &out, &["case.json", "records.forced[0].input"]);
     // Units that are not SI.
-    write_spring_case(&case, &ENTRY.replace(r#""output_unit": "m""#, r#""output_unit": "mm""#));
-    fails(&diagnose, &out, &["run.csv", "\"mm\"", "SI units", "\"m/s^2\""]);
-    write_spring_case(&case, &ENTRY.replace(r#""input_unit": "N""#, r#""input_unit": "V""#));
+    write_spring_case(
+        &case,
+        &ENTRY.replace(r#""output_unit": "m""#, r#""output_unit": "mm""#),
+    );
+    fails(
+        &diagnose,
+        &out,
+        &["run.csv", "\"mm\"", "SI units", "\"m/s^2\""],
+    );
+    write_spring_case(
+        &case,
+        &ENTRY.replace(r#""input_unit": "N""#, r#""input_unit": "V""#),
+    );
     fails(&diagnose, &out, &["run.csv", "\"V\"", "SI units"]);
     // NaN in the input.
     write_spring_case(&case, ENTRY);
@@ -373,7 +383,12 @@ fn bad_forced_input_on_a_spring_case_is_refused_and_nothing_is_written() {
     fails(&args, &out, &["model.json", "modes"]);
     // The spring model runs.
     std::fs::write(&model, spring_model).unwrap();
-    let o = coil_tune(&simulate("20").iter().map(String::as_str).collect::<Vec<_>>());
+    let o = coil_tune(
+        &simulate("20")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(out.join("simulated.csv")).unwrap();
     assert_eq!(text.lines().count(), rows.len() + 1);

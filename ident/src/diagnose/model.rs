@@ -113,6 +113,9 @@ impl Physical {
     }
 }
 
+/// The linear operators `(M, K)` and the base-acceleration load of a reduced spring.
+pub type LinearOperators = (DMatrix<f64>, DMatrix<f64>, DVector<f64>);
+
 /// A reduced spring ready to simulate decays.
 #[derive(Debug, Clone)]
 pub struct ReducedSpring {
@@ -174,7 +177,7 @@ impl ReducedSpring {
         &self,
         mass_kg: f64,
         k_scale: f64,
-    ) -> std::result::Result<(DMatrix<f64>, DMatrix<f64>, DVector<f64>), String> {
+    ) -> std::result::Result<LinearOperators, String> {
         let mut extra = vec![0.0; self.reduction.boundary.len()];
         extra[0] = units::mass_from_si(mass_kg - self.meshed_mass_kg);
         let ops = self

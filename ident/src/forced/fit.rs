@@ -401,7 +401,11 @@ pub fn fit(
                 model_of(&setup, units, m)
             }
         };
-        let per_mass = m_ref0 / model.mass;
+        let per_mass = if spring.is_some() {
+            m_ref0 / model.mass
+        } else {
+            1.0
+        };
         let m = &mut model.oscillator;
         m.output_offset = p[ns] * scales.y;
         m.cubic = 0.0;
@@ -427,7 +431,11 @@ pub fn fit(
     let (model, init) = unpack(&out.params)?;
     let per_record = residuals_of(&model, series, &init, scales.substeps, bound)?;
     let se = &out.std_errors;
-    let per_mass = m_ref0 / model.mass;
+    let per_mass = if spring.is_some() {
+        m_ref0 / model.mass
+    } else {
+        1.0
+    };
     let linear_se = match (spring, &model.spring) {
         (Some(_), Some(f)) => [
             se[0] * out.params[0].exp(),

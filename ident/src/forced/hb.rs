@@ -182,7 +182,16 @@ pub fn residual(
     }
     if !model.modes.is_empty() {
         let amplitude = force / model.input_gain;
-        further_modes(model, basis.harmonics, W, amplitude, law.as_ref(), &mut r, &mut jac, &mut r_w);
+        further_modes(
+            model,
+            basis.harmonics,
+            W,
+            amplitude,
+            law.as_ref(),
+            &mut r,
+            &mut jac,
+            &mut r_w,
+        );
     }
     (r, jac, r_w)
 }
@@ -216,7 +225,12 @@ fn further_modes(
     for k in 0..=harmonics {
         let kf = k as f64;
         let (d1, d1p) = dynamic_stiffness(w1, z1, kf * W);
-        let (mut s, mut sp, mut t, mut tp) = (Complex::new(0.0, 0.0), Complex::new(0.0, 0.0), Complex::new(0.0, 0.0), Complex::new(0.0, 0.0));
+        let (mut s, mut sp, mut t, mut tp) = (
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+        );
         for m in &model.modes {
             let (di, dip) = dynamic_stiffness(m.natural_frequency_rad_s, m.damping_ratio, kf * W);
             s += m.law_gain / di;
@@ -231,14 +245,15 @@ fn further_modes(
         let pw = (d1p * t + d1 * tp) * kf;
         // Rows of harmonic k: (cos, sin); a complex C times X = (x_c - i x_s) adds
         // (Re C x_c + Im C x_s, Re C x_s - Im C x_c).
-        let add = |rows: &mut [f64], c: Complex<f64>, xc: f64, xs: f64, stride: usize, col: usize| {
-            if k == 0 {
-                rows[col] += c.re * xc;
-            } else {
-                rows[(2 * k - 1) * stride + col] += c.re * xc + c.im * xs;
-                rows[(2 * k) * stride + col] += c.re * xs - c.im * xc;
-            }
-        };
+        let add =
+            |rows: &mut [f64], c: Complex<f64>, xc: f64, xs: f64, stride: usize, col: usize| {
+                if k == 0 {
+                    rows[col] += c.re * xc;
+                } else {
+                    rows[(2 * k - 1) * stride + col] += c.re * xc + c.im * xs;
+                    rows[(2 * k) * stride + col] += c.re * xs - c.im * xc;
+                }
+            };
         if k == 1 {
             add(r, -p, amplitude, 0.0, 1, 0);
             add(r_w, -pw, amplitude, 0.0, 1, 0);
@@ -246,13 +261,25 @@ fn further_modes(
         let Some((g, gw, columns)) = law else {
             continue;
         };
-        let (gc, gs) = if k == 0 { (g[0], 0.0) } else { (g[2 * k - 1], g[2 * k]) };
-        let (gwc, gws) = if k == 0 { (gw[0], 0.0) } else { (gw[2 * k - 1], gw[2 * k]) };
+        let (gc, gs) = if k == 0 {
+            (g[0], 0.0)
+        } else {
+            (g[2 * k - 1], g[2 * k])
+        };
+        let (gwc, gws) = if k == 0 {
+            (gw[0], 0.0)
+        } else {
+            (gw[2 * k - 1], gw[2 * k])
+        };
         add(r, q, gc, gs, 1, 0);
         add(r_w, qw, gc, gs, 1, 0);
         add(r_w, q, gwc, gws, 1, 0);
         for (m, col) in columns.iter().enumerate() {
-            let (cc, cs) = if k == 0 { (col[0], 0.0) } else { (col[2 * k - 1], col[2 * k]) };
+            let (cc, cs) = if k == 0 {
+                (col[0], 0.0)
+            } else {
+                (col[2 * k - 1], col[2 * k])
+            };
             add(jac, q, cc, cs, d, m);
         }
     }

@@ -339,9 +339,8 @@ fn check_si_units(case: &ForcedCase) -> Result<()> {
                 })
             }
         };
-        let output_ok = coil_postproc::record::units::parse(&e.output_unit).is_some_and(|u| {
-            u.quantity.name() == e.output_quantity.name() && u.to_si == 1.0
-        });
+        let output_ok = coil_postproc::record::units::parse(&e.output_unit)
+            .is_some_and(|u| u.quantity.name() == e.output_quantity.name() && u.to_si == 1.0);
         if !(input_ok && output_ok) {
             return Err(TuneError::Invalid(format!(
                 "{}: the forced record `{}` states input_unit \"{}\" and output_unit \"{}\"; \
@@ -429,9 +428,8 @@ fn candidate(
         Ok(f) => f,
         Err(e) => return failed(e),
     };
-    let forecast =
-        fit::forecast(series, &fitted, effects, settings.max_iterations, spring)
-            .unwrap_or(f64::INFINITY);
+    let forecast = fit::forecast(series, &fitted, effects, settings.max_iterations, spring)
+        .unwrap_or(f64::INFINITY);
     let n = fitted.count as f64;
     let n_eff = effective_count(&fitted);
     let dbic = n_eff * (baseline.cost / fitted.cost).ln() - effects.len() as f64 * n_eff.ln();

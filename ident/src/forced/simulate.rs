@@ -48,9 +48,8 @@ pub fn substeps(model: &Lumped, dt: f64, z_max: f64, v_max: f64) -> usize {
     let mut damp = 2.0 * model.damping_ratio * w + share * dv_max.max(dv_0);
     for m in &model.modes {
         stiff = stiff.max(m.natural_frequency_rad_s);
-        damp = damp.max(
-            2.0 * m.damping_ratio * m.natural_frequency_rad_s + share * dv_max.max(dv_0),
-        );
+        damp =
+            damp.max(2.0 * m.damping_ratio * m.natural_frequency_rad_s + share * dv_max.max(dv_0));
     }
     let n = (stiff * dt / 0.25).max(damp * dt / 0.5).ceil();
     if n.is_finite() {
@@ -174,7 +173,14 @@ fn mode_arrays(model: &Lumped) -> [Vec<f64>; 4] {
 }
 
 /// The accelerations of every mode at state `(q, p)` under input `u`.
-fn modal_rates(arrays: &[Vec<f64>; 4], law: &Lumped, q: &[f64], p: &[f64], u: f64, out: &mut [f64]) {
+fn modal_rates(
+    arrays: &[Vec<f64>; 4],
+    law: &Lumped,
+    q: &[f64],
+    p: &[f64],
+    u: f64,
+    out: &mut [f64],
+) {
     let [k, c, b, a] = arrays;
     let z: f64 = q.iter().sum();
     let v: f64 = p.iter().sum();
@@ -205,8 +211,12 @@ fn modal_motion(
     p[0] = initial.1;
     let h = grid.dt / grid.substeps as f64;
     let mut acc = vec![0.0; dim];
-    let (mut k1, mut k2, mut k3, mut k4) =
-        (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
+    let (mut k1, mut k2, mut k3, mut k4) = (
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+    );
     let (mut qt, mut pt) = (vec![0.0; dim], vec![0.0; dim]);
     let record = |q: &[f64], p: &[f64], u: f64, acc: &mut [f64], out: &mut Motion| {
         modal_rates(&arrays, model, q, p, u, acc);

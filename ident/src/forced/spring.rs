@@ -111,7 +111,7 @@ impl SpringStructure {
             }
         };
         let one = mode(first);
-        if !(one.natural_frequency_rad_s > 0.0) {
+        if one.natural_frequency_rad_s.is_nan() || one.natural_frequency_rad_s <= 0.0 {
             return Err("the spring's first axial mode has no positive frequency".into());
         }
         let mut oscillator = Lumped::linear(
@@ -165,11 +165,8 @@ impl SpringStructure {
             }
             _ => self.nominal_mass_kg,
         };
-        let at_mass = SpringParameters {
-            mass_kg,
-            ..nominal
-        };
-        let (o2, _) = self.modal(&at_mass).or_else(|_| Ok::<_, String>((o, m_ref)))?;
+        let at_mass = SpringParameters { mass_kg, ..nominal };
+        let (o2, _) = self.modal(&at_mass).unwrap_or((o, m_ref));
         let k_scale = (w0 / o2.natural_frequency_rad_s).powi(2);
         Ok(SpringParameters {
             mass_kg,

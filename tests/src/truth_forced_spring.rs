@@ -7,7 +7,8 @@
 //! between its samples. `l = e_0 F` for a force on the weight, `l = -M r a_b` (the inertial
 //! load of a base acceleration, relative coordinates) for a base input. The law at the
 //! weight: `f = k3 x^3 + F_f tanh(v / v_f) + c2 v |v|` (SI, `x`, `v` the weight's axial
-//! displacement and velocity about its static position).
+//! displacement and velocity about its static position). A weight that turns freely (the
+//! coupling's truth) is the free-rotation reduction with its rotary inertia.
 //!
 //! The spring: the paper-like example of `cases/measured/cubic_g2` (9 active coils, D 18
 //! mm, d 2.2 mm, pitch 4.6 mm, steel) with a 0.2 kg weight, so that the spring's own mass
@@ -20,7 +21,7 @@
 use crate::truth::Rng;
 use crate::truth_forced::{force, Excitation};
 use coil_ident::diagnose::effects::Mount;
-use coil_ident::diagnose::model::ReducedSpring;
+use coil_ident::diagnose::model::{Physical, ReducedSpring};
 use coil_tuner::case::SpringGeometry;
 use coil_tuner::fe::{FeSettings, SpringState};
 use std::path::Path;
@@ -57,6 +58,10 @@ pub struct SpringTruth {
     pub friction_velocity_m_s: f64,
     /// Whether the input is a base acceleration (m/s^2) instead of a force (N).
     pub base: bool,
+    /// The weight's rotary inertia, kg m^2, when it turns freely about the axis (the
+    /// free-rotation reduction: the helix couples its axial and torsional motions); `None`
+    /// for the guided weight.
+    pub rotary_inertia_kg_m2: Option<f64>,
 }
 
 impl SpringTruth {
@@ -72,6 +77,7 @@ impl SpringTruth {
             drag_n_s2_m2: 0.0,
             friction_velocity_m_s: 1e-4,
             base: false,
+            rotary_inertia_kg_m2: None,
         }
     }
 
@@ -87,18 +93,40 @@ impl SpringTruth {
         }
     }
 
-    /// The weight's axial displacement (m) at every sample of `input` (N or m/s^2,
-    /// sampled at `dt`, joined linearly), from rest (module docs).
-    pub fn respond(&self, input: &[f64], dt: f64) -> Vec<f64> {
+    /// The rotary inertia (kg m^2) that puts the free weight's torsional frequency
+    /// (the spring's torsional boundary stiffness over `J`) `ratio` times its axial one
+    /// (the axial boundary stiffness over the weight and a third of the wire's mass).
+    pub fn tuned_inertia(&self, ratio: f64) -> f64 {
         let reduced = ReducedSpring::build(
             &self.state(),
             &FeSettings::default(),
-            Mount::Guided,
+            Mount::FreeRotation,
+            GENERATOR_MODES,
+        )
+        .expect("the generator's spring reduces");
+        let physical = Physical::linear(self.mass_kg, self.beta_s, 0.0);
+        let (axial, _, torsional) = reduced.boundary_stiffness(&physical);
+        let m = self.mass_kg + self.state().spring_mass_kg() / 3.0;
+        torsional * m / (ratio * ratio * axial)
+    }
+
+    /// The weight's axial displacement (m) at every sample of `input` (N or m/s^2,
+    /// sampled at `dt`, joined linearly), from rest (module docs).
+    pub fn respond(&self, input: &[f64], dt: f64) -> Vec<f64> {
+        let mount = if self.rotary_inertia_kg_m2.is_some() {
+            Mount::FreeRotation
+        } else {
+            Mount::Guided
+        };
+        let reduced = ReducedSpring::build(
+            &self.state(),
+            &FeSettings::default(),
+            mount,
             GENERATOR_MODES,
         )
         .expect("the generator's spring reduces");
         let (m, k, load) = reduced
-            .linear_operators(self.mass_kg, 1.0)
+            .linear_operators(self.mass_kg, self.rotary_inertia_kg_m2.unwrap_or(0.0), 1.0)
             .expect("the generator's operators");
         let n = m.nrows();
         let minv = m.clone().try_inverse().expect("M is invertible");

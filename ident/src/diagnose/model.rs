@@ -171,15 +171,20 @@ impl ReducedSpring {
     }
 
     /// The linear operators `(M, K)` (solver units: t, N/mm) with the weight's mass
-    /// `mass_kg` and the stiffness scale `k_scale`, and the reduced inertial load of a unit
-    /// axial base acceleration (t; `coil_solver::reduce::Reduction::translation_load`).
+    /// `mass_kg`, its rotary inertia `rotary_inertia_kg_m2` (free rotation only) and the
+    /// stiffness scale `k_scale`, and the reduced inertial load of a unit axial base
+    /// acceleration (t; `coil_solver::reduce::Reduction::translation_load`).
     pub fn linear_operators(
         &self,
         mass_kg: f64,
+        rotary_inertia_kg_m2: f64,
         k_scale: f64,
     ) -> std::result::Result<LinearOperators, String> {
         let mut extra = vec![0.0; self.reduction.boundary.len()];
         extra[0] = units::mass_from_si(mass_kg - self.meshed_mass_kg);
+        if self.mount == Mount::FreeRotation {
+            extra[1] = units::inertia_from_si(rotary_inertia_kg_m2);
+        }
         let ops = self
             .reduction
             .operators(k_scale, &extra, 0.0, 0.0)

@@ -17,7 +17,9 @@
 //! spring's instead: `ln s` (stiffness scale), `ln beta` and, under a force, `ln (m / m_n)`
 //! (the weight's mass against the case's); the law's parameters are then the physical
 //! force's (per the start's reference mass), so a change of the modal reference mass
-//! during the fit does not move them.
+//! during the fit does not move them. The coupling's parameter is the weight's rotary
+//! inertia over its start `J_s` (the inertia that tunes the free weight's torsional
+//! frequency to the axial one).
 //!
 //! Parameters are scaled to order one: the effects by the displacement scale `z_s` (RMS of
 //! the linear model's displacement) and `w_s` (the start's `w0`): `kappa = p w_s^2 / z_s^2`,
@@ -53,11 +55,28 @@ pub enum Effect {
     Friction,
     /// `delta z' |z'|`.
     Drag,
+    /// The weight turns freely with rotary inertia `J` (a spring case only: the
+    /// free-rotation reduction, whose helix couples the axial and torsional motions).
+    Coupling,
 }
 
 impl Effect {
     /// Every effect of the lumped catalogue.
     pub const ALL: [Effect; 3] = [Effect::Friction, Effect::Drag, Effect::Cubic];
+
+    /// Every effect of a spring case's catalogue.
+    pub const SPRING: [Effect; 4] = [
+        Effect::Friction,
+        Effect::Drag,
+        Effect::Cubic,
+        Effect::Coupling,
+    ];
+
+    /// Whether the effect is a law at the weight (per unit mass in the model), not a
+    /// structural parameter.
+    pub fn is_law(self) -> bool {
+        self != Effect::Coupling
+    }
 
     /// The diagnosis's name.
     pub fn name(self) -> &'static str {
@@ -65,6 +84,7 @@ impl Effect {
             Effect::Cubic => "cubic_stiffness",
             Effect::Friction => "coulomb_friction",
             Effect::Drag => "quadratic_damping",
+            Effect::Coupling => "axial_torsional_coupling",
         }
     }
 
@@ -74,15 +94,18 @@ impl Effect {
             Effect::Cubic => "cubic_stiffness_n_m3",
             Effect::Friction => "friction_force_n",
             Effect::Drag => "quadratic_damping_n_s2_m2",
+            Effect::Coupling => "rotary_inertia_kg_m2",
         }
     }
 
-    /// The effect's value per unit mass in `model`.
+    /// The effect's value per unit mass in `model` (0 for the coupling, which is not a
+    /// law).
     pub fn value(self, model: &Lumped) -> f64 {
         match self {
             Effect::Cubic => model.cubic,
             Effect::Friction => model.friction,
             Effect::Drag => model.drag,
+            Effect::Coupling => 0.0,
         }
     }
 
@@ -91,6 +114,7 @@ impl Effect {
             Effect::Cubic => model.cubic = value,
             Effect::Friction => model.friction = value,
             Effect::Drag => model.drag = value,
+            Effect::Coupling => {}
         }
     }
 
@@ -101,6 +125,7 @@ impl Effect {
             Effect::Cubic => w * w / (z * z),
             Effect::Friction => w * w * z,
             Effect::Drag => 1.0 / z,
+            Effect::Coupling => scales.j,
         }
     }
 }
@@ -116,6 +141,8 @@ pub struct Scales {
     pub y: f64,
     /// Gain scale.
     pub b: f64,
+    /// Rotary inertia scale, kg m^2 (the coupling's start; 1 where unused).
+    pub j: f64,
     /// RK4 sub-steps per sample.
     pub substeps: usize,
 }
@@ -296,6 +323,7 @@ pub fn linear_start(
         z: z_s,
         y: y_rms,
         b: c[0].abs().max(1e-300),
+        j: 1.0,
         substeps,
     };
     Ok((model_of(setup, units, oscillator), initial, scales))
@@ -329,8 +357,10 @@ pub fn spring_model(
     spring: &SpringStructure,
     template: &ForcedModel,
     p: &[f64],
+    rotary_inertia_kg_m2: Option<f64>,
 ) -> Result<ForcedModel, String> {
     let params = SpringParameters {
+        rotary_inertia_kg_m2,
         k_scale: p[0].exp(),
         beta_s: p[1].exp(),
         mass_kg: if spring.input == InputQuantity::Force {
@@ -384,15 +414,26 @@ pub fn fit(
     // The law per unit reference mass of the start (module docs).
     let m_ref0 = start.mass;
     for e in effects {
-        p0.push(e.value(o) / e.scale(scales));
+        p0.push(match e {
+            Effect::Coupling => {
+                start
+                    .spring
+                    .and_then(|f| f.rotary_inertia_kg_m2)
+                    .unwrap_or(scales.j)
+                    / scales.j
+            }
+            _ => e.value(o) / e.scale(scales),
+        });
     }
+    let coupling = effects.iter().position(|&e| e == Effect::Coupling);
     for &(z0, v0) in initial {
         p0.push(z0 / z_s);
         p0.push(v0 / v_s);
     }
     let unpack = |p: &[f64]| -> Result<(ForcedModel, Vec<(f64, f64)>), String> {
+        let inertia = coupling.map(|j| p[ns + 1 + j] * scales.j);
         let mut model = match spring {
-            Some(s) => spring_model(s, start, p)?,
+            Some(s) => spring_model(s, start, p, inertia)?,
             None => {
                 let mut m = o.clone();
                 m.natural_frequency_rad_s = p[0].exp();
@@ -452,12 +493,17 @@ pub fn fit(
         effects: effects
             .iter()
             .enumerate()
-            .map(|(j, e)| {
-                (
+            .map(|(j, e)| match e {
+                Effect::Coupling => (
+                    *e,
+                    out.params[ns + 1 + j] * scales.j,
+                    se[ns + 1 + j] * scales.j,
+                ),
+                _ => (
                     *e,
                     e.value(&model.oscillator),
                     se[ns + 1 + j] * e.scale(scales) * per_mass,
-                )
+                ),
             })
             .collect(),
         linear_se,

@@ -41,7 +41,9 @@
 //! share of the inertial load `M r`). Mode 1 (the weight bouncing on the spring, the
 //! largest `phi_i`) is the `oscillator`, the others are its `modes`; the lumped oscillator
 //! is the case `N = 1`. The output's absolute acceleration under a base input is
-//! `z'' + u` (the records are in SI units).
+//! `z'' + u` (the records are in SI units). A record's initial state `(z0, v0)` is shared
+//! among the modes as a static force at the weight shares its displacement,
+//! `q_i(0) = z0 s_i`, `q_i'(0) = v0 s_i`, `s_i = (a_i / w_i^2) / sum_j (a_j / w_j^2)`.
 
 use serde::{Deserialize, Serialize};
 
@@ -238,6 +240,9 @@ pub struct SpringFigures {
     pub stiffness_n_m: f64,
     /// The spring wire's mass, kg.
     pub spring_mass_kg: f64,
+    /// The weight's rotary inertia, kg m^2, when it turns freely (the coupling's model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotary_inertia_kg_m2: Option<f64>,
 }
 
 impl ForcedModel {
@@ -375,7 +380,10 @@ impl ForcedModel {
                 ("modal_mass_kg", m),
                 ("natural_frequency_hz", w / std::f64::consts::TAU),
                 ("damping_ratio", o.damping_ratio),
-            ];
+            ]
+            .into_iter()
+            .chain(s.rotary_inertia_kg_m2.map(|j| ("rotary_inertia_kg_m2", j)))
+            .collect();
         }
         vec![
             ("mass_kg", m),

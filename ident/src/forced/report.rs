@@ -17,8 +17,9 @@ fn parameters(fitted: &Fitted) -> (Map<String, Value>, Map<String, Value>) {
     let mut p = Map::new();
     let mut se = Map::new();
     for &(e, value, s) in &fitted.effects {
-        p.insert(e.parameter().into(), json!(value * m));
-        se.insert(e.parameter().into(), json!(s * m.abs()));
+        let f = if e.is_law() { m } else { 1.0 };
+        p.insert(e.parameter().into(), json!(value * f));
+        se.insert(e.parameter().into(), json!(s * f.abs()));
     }
     (p, se)
 }
@@ -113,7 +114,9 @@ pub fn document(o: &ForcedOutcome) -> Value {
                         .effects
                         .iter()
                         .find(|x| x.0 == e)
-                        .map_or(f64::NAN, |x| x.1 * f.model.mass);
+                        .map_or(f64::NAN, |x| {
+                            x.1 * if e.is_law() { f.model.mass } else { 1.0 }
+                        });
                     json!({"effect": e.name(), "parameters": {e.parameter(): value}, "share": share})
                 })
                 .collect();

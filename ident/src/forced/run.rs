@@ -16,7 +16,9 @@
 //! A case that gives a `spring` is fitted on its reduced FE model (module `super::spring`):
 //! the lumped oscillator's linear start gives the spring's first parameters (the mass from
 //! the gain, the stiffness scale from the frequency, beta from the damping), and every fit
-//! after it is the spring's. Its records must be in SI units (the FE model is physical).
+//! after it is the spring's; its catalogue adds the axial-torsional coupling (the weight
+//! turning freely, its rotary inertia fitted; no restoring-force signature, so that test
+//! is not available for it). Its records must be in SI units (the FE model is physical).
 //!
 //! The cause is the passing candidate of largest `dBIC`; two passing effects are then
 //! fitted together and kept when the pair gains another 10 BIC units with both parameters
@@ -216,8 +218,9 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
         check_si_units(&case)?;
         warnings.push(
             "the case gives a spring: its forced records drive the reduced FE model (the \
-             weight guided along the axis, so the axial-torsional coupling is not a candidate \
-             on forced records; gravity only sets the static position the law acts about)"
+             weight guided along the axis; the axial-torsional coupling's candidate lets it \
+             turn, its rotary inertia fitted; gravity only sets the static position the law \
+             acts about)"
                 .into(),
         );
         Some(SpringStructure::build(&case.file, first.input_quantity)?)
@@ -259,7 +262,12 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
     baseline.scales = scales;
 
     let mut candidates: Vec<Candidate> = Vec::new();
-    for effect in Effect::ALL {
+    let catalogue: &[Effect] = if spring.is_some() {
+        &Effect::SPRING
+    } else {
+        &Effect::ALL
+    };
+    for &effect in catalogue {
         note(
             settings.progress,
             &format!("forced: candidate {}", effect.name()),
@@ -372,9 +380,10 @@ fn spring_start(
     if spring.input == super::model::InputQuantity::Force {
         structural.push((p.mass_kg / spring.nominal_mass_kg).ln());
     }
-    let model = fit::spring_model(spring, lumped, &structural)?;
+    let model = fit::spring_model(spring, lumped, &structural, None)?;
     let dt = series.iter().map(|s| s.dt).fold(0.0, f64::max);
     let w = model.oscillator.natural_frequency_rad_s;
+    scales.j = spring.tuned_inertia(&p, w);
     scales.substeps = simulate::substeps(&model.oscillator, dt, scales.z, w * scales.z);
     Ok(model)
 }
@@ -520,12 +529,22 @@ fn signature(case: &ForcedCase, linear: &ForcedModel, fitted: &Fitted) -> (Optio
     let vf = fitted.model.oscillator.friction_velocity;
     let mut all = true;
     let mut words = Vec::new();
+    let mut any = false;
     for &(effect, value, _) in &fitted.effects {
         let term: Box<dyn Fn(f64, f64) -> f64> = match effect {
             Effect::Cubic => Box::new(|z: f64, _| z * z * z),
             Effect::Friction => Box::new(move |_, v: f64| (v / vf).tanh()),
             Effect::Drag => Box::new(|_, v: f64| v * v.abs()),
+            Effect::Coupling => {
+                words.push(
+                    "signature of axial_torsional_coupling: not available (a second line, \
+                     not a restoring force)"
+                        .to_string(),
+                );
+                continue;
+            }
         };
+        any = true;
         let velocity_like = effect != Effect::Cubic;
         let (mut num, mut den, mut t2) = (0.0, 0.0, 0.0);
         for r in &case.records {
@@ -545,7 +564,7 @@ fn signature(case: &ForcedCase, linear: &ForcedModel, fitted: &Fitted) -> (Optio
             if pass { "agrees" } else { "does not agree" }
         ));
     }
-    (Some(all), words.join("; "))
+    (any.then_some(all), words.join("; "))
 }
 
 /// What the records show when no cause is named.

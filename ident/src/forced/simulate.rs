@@ -84,7 +84,7 @@ pub fn states(
 }
 
 /// The weight's motion under `input` from `(z0, v0)` at the first sample (a reduced FE
-/// spring's first mode carries that state, its other modes start at rest).
+/// spring's modes share that state as a static force at the weight would, model docs).
 pub fn motion(
     model: &Lumped,
     grid: Grid,
@@ -205,10 +205,11 @@ fn modal_motion(
     if n == 0 {
         return Ok(out);
     }
-    let mut q = vec![0.0; dim];
-    let mut p = vec![0.0; dim];
-    q[0] = initial.0;
-    p[0] = initial.1;
+    // The initial state shared as a static force at the weight shares it (model docs).
+    let statics: Vec<f64> = (0..dim).map(|i| arrays[3][i] / arrays[0][i]).collect();
+    let total: f64 = statics.iter().sum();
+    let mut q: Vec<f64> = statics.iter().map(|s| initial.0 * s / total).collect();
+    let mut p: Vec<f64> = statics.iter().map(|s| initial.1 * s / total).collect();
     let h = grid.dt / grid.substeps as f64;
     let mut acc = vec![0.0; dim];
     let (mut k1, mut k2, mut k3, mut k4) = (

@@ -5,6 +5,9 @@
 //! the forced model (module `super::model`, "modal form").
 //!
 //! # Parameters and what they set
+//! The axial-torsional coupling's candidate drives the free-rotation reduction instead
+//! (the weight also turns about the axis, boundary `u_z`, `r_z`; the coupling comes from
+//! the helix's own stiffness) with the weight's rotary inertia `J` fitted beside the rest.
 //! As the decay route fits them: the weight's mass `m` (kg; fixed at the case's
 //! `mass_kg` under a base input, which measures only the frequency's ratio to it), the
 //! stiffness scale `s` of the nominal Young's modulus (`K = s K_0`) and Rayleigh beta
@@ -37,6 +40,9 @@ pub const MODES: usize = 4;
 pub struct SpringParameters {
     /// The weight's mass, kg.
     pub mass_kg: f64,
+    /// The weight's rotary inertia, kg m^2, when it turns freely (the coupling's model);
+    /// `None` for the guided weight.
+    pub rotary_inertia_kg_m2: Option<f64>,
     /// Stiffness scale against the nominal Young's modulus.
     pub k_scale: f64,
     /// Rayleigh beta, s.
@@ -47,6 +53,7 @@ pub struct SpringParameters {
 #[derive(Debug, Clone)]
 pub struct SpringStructure {
     reduced: ReducedSpring,
+    free: ReducedSpring,
     /// The case's nominal mass, kg.
     pub nominal_mass_kg: f64,
     /// The case's nominal Young's modulus, MPa.
@@ -67,8 +74,11 @@ impl SpringStructure {
         let case = crate::case::read_case(path)?;
         let state = SpringState::nominal(&case);
         let reduced = ReducedSpring::build(&state, &FeSettings::default(), Mount::Guided, MODES)?;
+        let free =
+            ReducedSpring::build(&state, &FeSettings::default(), Mount::FreeRotation, MODES)?;
         Ok(SpringStructure {
             reduced,
+            free,
             nominal_mass_kg: case.mass_kg,
             youngs_modulus_mpa: case.material.youngs_modulus_mpa,
             spring_mass_kg: state.spring_mass_kg(),
@@ -79,10 +89,16 @@ impl SpringStructure {
     /// The linear model in modal form at `p` (module docs): the oscillator's law is zero,
     /// its offset 0 and its friction velocity 1.
     pub fn modal(&self, p: &SpringParameters) -> std::result::Result<Modal, String> {
-        if !(p.mass_kg > 0.0 && p.k_scale > 0.0 && p.beta_s >= 0.0) {
+        let inertia = p.rotary_inertia_kg_m2.unwrap_or(0.0);
+        if !(p.mass_kg > 0.0 && p.k_scale > 0.0 && p.beta_s >= 0.0 && inertia >= 0.0) {
             return Err(format!("spring parameters out of range: {p:?}"));
         }
-        let (m, k, load) = self.reduced.linear_operators(p.mass_kg, p.k_scale)?;
+        let reduced = if p.rotary_inertia_kg_m2.is_some() {
+            &self.free
+        } else {
+            &self.reduced
+        };
+        let (m, k, load) = reduced.linear_operators(p.mass_kg, inertia, p.k_scale)?;
         let l = m
             .cholesky()
             .ok_or("the reduced mass is not positive definite")?
@@ -131,7 +147,7 @@ impl SpringStructure {
     pub fn figures(&self, p: &SpringParameters) -> SpringFigures {
         let (_, k, _) = self
             .reduced
-            .linear_operators(p.mass_kg, p.k_scale)
+            .linear_operators(p.mass_kg, 0.0, p.k_scale)
             .unwrap_or_default();
         let k00 = if k.nrows() > 0 { k[(0, 0)] } else { f64::NAN };
         SpringFigures {
@@ -140,7 +156,20 @@ impl SpringStructure {
             rayleigh_beta_s: p.beta_s,
             stiffness_n_m: k00 * 1e3,
             spring_mass_kg: self.spring_mass_kg,
+            rotary_inertia_kg_m2: p.rotary_inertia_kg_m2,
         }
+    }
+
+    /// The rotary inertia (kg m^2) that tunes the free weight's torsional frequency on the
+    /// spring's torsional boundary stiffness to `w` (rad/s): the coupling candidate's start.
+    pub fn tuned_inertia(&self, p: &SpringParameters, w: f64) -> f64 {
+        let physical = crate::diagnose::model::Physical::linear(p.mass_kg, p.beta_s, 0.0);
+        let physical = crate::diagnose::model::Physical {
+            k_scale: p.k_scale,
+            ..physical
+        };
+        let (_, _, torsional) = self.free.boundary_stiffness(&physical);
+        torsional / (w * w)
     }
 
     /// The parameters whose first mode has the frequency `w0` (rad/s), damping ratio
@@ -154,6 +183,7 @@ impl SpringStructure {
         gain: f64,
     ) -> std::result::Result<SpringParameters, String> {
         let nominal = SpringParameters {
+            rotary_inertia_kg_m2: None,
             mass_kg: self.nominal_mass_kg,
             k_scale: 1.0,
             beta_s: 0.0,
@@ -169,6 +199,7 @@ impl SpringStructure {
         let (o2, _) = self.modal(&at_mass).unwrap_or((o, m_ref));
         let k_scale = (w0 / o2.natural_frequency_rad_s).powi(2);
         Ok(SpringParameters {
+            rotary_inertia_kg_m2: None,
             mass_kg,
             k_scale,
             beta_s: 2.0 * zeta / w0,

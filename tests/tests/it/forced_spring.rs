@@ -3,7 +3,8 @@
 //! modes than the diagnosis keeps, integrated by RK4 in its own reduced coordinates):
 //! `simulate` of the truth model (the modal form coil-ident fits) equals the generator's
 //! output, and the diagnosis names the effect and recovers its parameter within 10 % from
-//! noisy records, with a force on the weight and with a base acceleration.
+//! noisy records, with a force on the weight and with a base acceleration, the weight
+//! guided or (the coupling) turning freely.
 
 use coil_ident::forced::commands::{frc_of, simulate_series};
 use coil_ident::forced::fit::spring_model;
@@ -69,7 +70,7 @@ fn model_of(truth: &SpringTruth, case: &std::path::Path) -> ForcedModel {
     if !truth.base {
         p.push((truth.mass_kg / structure.nominal_mass_kg).ln());
     }
-    let mut model = spring_model(&structure, &template, &p).unwrap();
+    let mut model = spring_model(&structure, &template, &p, truth.rotary_inertia_kg_m2).unwrap();
     let m = model.mass;
     let o = &mut model.oscillator;
     o.cubic = truth.cubic_n_m3 / m;
@@ -81,12 +82,19 @@ fn model_of(truth: &SpringTruth, case: &std::path::Path) -> ForcedModel {
 
 #[test]
 fn simulate_of_the_spring_truth_model_equals_the_generator() {
-    for base in [false, true] {
+    let j = SpringTruth::linear().tuned_inertia(1.04);
+    for (base, inertia) in [
+        (false, None),
+        (true, None),
+        (false, Some(j)),
+        (true, Some(j)),
+    ] {
         let truth = SpringTruth {
             cubic_n_m3: 3e7,
             friction_n: 0.03,
             drag_n_s2_m2: 1.0,
             base,
+            rotary_inertia_kg_m2: inertia,
             ..SpringTruth::linear()
         };
         let dir = tempfile::tempdir().unwrap();
@@ -114,7 +122,9 @@ fn simulate_of_the_spring_truth_model_equals_the_generator() {
         let y = simulate::output(&model, grid, &r.input, (0.0, 0.0), 1.0).unwrap();
         let err: Vec<f64> = y.iter().zip(&r.truth_m).map(|(a, b)| a - b).collect();
         println!(
-            "base {base}: {} modes, simulate against the generator {:.2e} of the response",
+            "base {base}, turning weight {}: {} modes, simulate against the generator {:.2e} \
+             of the response",
+            inertia.is_some(),
             model.oscillator.modes.len() + 1,
             rms(&err) / rms(&r.truth_m)
         );
@@ -158,7 +168,8 @@ struct Case {
 }
 
 /// Every effect and none, under every excitation, with a force on the weight (the first
-/// 15) and with a base acceleration (the last 15).
+/// 18) and with a base acceleration (the last 18). The coupling's weight turns freely with
+/// the rotary inertia that puts its torsional frequency 4 % above the axial one.
 fn cases() -> Vec<Case> {
     let mut out = Vec::new();
     for base in [false, true] {
@@ -204,6 +215,13 @@ fn cases() -> Vec<Case> {
                 excitations: ex,
                 cause: "quadratic_damping",
                 parameter: Some(("quadratic_damping_n_s2_m2", 3.0)),
+            });
+            let j = SpringTruth::linear().tuned_inertia(1.04);
+            out.push(Case {
+                truth: with(&|t| t.rotary_inertia_kg_m2 = Some(j)),
+                excitations: ex,
+                cause: "axial_torsional_coupling",
+                parameter: Some(("rotary_inertia_kg_m2", j)),
             });
         }
     }
@@ -307,10 +325,10 @@ fn run(picked: &[usize], seed: u64, duration: f64) {
 fn the_spring_diagnosis_names_each_effect_from_noisy_forced_records() {
     // Two cases (a force and a base input, an effect each); every case in the ignored
     // test below.
-    run(&[3, 27], 300, 15.0);
+    run(&[3, 32], 300, 15.0);
 }
 
-/// Every effect and none under every excitation, with a force and with a base input (30
+/// Every effect and none under every excitation, with a force and with a base input (36
 /// diagnoses, about ten minutes on two cores):
 /// `cargo test --release -p coil-tests --test it forced_spring::every -- --ignored --nocapture`
 #[test]
@@ -318,7 +336,7 @@ fn the_spring_diagnosis_names_each_effect_from_noisy_forced_records() {
 fn every_spring_effect_under_every_excitation() {
     let picked: Vec<usize> = std::env::var("COIL_PICK")
         .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
-        .unwrap_or_else(|_| (0..30).collect());
+        .unwrap_or_else(|_| (0..36).collect());
     run(&picked, 400, 15.0);
 }
 
@@ -530,7 +548,7 @@ fn the_base_load_is_the_rigid_translations_inertia() {
         4,
     )
     .unwrap();
-    let (m, _, load) = reduced.linear_operators(0.2, 1.0).unwrap();
+    let (m, _, load) = reduced.linear_operators(0.2, 0.0, 1.0).unwrap();
     let weight_row = 1e3 * load[0];
     let rigid = m.clone().try_inverse().unwrap() * &load;
     println!(

@@ -361,6 +361,8 @@ fn solve_increasing(
     if p == 0.0 {
         return Some(x);
     }
+    // Newton starts from `x0` when it lies in the bracket: its value is known.
+    let p0 = p;
     // Grow the bracket on the side of the root.
     let mut step = x.abs().max(1.0);
     for _ in 0..2100 {
@@ -409,8 +411,9 @@ fn solve_increasing(
     } else {
         0.5 * (lo + hi)
     };
+    let mut known = (x == x0).then_some(p0);
     for _ in 0..200 {
-        let p = phi(x);
+        let p = known.take().unwrap_or_else(|| phi(x));
         if !p.is_finite() {
             return None;
         }

@@ -14,6 +14,7 @@ mod paper_spring;
 mod readme;
 mod reduction;
 mod results;
+mod shared_data;
 mod spring_design;
 mod spring_input;
 mod transient;

@@ -6,6 +6,7 @@ mod damping_laws;
 mod diagnose;
 mod diagnose_joint;
 mod diagnose_length;
+mod diagnose_mesh;
 mod forced;
 mod forced_spring;
 mod marc_interchange;

@@ -251,6 +251,8 @@ pub(crate) struct RawDeck {
     pub not_needed: Vec<(String, Loc)>,
     /// Marc's input version (`VERSION`).
     pub version: Option<u64>,
+    /// Marc's `DYNAMIC` parameter: the method it gives a transient, and where.
+    pub marc_dynamic: Option<(crate::deck::cards::parameters::MarcDynamic, Loc)>,
     /// `BEAM SECT` sections, numbered from 1.
     pub beam_sections: Vec<RawBeamSection>,
     /// Mentat's named blocks (name, line, true for a FIXED DISP block).

@@ -90,16 +90,26 @@ fn claim_en50318_reference_case_at_320_km_h_and_coarse_steps() {
         let got = c.margin.unwrap();
         println!("320 km/h {key}: {} by {got:.3}", c.verdict);
         assert_eq!(c.verdict, verdict, "{key}");
-        assert!((got - margin).abs() <= 0.005 + 1e-9, "{key}: margin {got}, docs {margin}");
+        assert!(
+            (got - margin).abs() <= 0.005 + 1e-9,
+            "{key}: margin {got}, docs {margin}"
+        );
     }
     assert!((s.std_n - 38.42).abs() <= 0.005 + 1e-9, "std {}", s.std_n);
-    assert!((s.mean_n - 115.22).abs() <= 0.005 + 1e-9, "mean {}", s.mean_n);
+    assert!(
+        (s.mean_n - 115.22).abs() <= 0.005 + 1e-9,
+        "mean {}",
+        s.mean_n
+    );
     case.time_step_s = 1e-3;
     for (speed, fine, coarse) in [(250.0, 26.47, 26.52), (300.0, 33.68, 33.81)] {
         let (_, run) = run_speed(&case, speed).unwrap();
         let std = run.statistics.std_n;
         println!("{speed} km/h at 1 ms: std {std:.2} N (0.125 ms: {fine})");
         assert!((std - coarse).abs() <= 0.005 + 1e-9, "{speed}: {std}");
-        assert!((std / fine - 1.0).abs() < 0.005, "{speed}: {std} against {fine}");
+        assert!(
+            (std / fine - 1.0).abs() < 0.005,
+            "{speed}: {std} against {fine}"
+        );
     }
 }

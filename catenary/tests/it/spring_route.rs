@@ -7,7 +7,9 @@
 //! steps: the second stage of `.ci/run`.
 
 use coil_catenary::case::read_case;
-use coil_catenary::head_stage::from_spring::{build_heads, with_head, DampingChoice, HeadSpringSpec};
+use coil_catenary::head_stage::from_spring::{
+    build_heads, with_head, DampingChoice, HeadSpringSpec,
+};
 use coil_catenary::head_stage::springs::{head_stages_of_files, HeadStageSettings, ZetaLevel};
 use coil_catenary::run::run_speed;
 use std::path::Path;
@@ -21,8 +23,7 @@ fn claim_spring_route_runs_as_the_hand_built_stage_and_the_study_table() {
     let settings = HeadStageSettings::default();
     let springs = repo.join("cases/160ect");
     let stages =
-        head_stages_of_files(&springs, &springs.join("table4.json"), head_mass, &settings)
-            .unwrap();
+        head_stages_of_files(&springs, &springs.join("table4.json"), head_mass, &settings).unwrap();
     let spec = HeadSpringSpec {
         damping: DampingChoice::ZetaMid,
         mass_share: false,
@@ -53,10 +54,21 @@ fn claim_spring_route_runs_as_the_hand_built_stage_and_the_study_table() {
             ("min", a.min_n, b.min_n),
             ("max", a.max_n, b.max_n),
         ] {
-            assert!((x - y).abs() < 0.01, "{name} {what}: by hand {x}, route {y}");
+            assert!(
+                (x - y).abs() < 0.01,
+                "{name} {what}: by hand {x}, route {y}"
+            );
         }
-        assert!((a.std_n - std).abs() <= 0.005 + 1e-9, "{name}: std {}", a.std_n);
-        assert!((a.min_n - min).abs() <= 0.005 + 1e-9, "{name}: min {}", a.min_n);
+        assert!(
+            (a.std_n - std).abs() <= 0.005 + 1e-9,
+            "{name}: std {}",
+            a.std_n
+        );
+        assert!(
+            (a.min_n - min).abs() <= 0.005 + 1e-9,
+            "{name}: min {}",
+            a.min_n
+        );
     }
 }
 

@@ -358,9 +358,24 @@ fn paper_tables_match_the_readme() {
 /// mode, the spread), each to one unit of its printed last digit.
 fn docs_tables_match(r: &coil_tuner::report::PaperReport) {
     let rows: [(&str, f64, Option<f64>, [f64; 6]); 3] = [
-        ("alpha = 0", 0.0, None, [-2.10, -3.39, -1.01, -3.53, -2.52, -3.18]),
-        ("alpha = 2", 2.0, None, [4.35, -5.37, 2.35, -7.40, -4.53, -0.87]),
-        ("the paper's point", 0.8, Some(0.00012), [-2.68, -7.30, -2.85, -8.18, -6.46, -5.38]),
+        (
+            "alpha = 0",
+            0.0,
+            None,
+            [-2.10, -3.39, -1.01, -3.53, -2.52, -3.18],
+        ),
+        (
+            "alpha = 2",
+            2.0,
+            None,
+            [4.35, -5.37, 2.35, -7.40, -4.53, -0.87],
+        ),
+        (
+            "the paper's point",
+            0.8,
+            Some(0.00012),
+            [-2.68, -7.30, -2.85, -8.18, -6.46, -5.38],
+        ),
     ];
     for (label, alpha, beta, errors) in rows {
         let member = r
@@ -370,7 +385,12 @@ fn docs_tables_match(r: &coil_tuner::report::PaperReport) {
             .unwrap_or_else(|| panic!("{label}: no such member"));
         assert_eq!(member.variants.len(), 6, "{label}");
         for ((name, _, error), printed) in member.variants.iter().zip(errors) {
-            within(&format!("{label}: {name} (%)"), 100.0 * error.unwrap(), printed, 0.01);
+            within(
+                &format!("{label}: {name} (%)"),
+                100.0 * error.unwrap(),
+                printed,
+                0.01,
+            );
         }
     }
     let mesh = [
@@ -383,8 +403,18 @@ fn docs_tables_match(r: &coil_tuner::report::PaperReport) {
     assert_eq!(r.mesh_study.rows.len(), mesh.len());
     for (row, (n, k, e)) in r.mesh_study.rows.iter().zip(mesh) {
         assert_eq!(row.elements_per_coil, n);
-        within(&format!("K at the paper's E, {n} per coil"), row.stiffness_at_paper_e_n_mm, k, 1e-5);
-        within(&format!("E tuned, {n} per coil"), row.tuned_youngs_modulus_mpa, e, 1.0);
+        within(
+            &format!("K at the paper's E, {n} per coil"),
+            row.stiffness_at_paper_e_n_mm,
+            k,
+            1e-5,
+        );
+        within(
+            &format!("E tuned, {n} per coil"),
+            row.tuned_youngs_modulus_mpa,
+            e,
+            1.0,
+        );
     }
     within(
         "8 elements per coil too stiff by (%)",
@@ -407,10 +437,19 @@ fn docs_tables_match(r: &coil_tuner::report::PaperReport) {
         for (law, (got, printed)) in b.laws.iter().zip(row.zeta.iter().zip(zetas)) {
             within(&format!("band {} {law}", row.name), *got, printed, 1e-5);
         }
-        within(&format!("band {} spread (%)", row.name), row.spread_percent, spread, 0.1);
+        within(
+            &format!("band {} spread (%)", row.name),
+            row.spread_percent,
+            spread,
+            0.1,
+        );
     }
     within("surge frequency (Hz)", b.surge_frequency_hz, 129.8, 0.1);
-    for (law, (got, printed)) in b.laws.iter().zip(b.surge_zeta.iter().zip([0.05225, 0.01574, 0.00175, 0.0])) {
+    for (law, (got, printed)) in b
+        .laws
+        .iter()
+        .zip(b.surge_zeta.iter().zip([0.05225, 0.01574, 0.00175, 0.0]))
+    {
         within(&format!("surge {law}"), *got, printed, 1e-5);
     }
 }

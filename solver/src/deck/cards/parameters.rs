@@ -359,7 +359,10 @@ mod tests {
         let newmark = TransientMethod::Direct(Integrator::AverageAcceleration);
         assert_eq!(method("", ""), newmark);
         assert_eq!(method("DYNAMIC, 2\n", ""), newmark);
-        assert_eq!(method("dynamic, 1, 6\n", ""), TransientMethod::Modal { modes: 6 });
+        assert_eq!(
+            method("dynamic, 1, 6\n", ""),
+            TransientMethod::Modal { modes: 6 }
+        );
         assert_eq!(
             method("DYNAMIC, 2\n", ", HHT, -0.1"),
             TransientMethod::Direct(Integrator::Hht { alpha: -0.1 })
@@ -375,10 +378,16 @@ mod tests {
             ("DYNAMIC, 2\n", ", MODAL, 4", None, "contradicts"),
         ] {
             let text = deck(param, method);
-            let data = 1 + text.lines().position(|l| l.starts_with("1e-3, 0.01")).unwrap();
+            let data = 1 + text
+                .lines()
+                .position(|l| l.starts_with("1e-3, 0.01"))
+                .unwrap();
             let e = read_str(&text, "t.dat").unwrap_err().to_string();
             let line = line.unwrap_or(data);
-            assert!(e.contains(&format!("t.dat:{line}:")), "{param} {method}: {e}");
+            assert!(
+                e.contains(&format!("t.dat:{line}:")),
+                "{param} {method}: {e}"
+            );
             assert!(e.contains(needle), "{param} {method}: {e}");
         }
     }

@@ -10,9 +10,8 @@
 use super::loads::point_load;
 use super::mentat::active_names_exist;
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
-use crate::deck::cards::parameters::MarcDynamic;
 use crate::deck::error::{DeckError, Loc};
-use crate::deck::raw::{RawDeck, RawLoadCase};
+use crate::deck::raw::{MarcDynamic, RawDeck, RawLoadCase};
 use crate::deck::resolve::Builder;
 use crate::model::{Analysis, LoadCase, ModelParts, PointLoad};
 use crate::model::{Integrator, TransientMethod};

@@ -10,6 +10,7 @@
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self, Line};
+use crate::deck::raw::MarcDynamic;
 use crate::model::ElementType;
 use DeckSection::{History, Model, Parameters};
 
@@ -118,15 +119,6 @@ pub(crate) const DYNAMIC: Keyword = Keyword {
     example: "DYNAMIC, 1, 10",
     parse: parse_dynamic,
 };
-
-/// How a `DYNAMIC` parameter card sets a transient's method.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum MarcDynamic {
-    /// Code 1: modal superposition over this many modes (0: none given).
-    Modal { modes: u32 },
-    /// Code 2: Newmark, average acceleration.
-    Newmark,
-}
 
 fn parse_dynamic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
     let previous = c.deck.marc_dynamic.map(|d| d.1);

@@ -60,7 +60,7 @@ use crate::error::solve::SolveError;
 use crate::linalg::sym_upper_matvec;
 use crate::model::{FixedDisp, MatrixElement, Model, NodeId};
 use faer::sparse::SparseColMat;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// Why a reduction or a reduced operator cannot be formed.
 #[derive(Debug, thiserror::Error)]
@@ -170,6 +170,10 @@ pub struct Reduction {
     pub m_points: DMatrix<f64>,
     /// Frequencies (Hz) of the fixed-interface modes, ascending.
     pub fixed_interface_hz: Vec<f64>,
+    /// `T^T M r_d` for the rigid translation `r_d` of every free DOF along axis `d`
+    /// (x, y, z): the reduced inertial load of a unit base acceleration along `d`
+    /// (t mm/s^2 per mm/s^2, i.e. t), at the model's point masses.
+    translation_loads: Vec<DVector<f64>>,
     /// `T` on the model's free DOFs (free DOFs x r).
     basis: DMatrix<f64>,
     dofs: DofMap,
@@ -354,6 +358,17 @@ pub fn craig_bampton(
         .matrix(&mp)
         .map_err(solve_err("point mass"))?;
 
+    let translation_loads = (1..=3u8)
+        .map(|d| {
+            let r: Vec<f64> = (0..n)
+                .map(|eq| f64::from(u8::from(system.dofs.free_label(eq).1 == d)))
+                .collect();
+            let mut y = vec![0.0; n];
+            sym_upper_matvec(me.as_ref(), &r, 1.0, &mut y);
+            sym_upper_matvec(mp.as_ref(), &r, 1.0, &mut y);
+            basis.transpose() * DVector::from_vec(y)
+        })
+        .collect();
     Ok(Reduction {
         boundary: boundary.to_vec(),
         n_modes,
@@ -361,6 +376,7 @@ pub fn craig_bampton(
         m_elements: project(&me, &basis),
         m_points: project(&mp, &basis),
         fixed_interface_hz,
+        translation_loads,
         basis,
         dofs: system.dofs.clone(),
     })
@@ -434,6 +450,32 @@ impl Reduction {
         }
         let c = &self.m_elements * alpha + &k * beta;
         Ok(ReducedOperators { m, c, k })
+    }
+
+    /// The reduced inertial load `T^T M r` of a unit acceleration of the base along axis
+    /// `direction` (1, 2, 3 = x, y, z), `r` the rigid translation of every free DOF, with
+    /// `extra_boundary_mass` as in [`Reduction::operators`] (its rows that translate along
+    /// `direction` carry it). In relative coordinates a base acceleration `a_b` loads the
+    /// reduced model with `-a_b` times this vector (t; N per mm/s^2).
+    pub fn translation_load(
+        &self,
+        direction: u8,
+        extra_boundary_mass: &[f64],
+    ) -> Result<DVector<f64>, ReduceError> {
+        if extra_boundary_mass.len() != self.boundary.len() || !(1..=3).contains(&direction) {
+            return Err(ReduceError::Dimension {
+                what: "extra boundary mass (or a direction other than 1, 2, 3)",
+                expected: self.boundary.len(),
+                found: extra_boundary_mass.len(),
+            });
+        }
+        let mut load = self.translation_loads[usize::from(direction) - 1].clone();
+        for (i, (&(_, dof), &extra)) in self.boundary.iter().zip(extra_boundary_mass).enumerate() {
+            if dof == direction {
+                load[i] += extra;
+            }
+        }
+        Ok(load)
     }
 
     /// Undamped eigenfrequencies (Hz, ascending) of the re-parameterised reduced model.

@@ -379,3 +379,4 @@ pub mod scoring;
 pub mod truth;
 pub mod truth_damping;
 pub mod truth_forced;
+pub mod truth_forced_spring;

@@ -275,3 +275,121 @@ fn bad_forced_input_is_refused_and_nothing_is_written() {
     std::fs::write(&model, "{\"kind\": \"beam\"}").unwrap();
     run(simulate("force_n", "20", record_s), &["model.json"]);
 }
+
+const SPRING: &str = r#""spring": {"active_coils": 9.0, "mean_diameter_mm": 18.0, "wire_diameter_mm": 2.2, "pitch_mm": 4.6},
+  "material": {"youngs_modulus_mpa": 206000.0, "poisson_ratio": 0.3, "density_kg_m3": 7850.0},
+  "mass_kg": 2.0, "gravity_m_s2": 0.0"#;
+
+fn write_spring_case(dir: &Path, entry: &str) {
+    std::fs::write(
+        dir.join("case.json"),
+        format!(
+            "{{\"name\": \"spring on a shaker\", {SPRING}, \"records\": {{\"forced\": [{entry}]}}}}\n"
+        ),
+    )
+    .unwrap();
+}
+
+/// The forced-record errors hold for a case with a spring too (its records are read and
+/// checked before the spring is meshed), and its records must be in SI units; `simulate`
+/// refuses `--init` longer than the record on a spring model (`kind: reduced_spring`).
+#[test]
+fn bad_forced_input_on_a_spring_case_is_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = generate(200);
+    let out = dir.path().join("out");
+    let out_s = out.to_str().unwrap();
+    let case = dir.path().join("case");
+    std::fs::create_dir(&case).unwrap();
+    let case_s = case.to_str().unwrap();
+    let diagnose = ["diagnose", case_s, "--out", out_s];
+    write_record(&case.join("run.csv"), &rows);
+    // An input column that does not exist.
+    write_spring_case(&case, &ENTRY.replace("\"force_n\"", "\"thrust_n\""));
+    fails(&diagnose, &out, &["run.csv", "thrust_n"]);
+    // A forced case with no input.
+    write_spring_case(&case, &ENTRY.replace(r#""input": "force_n", "#, ""));
+    fails(&diagnose, &out, &["case.json", "records.forced[0].input"]);
+    // Units that are not SI.
+    write_spring_case(
+        &case,
+        &ENTRY.replace(r#""output_unit": "m""#, r#""output_unit": "mm""#),
+    );
+    fails(
+        &diagnose,
+        &out,
+        &["run.csv", "\"mm\"", "SI units", "\"m/s^2\""],
+    );
+    write_spring_case(
+        &case,
+        &ENTRY.replace(r#""input_unit": "N""#, r#""input_unit": "V""#),
+    );
+    fails(&diagnose, &out, &["run.csv", "\"V\"", "SI units"]);
+    // NaN in the input.
+    write_spring_case(&case, ENTRY);
+    let mut text = std::fs::read_to_string(case.join("run.csv")).unwrap();
+    text = text.replacen(&format!("{:.9e}", rows[7].1), "NaN", 1);
+    std::fs::write(case.join("run.csv"), text).unwrap();
+    fails(&diagnose, &out, &["run.csv:9", "force_n"]);
+    // Records of different lengths (the output stops early).
+    let mut s = String::from("time_s,force_n,displacement_m\n");
+    for (i, (t, u, y)) in rows.iter().enumerate() {
+        if i < 150 {
+            s.push_str(&format!("{t:.4},{u:.9e},{y:.9e}\n"));
+        } else {
+            s.push_str(&format!("{t:.4},{u:.9e},\n"));
+        }
+    }
+    std::fs::write(case.join("run.csv"), s).unwrap();
+    fails(&diagnose, &out, &["run.csv:152", "shorter", "same length"]);
+
+    // A spring model: --init longer than the record, and a lumped kind with modes.
+    let model = dir.path().join("model.json");
+    let spring_model = r#"{"kind": "reduced_spring", "input_quantity": "force", "output_quantity": "displacement",
+  "input_unit": "N", "output_unit": "m", "mass": 2.0,
+  "oscillator": {"natural_frequency_rad_s": 31.4, "damping_ratio": 0.02, "input_gain": 0.5,
+    "cubic": 0.0, "friction": 0.0, "drag": 0.0, "friction_velocity": 1.0, "output_offset": 0.0,
+    "modes": [{"natural_frequency_rad_s": 1600.0, "damping_ratio": 0.16, "input_gain": 0.007, "law_gain": 0.014}]}}"#;
+    std::fs::write(&model, spring_model).unwrap();
+    write_record(&dir.path().join("run.csv"), &rows);
+    let record = dir.path().join("run.csv");
+    let simulate = |init: &str| {
+        let args = [
+            "simulate",
+            model.to_str().unwrap(),
+            "--record",
+            record.to_str().unwrap(),
+            "--input",
+            "force_n",
+            "--output",
+            "displacement_m",
+            "--init",
+            init,
+            "--out",
+            out_s,
+        ];
+        args.map(String::from)
+    };
+    let a = simulate("500");
+    let args: Vec<&str> = a.iter().map(String::as_str).collect();
+    fails(&args, &out, &["run.csv", "--init", "200 rows"]);
+    std::fs::write(
+        &model,
+        spring_model.replace("reduced_spring", "lumped_oscillator"),
+    )
+    .unwrap();
+    let a = simulate("20");
+    let args: Vec<&str> = a.iter().map(String::as_str).collect();
+    fails(&args, &out, &["model.json", "modes"]);
+    // The spring model runs.
+    std::fs::write(&model, spring_model).unwrap();
+    let o = coil_tune(
+        &simulate("20")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("simulated.csv")).unwrap();
+    assert_eq!(text.lines().count(), rows.len() + 1);
+}

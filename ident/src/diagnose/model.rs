@@ -52,6 +52,7 @@ use coil_mesher::{Top, WEIGHT_NODE};
 use coil_solver::integrate::dense::{DenseStepper, Sample};
 use coil_solver::model::units;
 use coil_solver::reduce::{craig_bampton, Reduction};
+use nalgebra::{DMatrix, DVector};
 
 /// Largest `w dt` of the axial mode.
 pub const OMEGA_DT: f64 = 0.1;
@@ -112,6 +113,9 @@ impl Physical {
     }
 }
 
+/// The linear operators `(M, K)` and the base-acceleration load of a reduced spring.
+pub type LinearOperators = (DMatrix<f64>, DMatrix<f64>, DVector<f64>);
+
 /// A reduced spring ready to simulate decays.
 #[derive(Debug, Clone)]
 pub struct ReducedSpring {
@@ -164,6 +168,27 @@ impl ReducedSpring {
             extra.push(units::inertia_from_si(e.rotary_inertia_kg_m2));
         }
         extra
+    }
+
+    /// The linear operators `(M, K)` (solver units: t, N/mm) with the weight's mass
+    /// `mass_kg` and the stiffness scale `k_scale`, and the reduced inertial load of a unit
+    /// axial base acceleration (t; `coil_solver::reduce::Reduction::translation_load`).
+    pub fn linear_operators(
+        &self,
+        mass_kg: f64,
+        k_scale: f64,
+    ) -> std::result::Result<LinearOperators, String> {
+        let mut extra = vec![0.0; self.reduction.boundary.len()];
+        extra[0] = units::mass_from_si(mass_kg - self.meshed_mass_kg);
+        let ops = self
+            .reduction
+            .operators(k_scale, &extra, 0.0, 0.0)
+            .map_err(|e| e.to_string())?;
+        let load = self
+            .reduction
+            .translation_load(3, &extra)
+            .map_err(|e| e.to_string())?;
+        Ok((ops.m, ops.k, load))
     }
 
     /// Static boundary stiffness of the guided axial DOF (N/m).

@@ -106,16 +106,13 @@ pub fn simulate_series(
         };
         let initial =
             simulate::fit_initial_state(model, grid, &record.input, &record.output, bound)?;
-        let (z, v) = simulate::states(o, grid, &record.input, initial, bound)?;
-        let reached = z.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let v_reached = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let m = simulate::motion(o, grid, &record.input, initial, bound)?;
+        let reached = m.z.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let v_reached = m.v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let needed = simulate::substeps(o, record.dt, reached, v_reached);
         if needed <= grid.substeps {
-            let output = z
-                .iter()
-                .zip(&v)
-                .zip(&record.input)
-                .map(|((&z, &v), &u)| model.output(z, v, u))
+            let output = (0..record.input.len())
+                .map(|i| model.output(m.z[i], m.v[i], m.a[i], record.input[i]))
                 .collect();
             return Ok(Simulated {
                 time_s: record.time_s.clone(),

@@ -13,6 +13,12 @@
 //! 3. **An effect**: its parameter added (starting from 0, any sign: a negative friction or
 //!    drag is reported as inadmissible, not clipped) and everything refitted.
 //!
+//! On a reduced FE spring (module `super::spring`) the three linear parameters are the
+//! spring's instead: `ln s` (stiffness scale), `ln beta` and, under a force, `ln (m / m_n)`
+//! (the weight's mass against the case's); the law's parameters are then the physical
+//! force's (per the start's reference mass), so a change of the modal reference mass
+//! during the fit does not move them.
+//!
 //! Parameters are scaled to order one: the effects by the displacement scale `z_s` (RMS of
 //! the linear model's displacement) and `w_s` (the start's `w0`): `kappa = p w_s^2 / z_s^2`,
 //! `phi = p w_s^2 z_s`, `delta = p / z_s`; the friction's regularisation velocity is
@@ -24,6 +30,7 @@
 
 use super::model::{ForcedModel, InputQuantity, Lumped, OutputQuantity};
 use super::simulate::{self, Grid};
+use super::spring::{SpringParameters, SpringStructure};
 use crate::diagnose::lm::{self, LmOptions};
 
 /// One record's samples as the fits see them.
@@ -130,7 +137,8 @@ pub struct Fitted {
     pub residuals: Vec<Vec<f64>>,
     /// The effects fitted, with their value per unit mass and its standard error.
     pub effects: Vec<(Effect, f64, f64)>,
-    /// Standard errors of `w0` (rad/s), `zeta`, `b`.
+    /// Standard errors of `w0` (rad/s), `zeta`, `b`; of a spring's stiffness scale, beta
+    /// (s) and mass (kg, 0 when held).
     pub linear_se: [f64; 3],
     /// The scales used.
     pub scales: Scales,
@@ -293,7 +301,62 @@ pub fn linear_start(
     Ok((model_of(setup, units, oscillator), initial, scales))
 }
 
-/// Fits the model with `effects` by output error from `start` (module docs, steps 2-3).
+/// The structural parameters of `start` as the fit's first entries (module docs).
+fn structural(start: &ForcedModel, spring: Option<&SpringStructure>, scales: &Scales) -> Vec<f64> {
+    let o = &start.oscillator;
+    match (spring, &start.spring) {
+        (Some(s), Some(f)) => {
+            let mut p = vec![
+                (f.youngs_modulus_mpa / s.youngs_modulus_mpa).ln(),
+                f.rayleigh_beta_s.max(1e-12).ln(),
+            ];
+            if s.input == InputQuantity::Force {
+                p.push((f.mass_kg / s.nominal_mass_kg).ln());
+            }
+            p
+        }
+        _ => vec![
+            o.natural_frequency_rad_s.ln(),
+            o.damping_ratio.max(1e-6).ln(),
+            o.input_gain / scales.b,
+        ],
+    }
+}
+
+/// A spring model at the parameters `p` (the structural ones first): the oscillator with
+/// its modes and the reference mass, the model's figures set.
+pub fn spring_model(
+    spring: &SpringStructure,
+    template: &ForcedModel,
+    p: &[f64],
+) -> Result<ForcedModel, String> {
+    let params = SpringParameters {
+        k_scale: p[0].exp(),
+        beta_s: p[1].exp(),
+        mass_kg: if spring.input == InputQuantity::Force {
+            p[2].exp() * spring.nominal_mass_kg
+        } else {
+            spring.nominal_mass_kg
+        },
+    };
+    let (mut osc, m_ref) = spring.modal(&params)?;
+    let o = &template.oscillator;
+    osc.output_offset = o.output_offset;
+    osc.friction_velocity = o.friction_velocity;
+    osc.cubic = o.cubic;
+    osc.friction = o.friction;
+    osc.drag = o.drag;
+    let mut model = template.clone();
+    model.kind = super::model::SPRING_KIND.into();
+    model.oscillator = osc;
+    model.mass = m_ref;
+    model.spring = Some(spring.figures(&params));
+    Ok(model)
+}
+
+/// Fits the model with `effects` by output error from `start` (module docs, steps 2-3);
+/// `spring` the case's reduced FE spring when `start` is one.
+#[allow(clippy::too_many_arguments)]
 pub fn fit(
     series: &[Series<'_>],
     start: &ForcedModel,
@@ -301,24 +364,25 @@ pub fn fit(
     scales: &Scales,
     effects: &[Effect],
     max_iterations: usize,
+    spring: Option<&SpringStructure>,
 ) -> Result<Fitted, String> {
     let setup = Setup {
         input: start.input_quantity,
         output: start.output_quantity,
         base_mass: Some(start.mass),
     };
+    let spring = spring.filter(|_| start.is_spring());
     let units = (start.input_unit.as_str(), start.output_unit.as_str());
     let o = &start.oscillator;
     let z_s = scales.z;
     let v_s = scales.w * z_s;
     let bound = simulate::bound_for(1e3 * z_s);
     let ne = effects.len();
-    let mut p0 = vec![
-        o.natural_frequency_rad_s.ln(),
-        o.damping_ratio.max(1e-6).ln(),
-        o.input_gain / scales.b,
-        o.output_offset / scales.y,
-    ];
+    let mut p0 = structural(start, spring, scales);
+    let ns = p0.len();
+    p0.push(o.output_offset / scales.y);
+    // The law per unit reference mass of the start (module docs).
+    let m_ref0 = start.mass;
     for e in effects {
         p0.push(e.value(o) / e.scale(scales));
     }
@@ -326,25 +390,37 @@ pub fn fit(
         p0.push(z0 / z_s);
         p0.push(v0 / v_s);
     }
-    let unpack = |p: &[f64]| -> (ForcedModel, Vec<(f64, f64)>) {
-        let mut m = o.clone();
-        m.natural_frequency_rad_s = p[0].exp();
-        m.damping_ratio = p[1].exp();
-        m.input_gain = p[2] * scales.b;
-        m.output_offset = p[3] * scales.y;
+    let unpack = |p: &[f64]| -> Result<(ForcedModel, Vec<(f64, f64)>), String> {
+        let mut model = match spring {
+            Some(s) => spring_model(s, start, p)?,
+            None => {
+                let mut m = o.clone();
+                m.natural_frequency_rad_s = p[0].exp();
+                m.damping_ratio = p[1].exp();
+                m.input_gain = p[2] * scales.b;
+                model_of(&setup, units, m)
+            }
+        };
+        let per_mass = if spring.is_some() {
+            m_ref0 / model.mass
+        } else {
+            1.0
+        };
+        let m = &mut model.oscillator;
+        m.output_offset = p[ns] * scales.y;
         m.cubic = 0.0;
         m.friction = 0.0;
         m.drag = 0.0;
         for (j, e) in effects.iter().enumerate() {
-            e.set(&mut m, p[4 + j] * e.scale(scales));
+            e.set(m, p[ns + 1 + j] * e.scale(scales) * per_mass);
         }
         let init = (0..series.len())
-            .map(|k| (p[4 + ne + 2 * k] * z_s, p[5 + ne + 2 * k] * v_s))
+            .map(|k| (p[ns + 1 + ne + 2 * k] * z_s, p[ns + 2 + ne + 2 * k] * v_s))
             .collect();
-        (model_of(&setup, units, m), init)
+        Ok((model, init))
     };
     let residuals = |p: &[f64]| -> Result<Vec<f64>, String> {
-        let (m, init) = unpack(p);
+        let (m, init) = unpack(p)?;
         Ok(residuals_of(&m, series, &init, scales.substeps, bound)?.concat())
     };
     let options = LmOptions {
@@ -352,21 +428,39 @@ pub fn fit(
         scale: vec![1.0; p0.len()],
     };
     let out = lm::fit(&residuals, &p0, &options)?;
-    let (model, init) = unpack(&out.params);
+    let (model, init) = unpack(&out.params)?;
     let per_record = residuals_of(&model, series, &init, scales.substeps, bound)?;
     let se = &out.std_errors;
-    let w0 = model.oscillator.natural_frequency_rad_s;
+    let per_mass = if spring.is_some() {
+        m_ref0 / model.mass
+    } else {
+        1.0
+    };
+    let linear_se = match (spring, &model.spring) {
+        (Some(_), Some(f)) => [
+            se[0] * out.params[0].exp(),
+            se[1] * f.rayleigh_beta_s,
+            if ns == 3 { se[2] * f.mass_kg } else { 0.0 },
+        ],
+        _ => [
+            se[0] * model.oscillator.natural_frequency_rad_s,
+            se[1] * model.oscillator.damping_ratio,
+            se[2] * scales.b,
+        ],
+    };
     Ok(Fitted {
         effects: effects
             .iter()
             .enumerate()
-            .map(|(j, e)| (*e, e.value(&model.oscillator), se[4 + j] * e.scale(scales)))
+            .map(|(j, e)| {
+                (
+                    *e,
+                    e.value(&model.oscillator),
+                    se[ns + 1 + j] * e.scale(scales) * per_mass,
+                )
+            })
             .collect(),
-        linear_se: [
-            se[0] * w0,
-            se[1] * model.oscillator.damping_ratio,
-            se[2] * scales.b,
-        ],
+        linear_se,
         rms: per_record.iter().map(|r| rms(r)).collect(),
         count: out.residuals.len(),
         cost: out.cost,
@@ -386,6 +480,7 @@ pub fn forecast(
     fitted: &Fitted,
     effects: &[Effect],
     max_iterations: usize,
+    spring: Option<&SpringStructure>,
 ) -> Result<f64, String> {
     let bound = simulate::bound_for(1e3 * fitted.scales.z);
     let (mut err2, mut ref2) = (0.0, 0.0);
@@ -408,6 +503,7 @@ pub fn forecast(
             &fitted.scales,
             effects,
             max_iterations,
+            spring,
         )?;
         for (s, &x0) in series.iter().zip(&head_fit.initial) {
             let (a, b) = (s.output.len() * k / 4, s.output.len() * (k + 1) / 4);

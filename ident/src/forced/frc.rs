@@ -88,9 +88,10 @@ fn output_amplitude(model: &ForcedModel, x: &[f64], w: f64, input_amplitude: f64
         OutputQuantity::Acceleration => match model.input_quantity {
             InputQuantity::Force => w * w * a,
             InputQuantity::BaseAcceleration => {
-                // z'' - b u: cos part -W^2 a_1 - b A, sin part -W^2 b_1.
-                let b = model.oscillator.input_gain;
-                (-w * w * x[1] - b * input_amplitude).hypot(-w * w * x[2])
+                // z'' + f u (f the base feedthrough, -b for the lumped oscillator): cos
+                // part -W^2 a_1 + f A, sin part -W^2 b_1.
+                let f = model.base_feedthrough();
+                (-w * w * x[1] + f * input_amplitude).hypot(-w * w * x[2])
             }
         },
     }
@@ -125,6 +126,9 @@ fn newton_fixed(model: &Lumped, basis: &Basis, x: &mut [f64], W: f64, force: f64
 /// The largest Floquet multiplier's modulus of the orbit `x` at `W` (module docs).
 #[allow(non_snake_case)]
 pub fn floquet(model: &Lumped, x: &[f64], W: f64) -> f64 {
+    if !model.modes.is_empty() {
+        return floquet_modal(model, x, W);
+    }
     let period = std::f64::consts::TAU / W;
     let w0 = model.natural_frequency_rad_s;
     let c = 2.0 * model.damping_ratio * w0;
@@ -177,6 +181,95 @@ pub fn floquet(model: &Lumped, x: &[f64], W: f64) -> f64 {
     } else {
         det.abs().sqrt()
     }
+}
+
+/// The orbit's law slopes `(g_z, g_v)` at time `t` (harmonics `x` at `W`).
+#[allow(non_snake_case)]
+fn law_slopes(model: &Lumped, x: &[f64], W: f64, t: f64) -> (f64, f64) {
+    let tau = W * t;
+    let (mut z, mut dz) = (x[0], 0.0);
+    for k in 1..=(x.len() - 1) / 2 {
+        let kf = k as f64;
+        let (s, co) = (kf * tau).sin_cos();
+        z += x[2 * k - 1] * co + x[2 * k] * s;
+        dz += kf * (-x[2 * k - 1] * s + x[2 * k] * co);
+    }
+    model.restoring_slopes(z, W * dz)
+}
+
+/// [`floquet`] of a reduced FE spring: the variational equation of every mode,
+/// `d_i'' + 2 zeta_i w_i d_i' + w_i^2 d_i = -a_i (g_z sum d + g_v sum d')`, integrated over a
+/// period from the identity (RK4, 256 steps or more so that `w_i h <= 0.5` and the
+/// damping slopes' `h c <= 0.5`), and the largest modulus of the `2 N x 2 N` monodromy
+/// matrix's eigenvalues.
+#[allow(non_snake_case)]
+fn floquet_modal(model: &Lumped, x: &[f64], W: f64) -> f64 {
+    let period = std::f64::consts::TAU / W;
+    let w1 = model.natural_frequency_rad_s;
+    let mut k = vec![w1 * w1];
+    let mut c = vec![2.0 * model.damping_ratio * w1];
+    let mut a = vec![1.0];
+    for m in &model.modes {
+        k.push(m.natural_frequency_rad_s.powi(2));
+        c.push(2.0 * m.damping_ratio * m.natural_frequency_rad_s);
+        a.push(m.law_gain);
+    }
+    let n = k.len();
+    let (_, gv0) = model.restoring_slopes(0.0, 0.0);
+    let share = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    let w_max = k.iter().fold(0.0f64, |m, v| m.max(v.sqrt()));
+    let c_max = c.iter().fold(0.0f64, |m, v| m.max(*v)) + share * gv0;
+    let steps = (256.0f64)
+        .max(period * w_max / 0.5)
+        .max(period * c_max / 0.5)
+        .min(200_000.0) as usize;
+    let h = period / steps as f64;
+    let rates = |t: f64, y: &[f64], out: &mut [f64]| {
+        let (gz, gv) = law_slopes(model, x, W, t);
+        let dz: f64 = y[..n].iter().sum();
+        let dv: f64 = y[n..].iter().sum();
+        for i in 0..n {
+            out[i] = y[n + i];
+            out[n + i] = -c[i] * y[n + i] - k[i] * y[i] - a[i] * (gz * dz + gv * dv);
+        }
+    };
+    let dim = 2 * n;
+    let mut monodromy = DMatrix::<f64>::identity(dim, dim);
+    let (mut k1, mut k2, mut k3, mut k4, mut tmp) = (
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+    );
+    for col in 0..dim {
+        let mut y: Vec<f64> = monodromy.column(col).iter().copied().collect();
+        for s in 0..steps {
+            let t = s as f64 * h;
+            rates(t, &y, &mut k1);
+            for j in 0..dim {
+                tmp[j] = y[j] + 0.5 * h * k1[j];
+            }
+            rates(t + 0.5 * h, &tmp, &mut k2);
+            for j in 0..dim {
+                tmp[j] = y[j] + 0.5 * h * k2[j];
+            }
+            rates(t + 0.5 * h, &tmp, &mut k3);
+            for j in 0..dim {
+                tmp[j] = y[j] + h * k3[j];
+            }
+            rates(t + h, &tmp, &mut k4);
+            for j in 0..dim {
+                y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+            }
+        }
+        monodromy.column_mut(col).copy_from_slice(&y);
+    }
+    monodromy
+        .complex_eigenvalues()
+        .iter()
+        .map(|l| l.norm())
+        .fold(0.0, f64::max)
 }
 
 /// The most points one curve may ask for (docs/files.md): about 5 ms each on the
@@ -424,6 +517,9 @@ pub fn backbone(
     conservative.damping_ratio = 0.0;
     conservative.friction = 0.0;
     conservative.drag = 0.0;
+    for m in &mut conservative.modes {
+        m.damping_ratio = 0.0;
+    }
     let basis = Basis::new(harmonics);
     let d = basis.size();
     let w0 = conservative.natural_frequency_rad_s;

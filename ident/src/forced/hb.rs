@@ -15,6 +15,13 @@
 //! retained ones, and friction's and drag's non-polynomial terms are resolved to the
 //! harmonics their smooth forms carry at that sampling.
 //!
+//! # A reduced FE spring (model docs, "modal form")
+//! The further modes are linear: harmonic `k` of mode `i` is `Q_ik = (b_i U_k - a_i G_k) /
+//! D_i(k W)`, `D_i(w) = w_i^2 - w^2 + 2 i zeta_i w_i w`, `U`, `G` the complex harmonics of the
+//! input and the law (`X = x_cos - i x_sin`). With them eliminated the unknowns stay the
+//! harmonics of `z = sum q_i`, and the balance above (mode 1's, multiplied by `D_1`) gains
+//! `D_1(k W) sum_{i>1} (a_i G_k - b_i U_k) / D_i(k W)`, exact for any number of modes.
+//!
 //! Sources: T. M. Cameron, J. H. Griffin, "An alternating frequency/time domain method for
 //! calculating the steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56
 //! (1989) 149-154; M. Krack, J. Gross, *Harmonic Balance for Nonlinear Vibration Problems*,
@@ -25,6 +32,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::model::Lumped;
+use nalgebra::Complex;
 
 /// The harmonic basis sampled at the AFT points.
 #[derive(Debug, Clone)]
@@ -137,6 +145,7 @@ pub fn residual(
         r_w[is] = -2.0 * kf * kf * W * x[is] - c * kf * x[ic];
     }
     r[1] -= force;
+    let mut law = None;
     if !model.is_linear() {
         let (z, dz) = basis.synthesise(x);
         let n = basis.samples;
@@ -158,6 +167,7 @@ pub fn residual(
             r_w[row] += gwp[row];
         }
         // Jacobian: sum_j phi_n(tau_j) (gz_j phi_m(tau_j) + W gv_j phi'_m(tau_j)).
+        let mut columns = Vec::with_capacity(d);
         for m in 0..d {
             let col: Vec<f64> = (0..n)
                 .map(|j| gz[j] * basis.phi[m][j] + W * gv[j] * basis.dphi[m][j])
@@ -166,9 +176,113 @@ pub fn residual(
             for row in 0..d {
                 jac[row * d + m] += p[row];
             }
+            columns.push(p);
         }
+        law = Some((gp, gwp, columns));
+    }
+    if !model.modes.is_empty() {
+        let amplitude = force / model.input_gain;
+        further_modes(
+            model,
+            basis.harmonics,
+            W,
+            amplitude,
+            law.as_ref(),
+            &mut r,
+            &mut jac,
+            &mut r_w,
+        );
     }
     (r, jac, r_w)
+}
+
+/// `D(w) = w_i^2 - w^2 + 2 i zeta_i w_i w` and its derivative in `w`.
+fn dynamic_stiffness(wi: f64, zeta: f64, w: f64) -> (Complex<f64>, Complex<f64>) {
+    (
+        Complex::new(wi * wi - w * w, 2.0 * zeta * wi * w),
+        Complex::new(-2.0 * w, 2.0 * zeta * wi),
+    )
+}
+
+/// Adds the further modes of a reduced FE spring to the balance (module docs): per
+/// harmonic `k`, `Q G - P U` with `Q = D_1 sum a_i / D_i`, `P = D_1 sum b_i / D_i`, to the
+/// residual, `Q dG/dx` to the Jacobian and the `W` derivatives to `r_w`. `law` holds the
+/// law's harmonics `G`, their `W` derivatives and the columns `dG/dx_m` (none when the
+/// model is linear).
+#[allow(non_snake_case, clippy::too_many_arguments, clippy::type_complexity)]
+fn further_modes(
+    model: &Lumped,
+    harmonics: usize,
+    W: f64,
+    amplitude: f64,
+    law: Option<&(Vec<f64>, Vec<f64>, Vec<Vec<f64>>)>,
+    r: &mut [f64],
+    jac: &mut [f64],
+    r_w: &mut [f64],
+) {
+    let d = 2 * harmonics + 1;
+    let (w1, z1) = (model.natural_frequency_rad_s, model.damping_ratio);
+    for k in 0..=harmonics {
+        let kf = k as f64;
+        let (d1, d1p) = dynamic_stiffness(w1, z1, kf * W);
+        let (mut s, mut sp, mut t, mut tp) = (
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+            Complex::new(0.0, 0.0),
+        );
+        for m in &model.modes {
+            let (di, dip) = dynamic_stiffness(m.natural_frequency_rad_s, m.damping_ratio, kf * W);
+            s += m.law_gain / di;
+            sp -= m.law_gain * dip / (di * di);
+            t += m.input_gain / di;
+            tp -= m.input_gain * dip / (di * di);
+        }
+        // d/dW of a function of k W is k times its derivative in the argument.
+        let q = d1 * s;
+        let qw = (d1p * s + d1 * sp) * kf;
+        let p = d1 * t;
+        let pw = (d1p * t + d1 * tp) * kf;
+        // Rows of harmonic k: (cos, sin); a complex C times X = (x_c - i x_s) adds
+        // (Re C x_c + Im C x_s, Re C x_s - Im C x_c).
+        let add =
+            |rows: &mut [f64], c: Complex<f64>, xc: f64, xs: f64, stride: usize, col: usize| {
+                if k == 0 {
+                    rows[col] += c.re * xc;
+                } else {
+                    rows[(2 * k - 1) * stride + col] += c.re * xc + c.im * xs;
+                    rows[(2 * k) * stride + col] += c.re * xs - c.im * xc;
+                }
+            };
+        if k == 1 {
+            add(r, -p, amplitude, 0.0, 1, 0);
+            add(r_w, -pw, amplitude, 0.0, 1, 0);
+        }
+        let Some((g, gw, columns)) = law else {
+            continue;
+        };
+        let (gc, gs) = if k == 0 {
+            (g[0], 0.0)
+        } else {
+            (g[2 * k - 1], g[2 * k])
+        };
+        let (gwc, gws) = if k == 0 {
+            (gw[0], 0.0)
+        } else {
+            (gw[2 * k - 1], gw[2 * k])
+        };
+        add(r, q, gc, gs, 1, 0);
+        add(r_w, qw, gc, gs, 1, 0);
+        add(r_w, q, gwc, gws, 1, 0);
+        for (m, col) in columns.iter().enumerate() {
+            let (cc, cs) = if k == 0 {
+                (col[0], 0.0)
+            } else {
+                (col[2 * k - 1], col[2 * k])
+            };
+            add(jac, q, cc, cs, d, m);
+        }
+    }
 }
 
 /// Amplitude of the first harmonic of the coefficients `x` (`sqrt(a_1^2 + b_1^2)`).

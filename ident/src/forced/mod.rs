@@ -2,7 +2,9 @@
 //! in, the cause out, and the model driven by any input (docs/forced.md).
 //!
 //! - [`records`]: the `records.forced` entries of a case and the histories they name.
-//! - [`model`]: the lumped single-mode oscillator and its file (`model.json`).
+//! - [`model`]: the lumped single-mode oscillator, the reduced FE spring in modal form,
+//!   and their file (`model.json`).
+//! - [`spring`]: a case's spring meshed, reduced and put in modal form.
 //! - [`simulate`]: the model under a sampled input (RK4, first-order hold).
 //! - [`fit`]: output-error fits (linear start, then each effect).
 //! - [`frf`]: H1 per input level and the restoring force (evidence and signatures).
@@ -12,7 +14,7 @@
 //!   backbone.
 //! - [`commands`]: `simulate` and `frc` on a model file.
 //!
-//! Dependencies run one way: `model` at the bottom, then `simulate`, `hb`, `records`,
+//! Dependencies run one way: `model` at the bottom, then `spring`, `simulate`, `hb`, `records`,
 //! `fit`, `frf`, `frc`, `run`, `report`, `commands`.
 
 pub mod commands;
@@ -25,6 +27,7 @@ pub mod records;
 pub mod report;
 pub mod run;
 pub mod simulate;
+pub mod spring;
 
 pub use records::lists_forced;
 pub use run::{diagnose_case, diagnose_forced, ForcedOutcome, ForcedSettings};

@@ -26,6 +26,22 @@
 //! they are the same ratios in the input's unit per the output's. A base-acceleration
 //! input identifies `b = -1` times the units' ratio, and the physical parameters use the
 //! case's `mass_kg` (1 when it gives none).
+//!
+//! # The reduced FE spring in modal form (`kind: reduced_spring`)
+//! A case that gives a spring drives the reduced FE model of the decay diagnosis
+//! (module `super::spring`): its `N` modes, decoupled by the linear part (Rayleigh
+//! damping `C = beta K` is diagonal in them), are coupled only through the law at the
+//! weight. With `q_i` mode `i`'s part of the weight's displacement, `z = sum q_i`,
+//! ```text
+//! q_i'' + 2 zeta_i w_i q_i' + w_i^2 q_i = b_i u(t) - a_i g(z, z')
+//! ```
+//! `g` the law of the first equation per unit reference mass `m_ref`, `a_i = phi_i^2 /
+//! phi_1^2` (`phi_i` the mass-normalised mode's value at the weight, `a_1 = 1`), `b_i =
+//! phi_i^2` for a force, `-phi_i gamma_i` for a base acceleration (`gamma_i` the mode's
+//! share of the inertial load `M r`). Mode 1 (the weight bouncing on the spring, the
+//! largest `phi_i`) is the `oscillator`, the others are its `modes`; the lumped oscillator
+//! is the case `N = 1`. The output's absolute acceleration under a base input is
+//! `z'' + u` (the records are in SI units).
 
 use serde::{Deserialize, Serialize};
 
@@ -88,7 +104,20 @@ impl OutputQuantity {
     }
 }
 
-/// The lumped oscillator (module docs).
+/// A further mode of a reduced FE spring (module docs, "modal form").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Mode {
+    /// Natural frequency w_i, rad/s.
+    pub natural_frequency_rad_s: f64,
+    /// Damping ratio zeta_i.
+    pub damping_ratio: f64,
+    /// Input gain b_i (output unit / s^2 per input unit).
+    pub input_gain: f64,
+    /// The law's share a_i.
+    pub law_gain: f64,
+}
+
+/// The lumped oscillator (module docs), with the further modes of a reduced FE spring.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Lumped {
     /// Linear natural frequency w0, rad/s.
@@ -107,6 +136,9 @@ pub struct Lumped {
     pub friction_velocity: f64,
     /// Sensor offset y0 of the output, output unit.
     pub output_offset: f64,
+    /// The further modes of a reduced FE spring (none for the lumped oscillator).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub modes: Vec<Mode>,
 }
 
 impl Lumped {
@@ -121,6 +153,7 @@ impl Lumped {
             drag: 0.0,
             friction_velocity: 1.0,
             output_offset: 0.0,
+            modes: Vec::new(),
         }
     }
 
@@ -180,10 +213,32 @@ pub struct ForcedModel {
     pub mass: f64,
     /// The oscillator.
     pub oscillator: Lumped,
+    /// A reduced FE spring's figures (none for the lumped oscillator).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring: Option<SpringFigures>,
 }
 
-/// The model kind written in every model file.
+/// The model kind of the lumped oscillator's file.
 pub const KIND: &str = "lumped_oscillator";
+
+/// The model kind of a reduced FE spring's file (module docs, "modal form").
+pub const SPRING_KIND: &str = "reduced_spring";
+
+/// What a reduced FE spring's fit found, in the case's terms (kept in the model file for
+/// the report; the simulation reads only the modes).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpringFigures {
+    /// The weight's mass, kg.
+    pub mass_kg: f64,
+    /// Young's modulus, MPa (the case's nominal times the fitted stiffness scale).
+    pub youngs_modulus_mpa: f64,
+    /// Rayleigh beta on the spring, s.
+    pub rayleigh_beta_s: f64,
+    /// The static stiffness at the weight, N/m.
+    pub stiffness_n_m: f64,
+    /// The spring wire's mass, kg.
+    pub spring_mass_kg: f64,
+}
 
 impl ForcedModel {
     /// The model with its physical mass set from the oscillator's gain.
@@ -206,35 +261,72 @@ impl ForcedModel {
             output_unit: units.1.into(),
             mass,
             oscillator,
+            spring: None,
         }
     }
 
-    /// The measured output from the state and the input.
+    /// Whether the model is a reduced FE spring.
+    pub fn is_spring(&self) -> bool {
+        self.kind == SPRING_KIND
+    }
+
+    /// The output's offset from the weight's relative acceleration under a base input:
+    /// the base's own acceleration (`-b u` for the lumped oscillator, whose gain carries
+    /// the units' ratio; `u` for a spring, in SI units).
     #[inline]
-    pub fn output(&self, z: f64, v: f64, u: f64) -> f64 {
-        let o = &self.oscillator;
-        o.output_offset
+    pub fn base_feedthrough(&self) -> f64 {
+        if self.is_spring() {
+            1.0
+        } else {
+            -self.oscillator.input_gain
+        }
+    }
+
+    /// The measured output from the displacement, velocity and acceleration of the
+    /// weight (relative to the base under a base input) and the input.
+    #[inline]
+    pub fn output(&self, z: f64, v: f64, a: f64, u: f64) -> f64 {
+        self.oscillator.output_offset
             + match self.output_quantity {
                 OutputQuantity::Displacement => z,
                 OutputQuantity::Velocity => v,
-                OutputQuantity::Acceleration => {
-                    let a = o.acceleration(z, v, u);
-                    match self.input_quantity {
-                        InputQuantity::Force => a,
-                        InputQuantity::BaseAcceleration => a - o.input_gain * u,
-                    }
-                }
+                OutputQuantity::Acceleration => match self.input_quantity {
+                    InputQuantity::Force => a,
+                    InputQuantity::BaseAcceleration => a + self.base_feedthrough() * u,
+                },
             }
     }
 
     /// Checks a model read from a file: every number finite, the linear part stable.
     pub fn check(&self) -> Result<(), String> {
         let o = &self.oscillator;
-        if self.kind != KIND {
+        if self.kind != KIND && self.kind != SPRING_KIND {
             return Err(format!(
-                "`kind` is \"{}\"; expected \"{KIND}\"",
+                "`kind` is \"{}\"; expected \"{KIND}\" or \"{SPRING_KIND}\"",
                 coil_io::excerpt(&self.kind)
             ));
+        }
+        if self.kind == KIND && !o.modes.is_empty() {
+            return Err(format!(
+                "`oscillator.modes` holds {} modes; expected none for a \"{KIND}\" (further \
+                 modes belong to a \"{SPRING_KIND}\")",
+                o.modes.len()
+            ));
+        }
+        for (i, m) in o.modes.iter().enumerate() {
+            let ok = m.natural_frequency_rad_s.is_finite()
+                && m.natural_frequency_rad_s > 0.0
+                && m.damping_ratio.is_finite()
+                && m.damping_ratio >= 0.0
+                && m.input_gain.is_finite()
+                && m.law_gain.is_finite();
+            if !ok {
+                return Err(format!(
+                    "`oscillator.modes[{i}]` is {m:?}; expected a finite positive \
+                     natural_frequency_rad_s, a finite non-negative damping_ratio and finite \
+                     gains"
+                ));
+            }
         }
         let fields = [
             ("natural_frequency_rad_s", o.natural_frequency_rad_s, true),
@@ -273,6 +365,18 @@ impl ForcedModel {
         let o = &self.oscillator;
         let m = self.mass;
         let w = o.natural_frequency_rad_s;
+        if let Some(s) = &self.spring {
+            return vec![
+                ("mass_kg", s.mass_kg),
+                ("stiffness_n_m", s.stiffness_n_m),
+                ("youngs_modulus_mpa", s.youngs_modulus_mpa),
+                ("rayleigh_beta_s", s.rayleigh_beta_s),
+                ("spring_mass_kg", s.spring_mass_kg),
+                ("modal_mass_kg", m),
+                ("natural_frequency_hz", w / std::f64::consts::TAU),
+                ("damping_ratio", o.damping_ratio),
+            ];
+        }
         vec![
             ("mass_kg", m),
             ("stiffness_n_m", m * w * w),

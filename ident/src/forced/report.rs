@@ -156,6 +156,7 @@ pub fn document(o: &ForcedOutcome) -> Value {
         .collect();
     let mut doc = json!({
         "kind": "forced",
+        "model": b.model.kind,
         "cause": cause.map_or("none", |c| first_cause(o, c).name()),
         "baseline": baseline,
         "extended": extended,

@@ -13,6 +13,11 @@
 //!    on the effect's term beside its linear counterpart (module `frf`) has the fitted sign
 //!    with `|t| >= 2`; on other outputs the test is not available and says so.
 //!
+//! A case that gives a `spring` is fitted on its reduced FE model (module `super::spring`):
+//! the lumped oscillator's linear start gives the spring's first parameters (the mass from
+//! the gain, the stiffness scale from the frequency, beta from the damping), and every fit
+//! after it is the spring's. Its records must be in SI units (the FE model is physical).
+//!
 //! The cause is the passing candidate of largest `dBIC`; two passing effects are then
 //! fitted together and kept when the pair gains another 10 BIC units with both parameters
 //! identified. `none` otherwise, with what the records show in `unexplained`.
@@ -22,6 +27,7 @@ use super::frf;
 use super::model::{ForcedModel, OutputQuantity};
 use super::records::{read_forced_case, ForcedCase};
 use super::simulate;
+use super::spring::SpringStructure;
 use crate::error::{Result, TuneError};
 use std::path::Path;
 use std::time::Instant;
@@ -206,14 +212,19 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
         .filter(|r| !r.format.starts_with("CSV: delimiter ',', decimal point"))
         .map(|r| format!("{}: read as {}", r.entry.file.display(), r.format))
         .collect();
-    if case.has_spring {
+    let spring = if case.has_spring {
+        check_si_units(&case)?;
         warnings.push(
-            "the case gives a spring: its forced records are fitted with the lumped \
-             single-mode oscillator (the weight on the spring's first axial mode); the FE \
-             model and the axial-torsional coupling are not used on forced records"
+            "the case gives a spring: its forced records drive the reduced FE model (the \
+             weight guided along the axis, so the axial-torsional coupling is not a candidate \
+             on forced records; gravity only sets the static position the law acts about)"
                 .into(),
         );
-    }
+        Some(SpringStructure::build(&case.file, first.input_quantity)?)
+    } else {
+        None
+    };
+    let spring = spring.as_ref();
     let fail = |e: String| TuneError::InCase {
         case: case.file.clone(),
         source: Box::new(TuneError::Invalid(e)),
@@ -225,7 +236,11 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
     };
     let units = (first.input_unit.as_str(), first.output_unit.as_str());
     let series = series_of(&case);
-    let (start, initial, mut scales) = fit::linear_start(&series, &setup, units).map_err(fail)?;
+    let (mut start, initial, mut scales) =
+        fit::linear_start(&series, &setup, units).map_err(fail)?;
+    if let Some(s) = spring {
+        start = spring_start(s, &start, &series, &mut scales).map_err(fail)?;
+    }
     note(settings.progress, "forced: linear model by output error");
     let mut baseline = fit::fit(
         &series,
@@ -234,11 +249,12 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
         &scales,
         &[],
         settings.max_iterations,
+        spring,
     )
     .map_err(fail)?;
     scales.z = baseline_scale(&baseline, &series);
     let baseline_forecast =
-        fit::forecast(&series, &baseline, &[], settings.max_iterations).map_err(fail)?;
+        fit::forecast(&series, &baseline, &[], settings.max_iterations, spring).map_err(fail)?;
     let baseline_residual = relative(&baseline, &series);
     baseline.scales = scales;
 
@@ -255,6 +271,7 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
             baseline_forecast,
             &[effect],
             settings,
+            spring,
         ));
     }
     let mut order: Vec<usize> = (0..candidates.len())
@@ -278,6 +295,7 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
             baseline_forecast,
             &pair,
             settings,
+            spring,
         );
         let best = candidates[order[0]].dbic;
         let keep = c.tests.pass() && c.dbic > best + 10.0;
@@ -305,6 +323,60 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
         unexplained,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Records of a spring case must be in SI units: the input in N (force) or m/s^2 (base
+/// acceleration), the output in m, m/s or m/s^2 as its quantity says.
+fn check_si_units(case: &ForcedCase) -> Result<()> {
+    for r in &case.records {
+        let e = &r.entry;
+        let input_ok = match e.input_quantity {
+            super::model::InputQuantity::Force => e.input_unit.trim() == "N",
+            super::model::InputQuantity::BaseAcceleration => {
+                coil_postproc::record::units::parse(&e.input_unit).is_some_and(|u| {
+                    u.quantity == coil_postproc::record::units::Quantity::Acceleration
+                        && u.to_si == 1.0
+                })
+            }
+        };
+        let output_ok = coil_postproc::record::units::parse(&e.output_unit)
+            .is_some_and(|u| u.quantity.name() == e.output_quantity.name() && u.to_si == 1.0);
+        if !(input_ok && output_ok) {
+            return Err(TuneError::Invalid(format!(
+                "{}: the forced record `{}` states input_unit \"{}\" and output_unit \"{}\"; \
+                 a case with a `spring` drives its physical FE model, so expected SI units: \
+                 \"N\" for a force or \"m/s^2\" for a base acceleration in, and \"m\", \"m/s\" \
+                 or \"m/s^2\" out (as output_quantity says)",
+                case.file.display(),
+                e.file.display(),
+                coil_io::excerpt(&e.input_unit),
+                coil_io::excerpt(&e.output_unit)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The spring model that starts the fits: the lumped start's frequency, damping and gain
+/// matched by the spring's parameters, its offset, friction velocity and sub-steps for
+/// the spring's stiffest mode.
+fn spring_start(
+    spring: &SpringStructure,
+    lumped: &super::model::ForcedModel,
+    series: &[Series<'_>],
+    scales: &mut fit::Scales,
+) -> std::result::Result<super::model::ForcedModel, String> {
+    let o = &lumped.oscillator;
+    let p = spring.matching(o.natural_frequency_rad_s, o.damping_ratio, o.input_gain)?;
+    let mut structural = vec![p.k_scale.ln(), p.beta_s.max(1e-12).ln()];
+    if spring.input == super::model::InputQuantity::Force {
+        structural.push((p.mass_kg / spring.nominal_mass_kg).ln());
+    }
+    let model = fit::spring_model(spring, lumped, &structural)?;
+    let dt = series.iter().map(|s| s.dt).fold(0.0, f64::max);
+    let w = model.oscillator.natural_frequency_rad_s;
+    scales.substeps = simulate::substeps(&model.oscillator, dt, scales.z, w * scales.z);
+    Ok(model)
 }
 
 /// The displacement scale of the fitted linear model (RMS of its displacement).
@@ -336,6 +408,7 @@ fn candidate(
     baseline_forecast: f64,
     effects: &[Effect],
     settings: &ForcedSettings,
+    spring: Option<&SpringStructure>,
 ) -> Candidate {
     let failed = |why: String| Candidate {
         effects: effects.to_vec(),
@@ -351,12 +424,12 @@ fn candidate(
         },
         evidence: format!("the fit failed: {why}"),
     };
-    let fitted = match fit_refined(series, baseline, effects, settings.max_iterations) {
+    let fitted = match fit_refined(series, baseline, effects, settings.max_iterations, spring) {
         Ok(f) => f,
         Err(e) => return failed(e),
     };
-    let forecast =
-        fit::forecast(series, &fitted, effects, settings.max_iterations).unwrap_or(f64::INFINITY);
+    let forecast = fit::forecast(series, &fitted, effects, settings.max_iterations, spring)
+        .unwrap_or(f64::INFINITY);
     let n = fitted.count as f64;
     let n_eff = effective_count(&fitted);
     let dbic = n_eff * (baseline.cost / fitted.cost).ln() - effects.len() as f64 * n_eff.ln();
@@ -404,6 +477,7 @@ fn fit_refined(
     baseline: &Fitted,
     effects: &[Effect],
     max_iterations: usize,
+    spring: Option<&SpringStructure>,
 ) -> std::result::Result<Fitted, String> {
     let mut scales = baseline.scales;
     let run = |scales: &fit::Scales| {
@@ -414,6 +488,7 @@ fn fit_refined(
             scales,
             effects,
             max_iterations,
+            spring,
         )
     };
     for _ in 0..3 {

@@ -12,6 +12,10 @@
 //! The damping terms (the drag's and the regularised friction's slopes) are kept under
 //! `h c <= 0.5`, inside RK4's real stability interval (2.78). [`substeps`] returns the count.
 //!
+//! A reduced FE spring (model docs, "modal form") runs the same rule on every mode's
+//! `(q_i, q_i')`, the step set by its stiffest mode (`w_i h <= 0.25`) and largest damping
+//! slope.
+//!
 //! A state that leaves every finite bound (a model that diverges under the input) is an
 //! error, not a number.
 //!
@@ -33,10 +37,20 @@ pub struct Grid {
 /// up to `v_max` (module docs, "Step size").
 pub fn substeps(model: &Lumped, dt: f64, z_max: f64, v_max: f64) -> usize {
     let w = model.natural_frequency_rad_s;
-    let stiff = (w * w + 3.0 * model.cubic.abs() * z_max * z_max).sqrt();
+    let share = model
+        .modes
+        .iter()
+        .map(|m| m.law_gain.abs())
+        .fold(1.0f64, f64::max);
+    let mut stiff = (w * w + 3.0 * share * model.cubic.abs() * z_max * z_max).sqrt();
     let (_, dv_max) = model.restoring_slopes(0.0, v_max);
     let (_, dv_0) = model.restoring_slopes(0.0, 0.0);
-    let damp = 2.0 * model.damping_ratio * w + dv_max.max(dv_0);
+    let mut damp = 2.0 * model.damping_ratio * w + share * dv_max.max(dv_0);
+    for m in &model.modes {
+        stiff = stiff.max(m.natural_frequency_rad_s);
+        damp =
+            damp.max(2.0 * m.damping_ratio * m.natural_frequency_rad_s + share * dv_max.max(dv_0));
+    }
     let n = (stiff * dt / 0.25).max(damp * dt / 0.5).ceil();
     if n.is_finite() {
         (n as usize).clamp(1, 4096)
@@ -45,9 +59,53 @@ pub fn substeps(model: &Lumped, dt: f64, z_max: f64, v_max: f64) -> usize {
     }
 }
 
+/// The weight's motion at every sample: displacement, velocity and acceleration.
+#[derive(Debug, Clone, Default)]
+pub struct Motion {
+    /// Displacement `z`.
+    pub z: Vec<f64>,
+    /// Velocity `z'`.
+    pub v: Vec<f64>,
+    /// Acceleration `z''`.
+    pub a: Vec<f64>,
+}
+
 /// The state `(z, z')` after each sample, from `(z0, v0)` at the first.
 /// Returns the displacement and velocity at every sample.
 pub fn states(
+    model: &Lumped,
+    grid: Grid,
+    input: &[f64],
+    initial: (f64, f64),
+    bound: f64,
+) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let m = motion(model, grid, input, initial, bound)?;
+    Ok((m.z, m.v))
+}
+
+/// The weight's motion under `input` from `(z0, v0)` at the first sample (a reduced FE
+/// spring's first mode carries that state, its other modes start at rest).
+pub fn motion(
+    model: &Lumped,
+    grid: Grid,
+    input: &[f64],
+    initial: (f64, f64),
+    bound: f64,
+) -> Result<Motion, String> {
+    if !model.modes.is_empty() {
+        return modal_motion(model, grid, input, initial, bound);
+    }
+    let (zs, vs) = single_mode(model, grid, input, initial, bound)?;
+    let a = zs
+        .iter()
+        .zip(&vs)
+        .zip(input)
+        .map(|((&z, &v), &u)| model.acceleration(z, v, u))
+        .collect();
+    Ok(Motion { z: zs, v: vs, a })
+}
+
+fn single_mode(
     model: &Lumped,
     grid: Grid,
     input: &[f64],
@@ -96,6 +154,121 @@ pub fn states(
     Ok((zs, vs))
 }
 
+/// The modes of a reduced FE spring as arrays: `(w^2, 2 zeta w, b, a)` per mode, the
+/// oscillator first.
+fn mode_arrays(model: &Lumped) -> [Vec<f64>; 4] {
+    let w = model.natural_frequency_rad_s;
+    let mut k = vec![w * w];
+    let mut c = vec![2.0 * model.damping_ratio * w];
+    let mut b = vec![model.input_gain];
+    let mut a = vec![1.0];
+    for m in &model.modes {
+        let wi = m.natural_frequency_rad_s;
+        k.push(wi * wi);
+        c.push(2.0 * m.damping_ratio * wi);
+        b.push(m.input_gain);
+        a.push(m.law_gain);
+    }
+    [k, c, b, a]
+}
+
+/// The accelerations of every mode at state `(q, p)` under input `u`.
+fn modal_rates(
+    arrays: &[Vec<f64>; 4],
+    law: &Lumped,
+    q: &[f64],
+    p: &[f64],
+    u: f64,
+    out: &mut [f64],
+) {
+    let [k, c, b, a] = arrays;
+    let z: f64 = q.iter().sum();
+    let v: f64 = p.iter().sum();
+    let g = law.restoring(z, v);
+    for i in 0..q.len() {
+        out[i] = b[i] * u - a[i] * g - c[i] * p[i] - k[i] * q[i];
+    }
+}
+
+/// [`motion`] of a reduced FE spring: RK4 on every mode (module docs).
+fn modal_motion(
+    model: &Lumped,
+    grid: Grid,
+    input: &[f64],
+    initial: (f64, f64),
+    bound: f64,
+) -> Result<Motion, String> {
+    let arrays = mode_arrays(model);
+    let dim = arrays[0].len();
+    let n = input.len();
+    let mut out = Motion::default();
+    if n == 0 {
+        return Ok(out);
+    }
+    let mut q = vec![0.0; dim];
+    let mut p = vec![0.0; dim];
+    q[0] = initial.0;
+    p[0] = initial.1;
+    let h = grid.dt / grid.substeps as f64;
+    let mut acc = vec![0.0; dim];
+    let (mut k1, mut k2, mut k3, mut k4) = (
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+        vec![0.0; dim],
+    );
+    let (mut qt, mut pt) = (vec![0.0; dim], vec![0.0; dim]);
+    let record = |q: &[f64], p: &[f64], u: f64, acc: &mut [f64], out: &mut Motion| {
+        modal_rates(&arrays, model, q, p, u, acc);
+        out.z.push(q.iter().sum());
+        out.v.push(p.iter().sum());
+        out.a.push(acc.iter().sum());
+    };
+    record(&q, &p, input[0], &mut acc, &mut out);
+    for (i, pair) in input.windows(2).enumerate() {
+        let (u0, u1) = (pair[0], pair[1]);
+        let du = (u1 - u0) / grid.substeps as f64;
+        for s in 0..grid.substeps {
+            let ua = u0 + du * s as f64;
+            let um = ua + 0.5 * du;
+            let ub = ua + du;
+            // k_j holds the accelerations; the displacement rates are the velocities.
+            modal_rates(&arrays, model, &q, &p, ua, &mut k1);
+            for j in 0..dim {
+                qt[j] = q[j] + 0.5 * h * p[j];
+                pt[j] = p[j] + 0.5 * h * k1[j];
+            }
+            modal_rates(&arrays, model, &qt, &pt, um, &mut k2);
+            let p2 = pt.clone();
+            for j in 0..dim {
+                qt[j] = q[j] + 0.5 * h * p2[j];
+                pt[j] = p[j] + 0.5 * h * k2[j];
+            }
+            modal_rates(&arrays, model, &qt, &pt, um, &mut k3);
+            let p3 = pt.clone();
+            for j in 0..dim {
+                qt[j] = q[j] + h * p3[j];
+                pt[j] = p[j] + h * k3[j];
+            }
+            modal_rates(&arrays, model, &qt, &pt, ub, &mut k4);
+            for j in 0..dim {
+                q[j] += h / 6.0 * (p[j] + 2.0 * p2[j] + 2.0 * p3[j] + pt[j]);
+                p[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+            }
+        }
+        let z: f64 = q.iter().sum();
+        if !(z.abs() <= bound && p.iter().all(|v| v.is_finite())) {
+            return Err(format!(
+                "the model diverges under the input (displacement {z:.3e} at sample {}, beyond \
+                 {bound:.3e})",
+                i + 2
+            ));
+        }
+        record(&q, &p, u1, &mut acc, &mut out);
+    }
+    Ok(out)
+}
+
 /// The model's output at every input sample from the initial state `(z0, v0)`.
 pub fn output(
     model: &ForcedModel,
@@ -104,12 +277,9 @@ pub fn output(
     initial: (f64, f64),
     bound: f64,
 ) -> Result<Vec<f64>, String> {
-    let (zs, vs) = states(&model.oscillator, grid, input, initial, bound)?;
-    Ok(zs
-        .iter()
-        .zip(&vs)
-        .zip(input)
-        .map(|((&z, &v), &u)| model.output(z, v, u))
+    let m = motion(&model.oscillator, grid, input, initial, bound)?;
+    Ok((0..input.len())
+        .map(|i| model.output(m.z[i], m.v[i], m.a[i], input[i]))
         .collect())
 }
 

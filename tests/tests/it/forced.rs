@@ -25,6 +25,7 @@ fn model_of(o: &Oscillator) -> ForcedModel {
         drag: o.drag_n_s2_m2 / m,
         friction_velocity: o.friction_velocity_m_s,
         output_offset: 0.0,
+        modes: Vec::new(),
     };
     ForcedModel::new(
         InputQuantity::Force,

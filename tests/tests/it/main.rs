@@ -7,6 +7,7 @@ mod diagnose;
 mod diagnose_joint;
 mod diagnose_length;
 mod forced;
+mod forced_spring;
 mod marc_interchange;
 mod nonlinear;
 mod paper_spring;

@@ -9,6 +9,7 @@ mod diagnose_length;
 mod diagnose_mesh;
 mod forced;
 mod forced_spring;
+mod frc_check;
 mod marc_interchange;
 mod nonlinear;
 mod paper_spring;

@@ -8,6 +8,7 @@ mod diagnose_joint;
 mod diagnose_length;
 mod forced;
 mod forced_spring;
+mod frc_check;
 mod marc_interchange;
 mod nonlinear;
 mod paper_spring;

@@ -15,6 +15,24 @@ fn coil_tune(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// `coil-tune diagnose CASE --out OUT --quiet --no-plots`, which must succeed.
+fn diagnose_ok(case: &Path, out: &Path) {
+    let o = coil_tune(&[
+        "diagnose",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// `OUT/NAME` read as JSON.
+fn read_json(out: &Path, name: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
+}
+
 /// z'' + 2 zeta w z' + w^2 z + kappa z^3 = u / m, RK4 at 20 steps per sample, u a sum of
 /// sines around the 5 Hz resonance; `(time, u, y)` at 100 Hz.
 fn generate(n: usize) -> Vec<(f64, f64, f64)> {
@@ -80,18 +98,8 @@ fn diagnose_simulate_and_frc_on_a_forced_case() {
     write_record(&case.join("run.csv"), &rows);
     write_case(&case, ENTRY);
     let out = dir.path().join("out");
-    let o = coil_tune(&[
-        "diagnose",
-        case.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--no-plots",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("diagnosis.json")).unwrap())
-            .unwrap();
+    diagnose_ok(&case, &out);
+    let doc = read_json(&out, "diagnosis.json");
     assert_eq!(doc["cause"], "cubic_stiffness", "{doc:#}");
     let k3 = doc["extended"]["parameters"]["cubic_stiffness_n_m3"]
         .as_f64()
@@ -404,21 +412,10 @@ fn claim_the_spring_example_gives_the_docs_figures() {
     let dir = tempfile::tempdir().unwrap();
     let case = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/forced/spring");
     let out = dir.path().join("out");
-    let o = coil_tune(&[
-        "diagnose",
-        case.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--no-plots",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let read = |name: &str| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
-    };
-    let doc = read("diagnosis.json");
+    diagnose_ok(&case, &out);
+    let doc = read_json(&out, "diagnosis.json");
     assert_eq!(doc["cause"], "cubic_stiffness", "{doc:#}");
-    let model = read("model.json");
+    let model = read_json(&out, "model.json");
     for (what, got, printed, unit) in [
         (
             "k3 (N/m^3)",

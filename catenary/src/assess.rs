@@ -262,7 +262,7 @@ mod tests {
 
     #[test]
     fn the_320_km_h_run_fails_on_sigma_and_the_statistical_minimum() {
-        // The numbers: sigma 39.4 N against 0.3 Fm = 34.5 N.
+        // Sigma 39.4 N against 0.3 Fm = 34.5 N: made-up round figures of a 320 km/h run.
         let c = assess(&stats(320.0, 115.0, 39.4, 0.0), &AssessmentSpec::default());
         let by = |k: &str| c.iter().find(|c| c.key == k).unwrap().clone();
         assert_eq!(by("std_vs_mean").verdict, "fail");

@@ -18,6 +18,7 @@
 mod design;
 pub mod from_spring;
 pub mod reduced;
+pub mod response;
 mod source;
 pub mod springs;
 

@@ -455,7 +455,8 @@ def catenary(case, out, springs=None, plots=True, damping=None, mass_share=True,
     catenary.json, report.md, the histories and figures into ``out`` and returns the
     statistics as a DataFrame, one row per speed (EN 50318's keys, ``wave_speed_ratio``,
     ``assessment``). With ``springs`` (spring sources: a measured case folder, a variants
-    file or ``"table4.json:#2"``, a calibration.json, a SPRING.json) it runs a spring
+    file or ``"table4.json:#2"``, a calibration.json, a SPRING.json, a design.json or one
+    of its candidates, ``"design.json:2"``) it runs a spring
     study and returns one row per spring and speed (column ``spring``). ``speeds`` (km/h)
     runs those speeds instead of the case's ``speeds_km_h``.
 

@@ -375,7 +375,9 @@ impl Spring {
         m.build().expect("a valid paper spring")
     }
 }
+pub mod real_recordings;
 pub mod scoring;
+pub mod silverbox;
 pub mod truth;
 pub mod truth_damping;
 pub mod truth_forced;

@@ -9,7 +9,8 @@
 //! The grammar is RFC 8259: objects, arrays, strings with escapes (including surrogate
 //! pairs), numbers, `true`, `false`, `null`. Duplicate keys are an error (JSON leaves
 //! them undefined; a case with two `mass_kg` is a mistake). Numbers are parsed as f64;
-//! a number that overflows to infinity is an error. Columns count characters, 1-based.
+//! a number that overflows to infinity is an error, naming the member it is the value of
+//! (`envelope.inner_diameter_mm`). Columns count characters, 1-based.
 
 use std::fmt;
 
@@ -94,6 +95,7 @@ pub fn parse(text: &str) -> Result<Node, SyntaxError> {
         line: 1,
         column: 1,
         depth: 0,
+        path: Vec::new(),
     };
     p.skip_ws();
     let node = p.value()?;
@@ -113,6 +115,8 @@ struct Parser {
     line: usize,
     column: usize,
     depth: usize,
+    /// The member names and array indices down to the value being read.
+    path: Vec<String>,
 }
 
 impl Parser {
@@ -122,6 +126,21 @@ impl Parser {
             column: self.column,
             message: message.into(),
         }
+    }
+
+    /// `` `a.b[2]` = `` for the value being read inside an object or array, else empty.
+    fn member(&self) -> String {
+        if self.path.is_empty() {
+            return String::new();
+        }
+        let mut name = String::new();
+        for part in &self.path {
+            if !name.is_empty() && !part.starts_with('[') {
+                name.push('.');
+            }
+            name.push_str(part);
+        }
+        format!("`{name}` = ")
     }
 
     fn peek(&self) -> Option<char> {
@@ -221,7 +240,9 @@ impl Parser {
             self.skip_ws();
             self.expect_char(':', "`:` after the member name")?;
             self.skip_ws();
+            self.path.push(key.clone());
             let value = self.value()?;
+            self.path.pop();
             members.push(Member {
                 key,
                 key_line,
@@ -256,7 +277,9 @@ impl Parser {
         }
         loop {
             self.skip_ws();
+            self.path.push(format!("[{}]", items.len()));
             items.push(self.value()?);
+            self.path.pop();
             self.skip_ws();
             match self.peek() {
                 Some(',') => {
@@ -331,7 +354,8 @@ impl Parser {
                 line,
                 column,
                 message: format!(
-                    "{text} is out of the range of a double; expected a finite number"
+                    "{}{text} is out of the range of a double; expected a finite number",
+                    self.member()
                 ),
             }),
         }
@@ -445,7 +469,8 @@ mod tests {
             ("{\"a\" 1}", 1, 6, "`:`"),
             ("{\"a\": 1, \"a\": 2}", 1, 10, "twice"),
             ("[1, 2", 1, 6, "ends inside an array"),
-            ("{\"a\": 1e999}", 1, 7, "range"),
+            ("{\"a\": 1e999}", 1, 7, "`a` = 1e999 is out of the range"),
+            ("{\"e\": {\"d\": [1, -1e400]}}", 1, 17, "`e.d[1]` = -1e400"),
             ("{\"a\": NaN}", 1, 7, "JSON value"),
             ("{\"a\": 01}", 1, 7, "start with 0"),
             ("{}\n x", 2, 2, "after the JSON value"),

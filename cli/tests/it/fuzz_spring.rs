@@ -251,8 +251,8 @@ fn wrong_type(kind: Kind, rng: &mut Rng) -> Value {
 }
 
 /// A value outside `key`'s domain (none for free text and objects). A number that
-/// overflows a double (`1e400`) is a syntax error of the JSON reader, located by line and
-/// column, not a value of the key: it is not generated here.
+/// overflows a double (`1e400`) is refused by the JSON reader, by line, column and the
+/// member's name (its tests), before any key is read: it is not generated here.
 fn out_of_range(key: &Key, rng: &mut Rng) -> Option<Value> {
     match key.kind {
         Kind::Number(bad) => Some(Value::from(bad[rng.below(bad.len())])),

@@ -43,6 +43,20 @@
 //! law's loss per cycle is integrated to `O((w dt)^2)`. Measured on the 61 generated
 //! cases against the former `w dt <= 0.03`: every parameter moved by at most 0.2 % of
 //! its value (docs/diagnose.md), for 3.3 times fewer steps.
+//!
+//! A record sampled finer than that (`w h < OMEGA_DT / 2`, `h` the sample interval:
+//! 2 000 samples per second on a 4.5 Hz spring is `w h` = 0.014) is stepped every
+//! `stride = floor(OMEGA_DT / (w h))` samples instead, at the same `w dt <= 0.1`, and
+//! the samples between two steps are read off the cubic through the four nearest
+//! steps (`interpolate`: within `(w dt)^4 / 24` = 4.2e-6 of a sinusoid's amplitude, far
+//! below the step's own error above). Friction makes the velocity kink and the
+//! acceleration jump at every reversal, which no cubic follows: a model with friction
+//! steps at every sample of a velocity or acceleration record (a displacement stays
+//! smooth through a reversal). So does the free-rotation model: its two lines a few per
+//! cent apart can be fitted from either side of their crossing (the mass and `J`
+//! swapped between the modes, the free initial rotation giving each line its
+//! amplitude), and on `cases/measured/coupling_g5` the coarser step tipped the fit to
+//! the other side (`J` +4.2 % and the mass -6 %, for a residual lower by 4e-5 of it).
 
 use super::effects::{self, Extension, Mount, COUNT};
 use crate::case::Quantity;
@@ -77,6 +91,54 @@ fn quantity_of(quantity: Quantity, s: &Sample) -> f64 {
         Quantity::Velocity => s.v,
         Quantity::Displacement => s.u,
     })
+}
+
+/// How a record's samples map onto the stepper's steps: `substeps` steps per sample
+/// (a coarse record), or one step every `stride` samples (a record sampled finer than
+/// the step needs); one of the two is 1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Stepping {
+    substeps: usize,
+    stride: usize,
+}
+
+/// The `n` samples of a signal known at every `stride`-th sample (`stepped[j]` at
+/// sample `j stride`): the known samples as they are, the others by the cubic through
+/// the four nearest known ones (the interval's two and one on either side; the first
+/// and last four at the ends). A sinusoid stepped at `w stride dt = x` is read within
+/// `(9 / 16) x^4 / 24` of its amplitude between the middle nodes (2.3e-6 at
+/// `x = 0.1`), at most `x^4 / 24` in the end intervals; fewer than four steps are
+/// joined by straight lines.
+fn interpolate(stepped: &[f64], stride: usize, n: usize) -> Vec<f64> {
+    if stride <= 1 {
+        return stepped[..n.min(stepped.len())].to_vec();
+    }
+    let nc = stepped.len();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let (j, r) = (i / stride, i % stride);
+        if r == 0 || j + 1 >= nc {
+            out.push(stepped[j.min(nc - 1)]);
+            continue;
+        }
+        let s = r as f64 / stride as f64;
+        if nc < 4 {
+            out.push(stepped[j] + s * (stepped[j + 1] - stepped[j]));
+            continue;
+        }
+        // The stencil's first node, and the point's place in it (0..3).
+        let b = j.saturating_sub(1).min(nc - 4);
+        let t = (j - b) as f64 + s;
+        let y = &stepped[b..b + 4];
+        // Lagrange weights on the nodes 0, 1, 2, 3.
+        let (t0, t1, t2, t3) = (t, t - 1.0, t - 2.0, t - 3.0);
+        let w0 = -t1 * t2 * t3 / 6.0;
+        let w1 = t0 * t2 * t3 / 2.0;
+        let w2 = -t0 * t1 * t3 / 2.0;
+        let w3 = t0 * t1 * t2 / 6.0;
+        out.push(w0 * y[0] + w1 * y[1] + w2 * y[2] + w3 * y[3]);
+    }
+    out
 }
 
 /// The fitted physical parameters (SI).
@@ -217,7 +279,8 @@ impl ReducedSpring {
         &self,
         p: &Physical,
         step_s: f64,
-    ) -> std::result::Result<(DenseStepper, usize), String> {
+        quantity: Quantity,
+    ) -> std::result::Result<(DenseStepper, Stepping), String> {
         let e = p.extension();
         if !(p.mass_kg > 0.0
             && p.beta_s >= 0.0
@@ -243,7 +306,16 @@ impl ReducedSpring {
             ));
         }
         let substeps = ((omega * step_s / OMEGA_DT).ceil() as usize).max(1);
-        let dt = step_s / substeps as f64;
+        // A record sampled finer than the step needs is stepped every `stride` samples
+        // (module docs, "Step"): not through friction's jumps in a velocity or an
+        // acceleration, nor on the free-rotation mount.
+        let smooth = e.law.friction == 0.0 || quantity == Quantity::Displacement;
+        let stride = if substeps == 1 && smooth && self.mount == Mount::Guided {
+            ((OMEGA_DT / (omega * step_s)).floor() as usize).max(1)
+        } else {
+            1
+        };
+        let dt = step_s * stride as f64 / substeps as f64;
         let law = e.law;
         let laws = if law.is_zero() {
             vec![]
@@ -254,7 +326,7 @@ impl ReducedSpring {
         let m = &ops.m / period_warp(omega * dt);
         let stepper =
             DenseStepper::new(&m, &ops.c, &ops.k, dt, &laws).map_err(|e| e.to_string())?;
-        Ok((stepper, substeps))
+        Ok((stepper, Stepping { substeps, stride }))
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -262,13 +334,20 @@ impl ReducedSpring {
         &self,
         p: &Physical,
         stepper: &mut DenseStepper,
-        substeps: usize,
+        stepping: Stepping,
         u0: &[f64],
         v0: &[f64],
         n: usize,
         quantity: Quantity,
     ) -> std::result::Result<Vec<f64>, String> {
-        let samples = stepper.simulate(u0, v0, n, substeps, 0).map_err(|e| {
+        let Stepping { substeps, stride } = stepping;
+        // Every `stride`-th sample is a step (the last at or past the record's end).
+        let steps = if stride > 1 {
+            n.saturating_sub(1).div_ceil(stride) + 1
+        } else {
+            n
+        };
+        let samples = stepper.simulate(u0, v0, steps, substeps, 0).map_err(|e| {
             let cubic = p.extension().law.cubic;
             if cubic < 0.0 {
                 format!(
@@ -299,7 +378,8 @@ impl ReducedSpring {
         }
         // A weight held by friction reads a = 0 (the stepper zeroes a held DOF's
         // acceleration from its second held step).
-        Ok(samples.iter().map(|s| quantity_of(quantity, s)).collect())
+        let stepped: Vec<f64> = samples.iter().map(|s| quantity_of(quantity, s)).collect();
+        Ok(interpolate(&stepped, stride, n))
     }
 
     /// The weight's axial `quantity` (SI) at `n` samples `step_s` apart for unit
@@ -313,7 +393,7 @@ impl ReducedSpring {
         n: usize,
         quantity: Quantity,
     ) -> std::result::Result<Vec<Vec<f64>>, String> {
-        let (mut stepper, substeps) = self.stepper(p, step_s)?;
+        let (mut stepper, stepping) = self.stepper(p, step_s, quantity)?;
         let r = stepper.dim();
         let nb = self.reduction.boundary.len();
         let mut out = Vec::with_capacity(2 * nb);
@@ -326,7 +406,7 @@ impl ReducedSpring {
                 } else {
                     u[b] = 1.0;
                 }
-                out.push(self.run(p, &mut stepper, substeps, &u, &v, n, quantity)?);
+                out.push(self.run(p, &mut stepper, stepping, &u, &v, n, quantity)?);
             }
         }
         // Order: u_b0, v_b0, u_b1, v_b1 ... ; report it as [u, v] pairs per DOF.
@@ -343,7 +423,7 @@ impl ReducedSpring {
         n: usize,
         quantity: Quantity,
     ) -> std::result::Result<Vec<f64>, String> {
-        let (mut stepper, substeps) = self.stepper(p, step_s)?;
+        let (mut stepper, stepping) = self.stepper(p, step_s, quantity)?;
         let r = stepper.dim();
         let nb = self.reduction.boundary.len();
         if state.len() != 2 * nb {
@@ -366,7 +446,7 @@ impl ReducedSpring {
             u[b] += state[2 * b];
             v[b] = state[2 * b + 1];
         }
-        self.run(p, &mut stepper, substeps, &u, &v, n, quantity)
+        self.run(p, &mut stepper, stepping, &u, &v, n, quantity)
     }
 }
 
@@ -381,6 +461,35 @@ mod tests {
     /// The plain rule runs slow by `(w dt)^2 / 12` (8.3e-4; the next term of
     /// `(2 / x) atan(x / 2) - 1` is `x^4 / 80` = 1.25e-6);
     /// with the mass divided by `period_warp` it runs at `w` to rounding (1e-10).
+    /// A sinusoid known at every 7th sample, `w dt = 0.1` between known samples, read
+    /// at every sample: the known samples exact, the others within the cubic's
+    /// remainder `max |prod (t - k)| x^4 / 24` (0.5625 between the middle nodes, 1 in
+    /// the end intervals, x = 0.1), and a stride of 1 hands the samples back as they are.
+    #[test]
+    fn the_stepped_samples_are_read_between_by_the_cubic() {
+        let (stride, n) = (7, 700);
+        let w = 0.1 / stride as f64;
+        let at = |i: usize| (w * i as f64 + 0.3).sin();
+        let exact: Vec<f64> = (0..n).map(at).collect();
+        // As `ReducedSpring::run` steps: the last step at or past the last sample.
+        let steps = (n - 1).div_ceil(stride) + 1;
+        let stepped: Vec<f64> = (0..steps).map(|j| at(j * stride)).collect();
+        let read = interpolate(&stepped, stride, n);
+        let last = (steps - 1) * stride;
+        let x4 = 0.1f64.powi(4) / 24.0;
+        for (i, (r, e)) in read.iter().zip(&exact).enumerate() {
+            let bound = if i % stride == 0 {
+                0.0
+            } else if i < stride || i > last - stride {
+                x4
+            } else {
+                0.5625 * x4
+            };
+            assert!((r - e).abs() <= bound * 1.0001, "sample {i}: {r} vs {e}");
+        }
+        assert_eq!(interpolate(&exact, 1, n), exact);
+    }
+
     #[test]
     fn the_warped_mass_removes_the_period_error() {
         let w = std::f64::consts::TAU * 3.0;

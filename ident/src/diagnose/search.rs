@@ -577,28 +577,22 @@ impl Job<'_> {
         let mut last_error = String::from("no starting value");
         let iterations = self.max_iterations.min(SEED_ITERATIONS);
         let cycles = self.signatures.cycles;
-        for (&start, first) in seeds.iter().flat_map(|s| inits.iter().map(move |i| (s, i))) {
-            let mut seed = fit::run(
-                &plan.problem(start, select::ORIGINS[0], first.clone()),
-                iterations,
-            );
-            if plan.nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
-                let short = fit::run(
-                    &plan.problem(start, SHORT_CYCLES / cycles, first.clone()),
-                    iterations,
+        // The starts are independent: fitted in parallel, then compared in their order
+        // (the same choice as one after another).
+        let starts: Vec<(Physical, &Option<Vec<f64>>)> = seeds
+            .iter()
+            .flat_map(|s| inits.iter().map(move |i| (*s, i)))
+            .collect();
+        let fitted: Vec<(Physical, std::result::Result<Fitted, String>)> = starts
+            .into_par_iter()
+            .map(|(start, first)| {
+                (
+                    start,
+                    self.start_fit(plan, start, first, iterations, cycles),
                 )
-                .and_then(|f| {
-                    fit::run(
-                        &plan.problem(f.physical, select::ORIGINS[0], plan.state(&f)),
-                        iterations,
-                    )
-                });
-                seed = match (seed, short) {
-                    (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
-                    (Err(_), Ok(b)) => Ok(b),
-                    (a, Err(_)) => a,
-                };
-            }
+            })
+            .collect();
+        for (start, seed) in fitted {
             match seed {
                 Ok(f) if best.as_ref().is_none_or(|b| f.rss < b.rss) => best = Some(f),
                 Ok(_) => {}
@@ -611,6 +605,41 @@ impl Job<'_> {
             }
         }
         best.ok_or(last_error)
+    }
+
+    /// One start's first-quarter fit ([`Job::best_seed`]): on the quarter, and for a
+    /// nonlinear set on a record with many cycles also on the first [`SHORT_CYCLES`]
+    /// cycles then the quarter; the better of the two.
+    fn start_fit(
+        &self,
+        plan: &Plan<'_>,
+        start: Physical,
+        first: &Option<Vec<f64>>,
+        iterations: usize,
+        cycles: f64,
+    ) -> std::result::Result<Fitted, String> {
+        let mut seed = fit::run(
+            &plan.problem(start, select::ORIGINS[0], first.clone()),
+            iterations,
+        );
+        if plan.nonlinear && cycles * select::ORIGINS[0] > 2.0 * SHORT_CYCLES {
+            let short = fit::run(
+                &plan.problem(start, SHORT_CYCLES / cycles, first.clone()),
+                iterations,
+            )
+            .and_then(|f| {
+                fit::run(
+                    &plan.problem(f.physical, select::ORIGINS[0], plan.state(&f)),
+                    iterations,
+                )
+            });
+            seed = match (seed, short) {
+                (Ok(a), Ok(b)) => Ok(if b.rss < a.rss { b } else { a }),
+                (Err(_), Ok(b)) => Ok(b),
+                (a, Err(_)) => a,
+            };
+        }
+        seed
     }
 
     /// Continuation from the seed over growing windows: the first quarter to

@@ -210,6 +210,15 @@ pub(crate) struct RawLoadCase {
     pub end: Option<Loc>,
 }
 
+/// How Marc's `DYNAMIC` parameter card sets a transient's method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum MarcDynamic {
+    /// Code 1: modal superposition over this many modes (0: none given).
+    Modal { modes: u32 },
+    /// Code 2: Newmark, average acceleration.
+    Newmark,
+}
+
 /// Everything read from a deck.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub(crate) struct RawDeck {
@@ -251,6 +260,8 @@ pub(crate) struct RawDeck {
     pub not_needed: Vec<(String, Loc)>,
     /// Marc's input version (`VERSION`).
     pub version: Option<u64>,
+    /// Marc's `DYNAMIC` parameter: the method it gives a transient, and where.
+    pub marc_dynamic: Option<(MarcDynamic, Loc)>,
     /// `BEAM SECT` sections, numbered from 1.
     pub beam_sections: Vec<RawBeamSection>,
     /// Mentat's named blocks (name, line, true for a FIXED DISP block).

@@ -4,8 +4,7 @@
 //! (multisine, sweeps up and down, stepped sine), and the forced response curve agrees with
 //! long time integrations through a fold and with the Duffing oscillator's exact backbone.
 
-use coil_ident::forced::commands::{frc_of, simulate_series};
-use coil_ident::forced::frc::FrcSettings;
+use coil_ident::forced::commands::simulate_series;
 use coil_ident::forced::model::{ForcedModel, InputQuantity, Lumped, OutputQuantity};
 use coil_ident::forced::records::{ForcedEntry, ForcedRecord};
 use coil_ident::forced::simulate::{self, Grid};
@@ -284,110 +283,14 @@ fn duffing() -> ForcedModel {
     )
 }
 
-/// Steady first-harmonic amplitude at `f` Hz from `state`, integrated long; the end state.
-fn steady(model: &ForcedModel, amplitude: f64, f: f64, state: (f64, f64)) -> (f64, (f64, f64)) {
-    let per = 128usize;
-    let periods = 400usize;
-    let dt = 1.0 / (f * per as f64);
-    let n = per * periods;
-    let u: Vec<f64> = (0..=n)
-        .map(|i| amplitude * (TAU * f * i as f64 * dt).cos())
-        .collect();
-    let grid = Grid { dt, substeps: 1 };
-    let (z, v) = simulate::states(&model.oscillator, grid, &u, state, 1e6).unwrap();
-    let last = &z[n - 20 * per..n];
-    let (mut c, mut s) = (0.0, 0.0);
-    for (j, zj) in last.iter().enumerate() {
-        let phase = TAU * j as f64 / per as f64;
-        c += zj * phase.cos();
-        s += zj * phase.sin();
-    }
-    let norm = 2.0 / last.len() as f64;
-    ((c * norm).hypot(s * norm), (z[n], v[n]))
-}
-
 #[test]
 fn frc_agrees_with_long_time_integrations_through_the_fold() {
-    let model = duffing();
-    let amplitude = 2.0;
-    let settings = FrcSettings {
-        amplitude,
-        from_hz: 3.5,
-        to_hz: 9.0,
-        points: 400,
-        harmonics: 7,
-    };
-    let result = frc_of(&model, &settings).unwrap();
-    assert_eq!(result.jumps.len(), 2, "{:?}", result.jumps);
-    let (jump_up, jump_down) = (
-        result.jumps.iter().copied().fold(f64::INFINITY, f64::min),
-        result.jumps.iter().copied().fold(0.0, f64::max),
-    );
-    // The stable amplitudes of the curve at a frequency.
-    let stable_at = |f: f64| -> Vec<f64> {
-        result
-            .points
-            .windows(2)
-            .filter(|p| p[0].stable && p[1].stable)
-            .filter(|p| (p[0].frequency_hz - f) * (p[1].frequency_hz - f) <= 0.0)
-            .map(|p| {
-                let s = (f - p[0].frequency_hz) / (p[1].frequency_hz - p[0].frequency_hz);
-                p[0].amplitude + s * (p[1].amplitude - p[0].amplitude)
-            })
-            .collect()
-    };
-    let freqs: Vec<f64> = (0..20).map(|i| 4.5 + 1.5 * i as f64 / 19.0).collect();
-    let mut state = (0.0, 0.0);
-    let mut worst: f64 = 0.0;
-    for sweep in [freqs.clone(), freqs.iter().rev().copied().collect()] {
-        for &f in &sweep {
-            let (a, end) = steady(&model, amplitude, f, state);
-            state = end;
-            let branches = stable_at(f);
-            let err = branches
-                .iter()
-                .map(|b| ((a - b) / b).abs())
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(err);
-            assert!(
-                err < 0.01,
-                "{f} Hz: time integration {a}, curve {branches:?}"
-            );
-        }
-    }
-    println!("stable branches: worst relative difference {worst:.2e}");
-    // The jumps by time integration: a slow stepped sweep (steps of 0.1 % of the frequency,
-    // each run continued from the last state), from outside the bistable band through the
-    // curve's jump, until the amplitude falls by 30 % (up) or rises by 30 % (down) in one step.
-    let jump = |near: f64, up: bool| -> f64 {
-        let mut f = if up { 4.0 } else { 8.0 };
-        let mut s = (0.0, 0.0);
-        let mut a0 = 0.0;
-        loop {
-            let (a, end) = steady(&model, amplitude, f, s);
-            let close = (f - near).abs() < 0.03 * near;
-            if close && (if up { a < 0.7 * a0 } else { a > 1.3 * a0 }) {
-                let back = if up { f / 1.001 } else { f * 1.001 };
-                return 0.5 * (f + back);
-            }
-            assert!(
-                if up { f < 1.05 * near } else { f > 0.95 * near },
-                "no jump near {near} Hz"
-            );
-            a0 = a;
-            s = end;
-            // Coarse steps far from the jump, 0.1 % within 3 % of it.
-            let step = if close { 0.001 * f } else { 0.02 };
-            f += if up { step } else { -step };
-        }
-    };
-    let down_jump_td = jump(jump_down, true);
-    let up_jump_td = jump(jump_up, false);
+    let (worst, j) = crate::frc_check::frc_against_time_integration(&duffing(), 2.0, 3.5, 9.0);
     println!(
-        "jumps: curve {jump_down:.4} / {jump_up:.4} Hz, time integration {down_jump_td:.4} / {up_jump_td:.4} Hz"
+        "stable branches: worst relative difference {worst:.2e}; jumps: curve {:.4} / {:.4} \
+         Hz, time integration {:.4} / {:.4} Hz",
+        j[0], j[1], j[2], j[3]
     );
-    assert!(((down_jump_td - jump_down) / jump_down).abs() < 0.005);
-    assert!(((up_jump_td - jump_up) / jump_up).abs() < 0.005);
 }
 
 /// K(m) by the arithmetic-geometric mean: K = pi / (2 AGM(1, sqrt(1 - m))).

@@ -349,6 +349,109 @@ fn paper_tables_match_the_readme() {
         -3.2,
         0.1,
     );
+    docs_tables_match(&r);
+}
+
+/// docs/tuner.md's four-choice table (each valley member's Table 4 zeta against the
+/// paper's, %), its mesh-bias table, python.md's "too stiff by 11 %" at 8 elements per
+/// coil, and docs/damping.md's band table (each law's zeta per variant and for the surge
+/// mode, the spread), each to one unit of its printed last digit.
+fn docs_tables_match(r: &coil_tuner::report::PaperReport) {
+    let rows: [(&str, f64, Option<f64>, [f64; 6]); 3] = [
+        (
+            "alpha = 0",
+            0.0,
+            None,
+            [-2.10, -3.39, -1.01, -3.53, -2.52, -3.18],
+        ),
+        (
+            "alpha = 2",
+            2.0,
+            None,
+            [4.35, -5.37, 2.35, -7.40, -4.53, -0.87],
+        ),
+        (
+            "the paper's point",
+            0.8,
+            Some(0.00012),
+            [-2.68, -7.30, -2.85, -8.18, -6.46, -5.38],
+        ),
+    ];
+    for (label, alpha, beta, errors) in rows {
+        let member = r
+            .family
+            .iter()
+            .find(|f| f.alpha == alpha && beta.is_none_or(|b| f.beta == b))
+            .unwrap_or_else(|| panic!("{label}: no such member"));
+        assert_eq!(member.variants.len(), 6, "{label}");
+        for ((name, _, error), printed) in member.variants.iter().zip(errors) {
+            within(
+                &format!("{label}: {name} (%)"),
+                100.0 * error.unwrap(),
+                printed,
+                0.01,
+            );
+        }
+    }
+    let mesh = [
+        (8, 4.37617, 171155.0),
+        (16, 3.93969, 190118.0),
+        (24, 3.86408, 193838.0),
+        (48, 3.81947, 196102.0),
+        (96, 3.80840, 196672.0),
+    ];
+    assert_eq!(r.mesh_study.rows.len(), mesh.len());
+    for (row, (n, k, e)) in r.mesh_study.rows.iter().zip(mesh) {
+        assert_eq!(row.elements_per_coil, n);
+        within(
+            &format!("K at the paper's E, {n} per coil"),
+            row.stiffness_at_paper_e_n_mm,
+            k,
+            1e-5,
+        );
+        within(
+            &format!("E tuned, {n} per coil"),
+            row.tuned_youngs_modulus_mpa,
+            e,
+            1.0,
+        );
+    }
+    within(
+        "8 elements per coil too stiff by (%)",
+        100.0 * (r.mesh_study.rows[0].stiffness_at_paper_e_n_mm / 3.9275 - 1.0),
+        11.0,
+        0.5,
+    );
+    // (beta only, alpha only, hysteretic, dashpot; spread %).
+    let band: [([f64; 4], f64); 6] = [
+        ([0.00139, 0.00257, 0.00175, 0.00220], 84.6),
+        ([0.00238, 0.00175, 0.00175, 0.00129], 84.7),
+        ([0.00122, 0.00175, 0.00175, 0.00252], 106.8),
+        ([0.00230, 0.00111, 0.00175, 0.00133], 106.2),
+        ([0.00189, 0.00139, 0.00175, 0.00162], 36.1),
+        ([0.00164, 0.00214, 0.00175, 0.00187], 30.6),
+    ];
+    let b = &r.damping_band;
+    assert_eq!(b.variants.len(), band.len());
+    for (row, (zetas, spread)) in b.variants.iter().zip(band) {
+        for (law, (got, printed)) in b.laws.iter().zip(row.zeta.iter().zip(zetas)) {
+            within(&format!("band {} {law}", row.name), *got, printed, 1e-5);
+        }
+        within(
+            &format!("band {} spread (%)", row.name),
+            row.spread_percent,
+            spread,
+            0.1,
+        );
+    }
+    within("surge frequency (Hz)", b.surge_frequency_hz, 129.8, 0.1);
+    for (law, (got, printed)) in b
+        .laws
+        .iter()
+        .zip(b.surge_zeta.iter().zip([0.05225, 0.01574, 0.00175, 0.0]))
+    {
+        within(&format!("surge {law}"), *got, printed, 1e-5);
+    }
 }
 
 /// `--method direct`: all 697 grid transients integrated directly (18 s idle, about a

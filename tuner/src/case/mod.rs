@@ -660,7 +660,11 @@ impl MeasuredCase {
             return None;
         };
         Some(format!(
-            "the decay's displacement amplitude {:.4e} m (peak {peak:.4e} m/s^2 at {frequency_hz:.3} Hz) is              {ratio:.3e} times the weight's static deflection {static_m:.4e} m (k from {source}), {what};              check the record's unit (a record in g read as m/s^2 is 9.81 times too small, one in mm/s^2              read as m/s^2 1000 times too large): state it as the record entry's `unit`",
+            "the decay's displacement amplitude {:.4e} m (peak {peak:.4e} m/s^2 at \
+             {frequency_hz:.3} Hz) is {ratio:.3e} times the weight's static deflection \
+             {static_m:.4e} m (k from {source}), {what}; check the record's unit (a record in \
+             g read as m/s^2 is 9.81 times too small, one in mm/s^2 read as m/s^2 1000 times \
+             too large): state it as the record entry's `unit`",
             amplitude_m
         ))
     }

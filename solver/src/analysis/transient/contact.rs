@@ -245,7 +245,9 @@ impl UnilateralTerm {
             .filter(|&p| p >= n_links || self.slack.contains(&ids[p]))
             .filter(|&p| gstar[p] > 0.0 || p < n_links)
             .collect();
-        let g = |i: usize, j: usize| responses[j].seen_by(i, gaps[i]);
+        // `G S`: element j's response seen by element i, in the direction of j's force
+        // (module docs of `crate::analysis::unilateral`, "Solve").
+        let g = |i: usize, j: usize| responses[j].seen_by(i, gaps[i]) * gaps[j].sign;
         let lambda =
             solve_forces(&gstar, &k, g, &mut active).map_err(|e| SolveError::BadInput {
                 what: format!("load case '{title}' at t = {t} s: {}", e.describe()),

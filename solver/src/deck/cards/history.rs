@@ -11,7 +11,7 @@ use super::loads::point_load;
 use super::mentat::active_names_exist;
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
-use crate::deck::raw::{RawDeck, RawLoadCase};
+use crate::deck::raw::{MarcDynamic, RawDeck, RawLoadCase};
 use crate::deck::resolve::Builder;
 use crate::model::{Analysis, LoadCase, ModelParts, PointLoad};
 use crate::model::{Integrator, TransientMethod};
@@ -85,7 +85,8 @@ pub(crate) const DYNAMIC_CHANGE: Keyword = Keyword {
         (
             "dt, total[, method[, p]]",
             "dt > 0 (s), total >= dt (s); method NEWMARK (average acceleration, the \
-             default when omitted), HHT with p = alpha in [-1/3, 0], GALPHA with \
+             default when omitted, unless a DYNAMIC, 1 parameter card asks for modal \
+             superposition), HHT with p = alpha in [-1/3, 0], GALPHA with \
              p = rho_inf in [0, 1], or MODAL with p = number of modes >= 1",
         ),
     ],
@@ -206,8 +207,25 @@ fn parse_dynamic_change(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             "total time >= dt",
         ));
     }
+    let marc = c.deck.marc_dynamic;
     let method = match l.fields.get(2).map(|f| f.text.to_ascii_uppercase()) {
-        None => TransientMethod::Direct(Integrator::AverageAcceleration),
+        None => match marc {
+            None | Some((MarcDynamic::Newmark, _)) => {
+                TransientMethod::Direct(Integrator::AverageAcceleration)
+            }
+            Some((MarcDynamic::Modal { modes: 0 }, at)) => {
+                return Err(c.err(
+                    l.loc_of(0),
+                    format!(
+                        "DYNAMIC, 1 (line {}) asks for modal superposition and gives no \
+                         number of modes",
+                        at.line
+                    ),
+                    "the number of modes as DYNAMIC's second field, or `MODAL, modes` here",
+                ))
+            }
+            Some((MarcDynamic::Modal { modes }, _)) => TransientMethod::Modal { modes },
+        },
         Some(m) => {
             let param_needed = m != "NEWMARK";
             let n = if param_needed { 4 } else { 3 };
@@ -249,6 +267,21 @@ fn parse_dynamic_change(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
             }
         }
     };
+    if let (Some((marc, at)), Some(named)) = (marc, l.fields.get(2)) {
+        let modal = matches!(method, TransientMethod::Modal { .. });
+        if modal != matches!(marc, MarcDynamic::Modal { .. }) {
+            return Err(c.err(
+                l.loc_of(2),
+                format!(
+                    "method {} contradicts DYNAMIC, {} (line {})",
+                    named.text,
+                    if modal { 2 } else { 1 },
+                    at.line
+                ),
+                "a method of DYNAMIC's kind (modal for code 1, direct for code 2), or none",
+            ));
+        }
+    }
     let loc = c.loc();
     c.case().dynamic = Some((dt, total, method, loc));
     Ok(())

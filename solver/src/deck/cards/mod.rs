@@ -35,6 +35,7 @@ pub static KEYWORDS: &[Keyword] = &[
     parameters::SIZING,
     parameters::ELEMENTS,
     parameters::LUMP,
+    parameters::DYNAMIC,
     parameters::UNIT,
     parameters::END,
     mesh::CONNECTIVITY,

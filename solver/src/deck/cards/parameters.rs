@@ -1,5 +1,6 @@
 //! The parameter section's cards: `TITLE` (also a load case's), `SIZING`, `ELEMENTS`,
-//! `LUMP`, `END`, and `UNIT`, which is refused (it may change what the numbers mean).
+//! `LUMP`, `DYNAMIC` (Marc's choice of transient method, read for codes 1 and 2), `END`,
+//! and `UNIT`, which is refused (it may change what the numbers mean).
 //!
 //! Each card is one [`Keyword`] entry (its name, sections, meaning, layout, example
 //! and parse function) followed by its parse function; then the family's build function
@@ -9,6 +10,7 @@
 use crate::deck::card::{once, CardCtx, DeckSection, Keyword, Origin};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::lexer::{self, Line};
+use crate::deck::raw::MarcDynamic;
 use crate::model::ElementType;
 use DeckSection::{History, Model, Parameters};
 
@@ -89,6 +91,73 @@ pub(crate) const END: Keyword = Keyword {
     example: "END",
     parse: parse_end,
 };
+
+/// The `DYNAMIC` card.
+pub(crate) const DYNAMIC: Keyword = Keyword {
+    name: "DYNAMIC",
+    sections: &[Parameters],
+    origin: Origin::Marc,
+    meaning: "Marc's dynamic analysis and its transient method: 1 modal (eigenvalues, \
+              and modal superposition for a transient), 2 Newmark; Marc's other codes \
+              are other integrators.",
+    layout: &[(
+        "DYNAMIC, code[, modes]",
+        "code 1 or 2; modes (code 1) the number of modes a transient superposes, \
+         blank or 0 when the deck has no transient",
+    )],
+    notes: "It sets the method of a DYNAMIC CHANGE that names none: code 1 modal \
+            superposition over `modes` modes, code 2 Newmark average acceleration \
+            (beta = 1/4, gamma = 1/2, Marc's default). A DYNAMIC CHANGE that names a \
+            method of the other kind (modal against direct) is refused as a \
+            contradiction. Marc's other codes (3 Houbolt, 4 and 5 central difference, \
+            6 single-step Houbolt, 7 and 8 generalized alpha) are integrators coil does \
+            not run under those names and are refused, since the same K and M would give \
+            another transient; coil's own HHT and GALPHA are named on DYNAMIC CHANGE. \
+            Sources: Marc's common block `concom` (its `idyn` codes 1 to 5 and the \
+            `(dynamic,7)`, `(dynamic,8)` options); the codes 6 to 8 from Marc Volume C, \
+            not verified against a public copy.",
+    example: "DYNAMIC, 1, 10",
+    parse: parse_dynamic,
+};
+
+fn parse_dynamic(c: &mut CardCtx<'_, '_>) -> Result<(), DeckError> {
+    let previous = c.deck.marc_dynamic.map(|d| d.1);
+    once(c, previous)?;
+    let (line, first) = (c.line, c.kw_fields);
+    c.field_count(line, first + 1, first + 2, "DYNAMIC, code[, modes]")?;
+    let code = c.uint(line, first, "the dynamic code, 1 (modal) or 2 (Newmark)")?;
+    let dynamic = match code {
+        1 => {
+            let modes = c.uint_or(line, first + 1, 0, "the number of modes")?;
+            let modes = u32::try_from(modes).map_err(|_| {
+                c.err(
+                    line.loc_of(first + 1),
+                    format!("{modes} modes"),
+                    "a number of modes that fits 32 bits",
+                )
+            })?;
+            MarcDynamic::Modal { modes }
+        }
+        2 => MarcDynamic::Newmark,
+        _ => {
+            let name = match code {
+                3 => "Houbolt",
+                4 | 5 => "central difference",
+                6 => "single-step Houbolt",
+                7 | 8 => "generalized alpha (Marc's)",
+                _ => "not a Marc transient method",
+            };
+            return Err(c.err(
+                line.loc_of(first),
+                format!("dynamic code {code} ({name}) is not run by coil"),
+                "code 1 (modal) or 2 (Newmark); coil's own HHT or GALPHA go on DYNAMIC \
+                 CHANGE's method field",
+            ));
+        }
+    };
+    c.deck.marc_dynamic = Some((dynamic, c.loc()));
+    Ok(())
+}
 
 /// The `UNIT` card.
 pub(crate) const UNIT: Keyword = Keyword {
@@ -259,6 +328,60 @@ mod tests {
             e.to_string().contains("t.dat:2:1: TITLE: a second TITLE"),
             "{e}"
         );
+    }
+
+    /// `DYNAMIC` sets the method of a `DYNAMIC CHANGE` that names none; a contradiction
+    /// and Marc's other integrators are refused where written.
+    #[test]
+    fn a_dynamic_card_sets_the_transient_method() {
+        use crate::model::{Integrator, TransientMethod};
+        let deck = |param: &str, method: &str| {
+            format!(
+                "TITLE, t\n{param}ELEMENTS, 98\nEND\n{MESH}END OPTION\nTITLE, lc\n\
+                 DYNAMIC CHANGE\n1e-3, 0.01{method}\nCONTINUE\n"
+            )
+        };
+        let method = |param: &str, method: &str| {
+            let m = read_str(&deck(param, method), "t.dat").unwrap();
+            match &m.load_cases[0].analysis {
+                crate::model::Analysis::Transient { method, .. } => *method,
+                a => panic!("{a:?}"),
+            }
+        };
+        let newmark = TransientMethod::Direct(Integrator::AverageAcceleration);
+        assert_eq!(method("", ""), newmark);
+        assert_eq!(method("DYNAMIC, 2\n", ""), newmark);
+        assert_eq!(
+            method("dynamic, 1, 6\n", ""),
+            TransientMethod::Modal { modes: 6 }
+        );
+        assert_eq!(
+            method("DYNAMIC, 2\n", ", HHT, -0.1"),
+            TransientMethod::Direct(Integrator::Hht { alpha: -0.1 })
+        );
+        // `None`: the error is on DYNAMIC CHANGE's data line.
+        for (param, method, line, needle) in [
+            ("DYNAMIC, 3\n", "", Some(2), "dynamic code 3 (Houbolt)"),
+            ("DYNAMIC, 4\n", "", Some(2), "central difference"),
+            ("DYNAMIC, 9\n", "", Some(2), "not a Marc transient method"),
+            ("DYNAMIC, 2\nDYNAMIC, 2\n", "", Some(3), "DYNAMIC"),
+            ("DYNAMIC, 1\n", "", None, "modes"),
+            ("DYNAMIC, 1, 4\n", ", NEWMARK", None, "contradicts"),
+            ("DYNAMIC, 2\n", ", MODAL, 4", None, "contradicts"),
+        ] {
+            let text = deck(param, method);
+            let data = 1 + text
+                .lines()
+                .position(|l| l.starts_with("1e-3, 0.01"))
+                .unwrap();
+            let e = read_str(&text, "t.dat").unwrap_err().to_string();
+            let line = line.unwrap_or(data);
+            assert!(
+                e.contains(&format!("t.dat:{line}:")),
+                "{param} {method}: {e}"
+            );
+            assert!(e.contains(needle), "{param} {method}: {e}");
+        }
     }
 
     #[test]

@@ -40,6 +40,16 @@ pub struct LevelFrf {
     pub peak_hz: f64,
 }
 
+/// Welch's segment for records of at least `shortest` samples (module docs): the largest
+/// power of two up to an eighth of it, at least 256; `None` when the records are shorter.
+pub fn segment_length(shortest: usize) -> Option<usize> {
+    let mut seg = 256usize;
+    while seg * 2 <= shortest / 8 {
+        seg *= 2;
+    }
+    (shortest >= seg).then_some(seg)
+}
+
 /// Groups records `(dt, input, output)` by input level and estimates H1 per level.
 pub fn levels(records: &[(f64, &[f64], &[f64])]) -> Vec<LevelFrf> {
     let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
@@ -56,13 +66,9 @@ pub fn levels(records: &[(f64, &[f64], &[f64])]) -> Vec<LevelFrf> {
     }
     groups.sort_by(|a, b| a.0.total_cmp(&b.0));
     let shortest = records.iter().map(|r| r.1.len()).min().unwrap_or(0);
-    let mut seg = 256usize;
-    while seg * 2 <= shortest / 8 {
-        seg *= 2;
-    }
-    if shortest < seg {
+    let Some(seg) = segment_length(shortest) else {
         return Vec::new();
-    }
+    };
     let mut planner = FftPlanner::new();
     let fft = planner.plan_fft_forward(seg);
     let window: Vec<f64> = (0..seg)

@@ -8,6 +8,7 @@
 //! - [`simulate`]: the model under a sampled input (RK4, first-order hold).
 //! - [`fit`]: output-error fits (linear start, then each effect).
 //! - [`frf`]: H1 per input level and the restoring force (evidence and signatures).
+//! - [`lines`]: the coupling's signature, its second line in every record's H1.
 //! - [`run`]: the diagnosis (catalogue, four tests, the cause).
 //! - [`report`]: diagnosis.json, report.md, model.json, model_linear.json.
 //! - [`hb`] and [`frc`]: harmonic balance (AFT) and its continuation, stability and
@@ -15,13 +16,14 @@
 //! - [`commands`]: `simulate` and `frc` on a model file.
 //!
 //! Dependencies run one way: `model` at the bottom, then `spring`, `simulate`, `hb`, `records`,
-//! `fit`, `frf`, `frc`, `run`, `report`, `commands`.
+//! `fit`, `frf`, `lines`, `frc`, `run`, `report`, `commands`.
 
 pub mod commands;
 pub mod fit;
 pub mod frc;
 pub mod frf;
 pub mod hb;
+pub mod lines;
 pub mod model;
 pub mod records;
 pub mod report;

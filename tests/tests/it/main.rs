@@ -2,6 +2,7 @@
 //! test binary links the whole dependency tree). A new test file is a module here.
 
 mod architecture;
+mod catenary_docs;
 mod damping_law;
 mod damping_laws;
 mod diagnose;

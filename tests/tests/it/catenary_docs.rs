@@ -335,11 +335,7 @@ fn claim_en50318_discretisation_tables_of_the_case_readme() {
                 }
                 None => assert_eq!(row[5], "-", "{what}"),
             }
-            let same: Vec<&Statistics> = table
-                .iter()
-                .filter(|r| r[2] == row[2])
-                .map(|r| of(r))
-                .collect();
+            let same: Vec<&Statistics> = table.iter().filter(|r| r[2] == row[2]).map(&of).collect();
             let span = |pick: fn(&Statistics) -> f64| {
                 let v: Vec<f64> = same.iter().map(|s| pick(s)).collect();
                 let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);

@@ -274,7 +274,8 @@ mod tests {
     #[test]
     fn the_right_coupling_model_shows_its_second_line() {
         let (r1, r2) = (records(1), records(7));
-        let (pass, words) = second_line(&[run(&r1, &r1.coupled), run(&r2, &r2.coupled)], 24.0, 0.015);
+        let (pass, words) =
+            second_line(&[run(&r1, &r1.coupled), run(&r2, &r2.coupled)], 24.0, 0.015);
         println!("{words}");
         assert!(pass, "{words}");
     }
@@ -297,7 +298,10 @@ mod tests {
             measured: moved,
         };
         let (pass, words) = second_line(
-            &[run(&r1, &r1.coupled), run(&moved_records, &moved_records.coupled)],
+            &[
+                run(&r1, &r1.coupled),
+                run(&moved_records, &moved_records.coupled),
+            ],
             24.0,
             0.015,
         );

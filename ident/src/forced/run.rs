@@ -5,11 +5,10 @@
 //! 1. **significance**: `dBIC = N_eff ln(S_lin / S) - ln(N_eff) > 10`, `N_eff` the
 //!    candidate's residual count shrunk by their lag-one correlation `r`,
 //!    `N (1 - r) / (1 + r)` (output-error residuals are coloured);
-//! 2. **forecast**: fitted on the first quarter, half and three quarters of every record,
-//!    the candidate must forecast the next quarter better than the linear model does, over
-//!    the windows whose head fit identified its parameters (as test 3 asks, each three
-//!    inflated standard errors from zero; a head that cannot see the effect forecasts
-//!    nothing about it), over every window when no head did;
+//! 2. **forecast**: the candidate must forecast better than the linear model does: each
+//!    record by the fit on the others when there are two or more, else the next quarter
+//!    of the record by fits on its first quarter, half and three quarters
+//!    (`fit::forecast` says why records first);
 //! 3. **identified**: its parameter three standard errors from zero (the errors inflated by
 //!    `sqrt(N / N_eff)`), and admissible (no negative friction or drag);
 //! 4. **signature**: on a displacement output, the linear model's force residual regressed
@@ -153,6 +152,26 @@ fn relative(fitted: &Fitted, series: &[Series<'_>]) -> f64 {
     (fitted.cost / total.max(1e-300)).sqrt()
 }
 
+/// Effective count of residuals: `N (1 - r) / (1 + r)` per record, `r` the lag-one
+/// correlation (at least 1 per record).
+fn effective_count(fitted: &Fitted) -> f64 {
+    fitted
+        .residuals
+        .iter()
+        .map(|r| {
+            let n = r.len() as f64;
+            let c0: f64 = r.iter().map(|x| x * x).sum();
+            let c1: f64 = r.windows(2).map(|w| w[0] * w[1]).sum();
+            let rho = if c0 > 0.0 {
+                (c1 / c0).clamp(0.0, 0.999)
+            } else {
+                0.0
+            };
+            (n * (1.0 - rho) / (1.0 + rho)).max(1.0)
+        })
+        .sum()
+}
+
 fn note(progress: bool, text: &str) {
     if progress {
         eprintln!("{text}");
@@ -241,9 +260,8 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
     )
     .map_err(fail)?;
     scales.z = baseline_scale(&baseline, &series);
-    let baseline_windows =
+    let baseline_forecast =
         fit::forecast(&series, &baseline, &[], settings.max_iterations, spring).map_err(fail)?;
-    let baseline_forecast = baseline_windows.rms();
     let baseline_residual = relative(&baseline, &series);
     baseline.scales = scales;
 
@@ -262,7 +280,7 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
             &series,
             &case,
             &baseline,
-            &baseline_windows,
+            baseline_forecast,
             &[effect],
             settings,
             spring,
@@ -286,7 +304,7 @@ pub fn diagnose_case(case: ForcedCase, settings: &ForcedSettings) -> Result<Forc
             &series,
             &case,
             &baseline,
-            &baseline_windows,
+            baseline_forecast,
             &pair,
             settings,
             spring,
@@ -400,7 +418,7 @@ fn candidate(
     series: &[Series<'_>],
     case: &ForcedCase,
     baseline: &Fitted,
-    baseline_forecast: &fit::Forecast,
+    baseline_forecast: f64,
     effects: &[Effect],
     settings: &ForcedSettings,
     spring: Option<&SpringStructure>,
@@ -423,20 +441,10 @@ fn candidate(
         Ok(f) => f,
         Err(e) => return failed(e),
     };
-    // Test 2 over the windows whose head identified the effects (a head that cannot see an
-    // effect forecasts nothing about it), every window when none did (module docs).
-    let windows = fit::forecast(series, &fitted, effects, settings.max_iterations, spring).ok();
-    let forecast = windows.map_or(f64::INFINITY, |w| w.rms());
-    let forecasts = windows.is_some_and(|w| {
-        let mask = if w.seen.iter().any(|&s| s) {
-            w.seen
-        } else {
-            [true; 3]
-        };
-        w.rms_over(mask) < baseline_forecast.rms_over(mask)
-    });
+    let forecast = fit::forecast(series, &fitted, effects, settings.max_iterations, spring)
+        .unwrap_or(f64::INFINITY);
     let n = fitted.count as f64;
-    let n_eff = fit::effective_count(&fitted);
+    let n_eff = effective_count(&fitted);
     let dbic = n_eff * (baseline.cost / fitted.cost).ln() - effects.len() as f64 * n_eff.ln();
     let inflate = (n / n_eff).sqrt();
     let identified = fitted.effects.iter().all(|&(e, value, se)| {
@@ -446,7 +454,7 @@ fn candidate(
     let signature = signature(case, baseline, &fitted);
     let tests = Tests {
         significant: dbic > 10.0,
-        forecasts,
+        forecasts: forecast < baseline_forecast,
         identified,
         signature: signature.0,
     };

@@ -195,17 +195,14 @@ fn frc_of_a_coupling_model_file_is_its_frequency_response() {
         )
         .unwrap();
         let o = &model.oscillator;
-        let lines: Vec<(f64, f64, f64)> = std::iter::once((
-            o.natural_frequency_rad_s,
-            o.damping_ratio,
-            o.input_gain,
-        ))
-        .chain(
-            o.modes
-                .iter()
-                .map(|m| (m.natural_frequency_rad_s, m.damping_ratio, m.input_gain)),
-        )
-        .collect();
+        let lines: Vec<(f64, f64, f64)> =
+            std::iter::once((o.natural_frequency_rad_s, o.damping_ratio, o.input_gain))
+                .chain(
+                    o.modes
+                        .iter()
+                        .map(|m| (m.natural_frequency_rad_s, m.damping_ratio, m.input_gain)),
+                )
+                .collect();
         let mut worst = 0.0f64;
         let mut peaks = 0;
         let p = &curve.points;
@@ -219,7 +216,9 @@ fn frc_of_a_coupling_model_file_is_its_frequency_response() {
             }
             let exact = amplitude * (re * re + im * im).sqrt();
             worst = worst.max((pt.amplitude - exact).abs() / exact);
-            if k > 0 && k + 1 < p.len() && pt.amplitude > p[k - 1].amplitude
+            if k > 0
+                && k + 1 < p.len()
+                && pt.amplitude > p[k - 1].amplitude
                 && pt.amplitude > p[k + 1].amplitude
             {
                 peaks += 1;
@@ -426,7 +425,10 @@ fn every_spring_effect_under_every_excitation() {
     let picked: Vec<usize> = std::env::var("COIL_PICK")
         .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
         .unwrap_or_else(|_| (0..36).collect());
-    let seed = std::env::var("COIL_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(400);
+    let seed = std::env::var("COIL_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(400);
     run(&picked, seed, 15.0);
 }
 
@@ -537,4 +539,3 @@ fn the_base_load_is_the_rigid_translations_inertia() {
     assert!((weight_row - (0.2 + 0.5 * m_s)).abs() < 0.02 * m_s);
     assert!((rigid[0] - 1.0).abs() < m_s / 0.2);
 }
-

@@ -166,7 +166,9 @@ fn simulate_of_the_spring_truth_model_equals_the_generator() {
 /// `frc` of a coupling model read from its model.json (the weight turning freely, no law:
 /// linear) against the modal form's frequency response `|sum_i b_i / (w_i^2 - w^2 + 2 i
 /// zeta_i w_i w)|` times the amplitude, through both lines (the harmonic balance of a
-/// linear model is exact: within 1e-6), and the two lines there as two peaks.
+/// linear model is exact: within 1e-6), every point stable. The second line (a tenth of
+/// the first's gain, 0.85 Hz up, the lines 0.35 Hz half-wide) is a shoulder on the
+/// first's flank, not a peak of its own: the count of peaks is printed, not asserted.
 #[test]
 fn frc_of_a_coupling_model_file_is_its_frequency_response() {
     let j = SpringTruth::linear().tuned_inertia(1.04);
@@ -240,7 +242,6 @@ fn frc_of_a_coupling_model_file_is_its_frequency_response() {
             second.2
         );
         assert!(worst < 1e-6, "{worst:.3e}");
-        assert_eq!(peaks, 2);
         assert!(p.iter().all(|q| q.stable));
     }
 }
@@ -417,10 +418,11 @@ fn claim_spring_diagnosis_names_each_effect_from_noisy_forced_records() {
 }
 
 /// Every effect and none under every excitation, with a force and with a base input (36
-/// diagnoses, about ten minutes on two cores):
+/// diagnoses, 802 s on two shared cores):
 /// `cargo test --release -p coil-tests --test it forced_spring::every -- --ignored --nocapture`
+/// (`COIL_PICK=5,23` picks cases, `COIL_SEED` moves the noise's seeds from 400).
 #[test]
-#[ignore = "the whole spring forced truth matrix, about ten minutes: run by hand with the command in its doc comment"]
+#[ignore = "the whole spring forced truth matrix, about fifteen minutes: run by hand with the command in its doc comment"]
 fn every_spring_effect_under_every_excitation() {
     let picked: Vec<usize> = std::env::var("COIL_PICK")
         .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())

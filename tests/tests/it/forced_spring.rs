@@ -409,7 +409,7 @@ fn run(picked: &[usize], seed: u64, duration: f64) {
 }
 
 /// Three cases (a force and a base input, an effect each, and the coupling under a base
-/// input; about 25 s of CPU, the second stage of `.ci/run`, so that the README's test
+/// input; 19 s, 46 s of CPU, in the second stage of `.ci/run`, so that the README's test
 /// command stays within 1.5 times the main job); every case in the ignored test below.
 #[test]
 #[ignore = "second CI stage"]

@@ -8,6 +8,8 @@
 //! assessment's verdict and the lowest standard deviation named) and, with figures,
 //! `spring_study.png` (standard deviation, minimum and loss per spring and speed).
 
+pub mod band;
+
 use crate::case::Case;
 use crate::en50318::{self, study::SpringStudyRow};
 use crate::head_stage::from_spring::BuiltHead;

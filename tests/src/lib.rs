@@ -5,6 +5,8 @@
 //! Shared helpers for the end-to-end and verification tests: models built in code
 //! (no deck text), in the model's units (mm, N, t, s).
 
+pub mod docs_tables;
+
 use coil_solver::model::{
     Analysis, Element, ElementType, FixedDisp, Geometry, LoadCase, Material, Model, ModelParts,
     Node, NodeId, PointLoad, PointMass, RigidTie, Section,

@@ -1,6 +1,8 @@
 //! The end-to-end tests and the verification ladder, one test binary (each integration
 //! test binary links the whole dependency tree). A new test file is a module here.
 
+mod architecture;
+mod catenary_docs;
 mod damping_law;
 mod damping_laws;
 mod diagnose;

@@ -5,8 +5,10 @@
 //! 1. **significance**: `dBIC = N_eff ln(S_lin / S) - ln(N_eff) > 10`, `N_eff` the
 //!    candidate's residual count shrunk by their lag-one correlation `r`,
 //!    `N (1 - r) / (1 + r)` (output-error residuals are coloured);
-//! 2. **forecast**: fitted on the first quarter, half and three quarters of every record,
-//!    the candidate must forecast the next quarter better than the linear model does;
+//! 2. **forecast**: the candidate must forecast better than the linear model does: each
+//!    record by the fit on the others when there are two or more, else the next quarter
+//!    of the record by fits on its first quarter, half and three quarters
+//!    (`fit::forecast` says why records first);
 //! 3. **identified**: its parameter three standard errors from zero (the errors inflated by
 //!    `sqrt(N / N_eff)`), and admissible (no negative friction or drag);
 //! 4. **signature**: on a displacement output, the linear model's force residual regressed

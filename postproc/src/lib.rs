@@ -55,6 +55,8 @@ pub mod static_curve;
 pub mod stats;
 
 #[cfg(test)]
+mod test_docs;
+#[cfg(test)]
 mod test_signals;
 
 pub use error::{PostError, Result};

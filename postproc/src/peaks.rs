@@ -381,6 +381,7 @@ fn longest_regular_run(refined: &[Option<Peak>], samples_per_period: f64) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_docs::assert_printed;
     use crate::test_signals::{damped_sine, DampedSine, Rng};
 
     fn sig(time_s: &[f64], values: &[f64]) -> Signal {
@@ -481,20 +482,56 @@ mod tests {
             .sqrt()
     }
 
+    /// docs/postproc.md's crest-fit table, read from the page, each figure to half a unit of
+    /// its printed last digit (the sweep over sub-sample offsets is deterministic and the
+    /// noise seeded): per sampling density, the spread (max - min) of the relative crest
+    /// error of raw samples, the 3-point parabola and the default quartic, the quartic's
+    /// constant bias (the middle of its range), and each one's crest scatter per unit noise
+    /// deviation. Also prints the quartic at half-windows of 1/16 and 1/6 period, the
+    /// choices the default was picked against.
     #[test]
-    #[ignore = "prints the table of docs/postproc.md; run with --ignored --nocapture"]
     fn crest_fit_study() {
-        for spp in [230.0, 100.0, 50.0, 20.0] {
-            for (name, fit, hw) in [
-                ("raw", PeakFit::Raw, 0.0),
-                ("parabola3", PeakFit::Parabola3, 0.0),
-                ("lsq 1/16", PeakFit::LeastSquares, 1.0 / 16.0),
-                ("lsq 1/8", PeakFit::LeastSquares, 1.0 / 8.0),
-                ("lsq 1/6", PeakFit::LeastSquares, 1.0 / 6.0),
-            ] {
+        let rows = crate::test_docs::table("| samples/period | raw: varying |");
+        assert_eq!(rows.len(), 4, "{rows:?}");
+        let noise = 1e-3;
+        for row in &rows {
+            let spp: f64 = row[0].parse().unwrap();
+            let (lsq_spread, lsq_bias) = row[3].split_once(" (").unwrap();
+            let lsq_bias = lsq_bias.trim_end_matches(')');
+            let scatters: Vec<&str> = row[4].split(" / ").collect();
+            let fits = [
+                (PeakFit::Raw, 0.0, row[1].as_str(), scatters[0]),
+                (PeakFit::Parabola3, 0.0, row[2].as_str(), scatters[1]),
+                (
+                    PeakFit::LeastSquares,
+                    LSQ_HALF_WINDOW_PERIODS,
+                    lsq_spread,
+                    scatters[2],
+                ),
+            ];
+            for (fit, hw, spread_printed, scatter_printed) in fits {
                 let (lo, hi) = crest_errors(fit, spp, hw);
-                let scatter = crest_scatter(fit, spp, hw, 1e-3);
-                println!("{spp:5} {name:10} bias [{lo:+.2e}, {hi:+.2e}] spread {:.2e} noise(1e-3) {scatter:.2e}", hi - lo);
+                let scatter = crest_scatter(fit, spp, hw, noise) / noise;
+                println!(
+                    "{spp:5} {fit:?}: error [{lo:+.3e}, {hi:+.3e}], spread {:.3e}, bias {:+.3e}, scatter per noise {scatter:.4}",
+                    hi - lo,
+                    0.5 * (lo + hi)
+                );
+                let what = format!("{spp} samples per period, {fit:?}");
+                assert_printed(hi - lo, spread_printed, &format!("{what}: spread"));
+                assert_printed(scatter, scatter_printed, &format!("{what}: noise"));
+                if fit == PeakFit::LeastSquares {
+                    assert_printed(0.5 * (lo + hi), lsq_bias, &format!("{what}: bias"));
+                }
+            }
+            for hw in [1.0 / 16.0, 1.0 / 6.0] {
+                let (lo, hi) = crest_errors(PeakFit::LeastSquares, spp, hw);
+                let scatter = crest_scatter(PeakFit::LeastSquares, spp, hw, noise) / noise;
+                println!(
+                    "{spp:5} quartic over +-{hw:.3} period: spread {:.3e}, bias {:+.3e}, scatter per noise {scatter:.4}",
+                    hi - lo,
+                    0.5 * (lo + hi)
+                );
             }
         }
     }

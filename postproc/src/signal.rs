@@ -658,7 +658,7 @@ fn parse_cell(path: &Path, line: u64, column: &str, text: &str) -> Result<f64> {
 
 /// The spacing of the decimal grid a number was printed on: `0.0125` -> 1e-4,
 /// `1.5e-3` -> 1e-4, `20` -> 1. Printed values are exact to half of it.
-fn printed_resolution(text: &str) -> f64 {
+pub(crate) fn printed_resolution(text: &str) -> f64 {
     let text = text.trim_start_matches(['+', '-']);
     let (mantissa, exponent) = match text.find(['e', 'E']) {
         Some(at) => (&text[..at], text[at + 1..].parse::<i32>().unwrap_or(0)),

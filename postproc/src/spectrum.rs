@@ -280,6 +280,7 @@ impl Spectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_docs::assert_printed;
 
     fn sig(time_s: &[f64], values: &[f64]) -> Signal {
         Signal::new(time_s.to_vec(), values.to_vec()).unwrap()
@@ -367,21 +368,31 @@ mod tests {
         assert!((peak.frequency_hz - 4.35).abs() < 0.05 * spectrum.native_bin_hz);
     }
 
+    /// docs/postproc.md's spectrum table, read from the page: for each window and padding,
+    /// the worst frequency error (native bins) and amplitude error of the interpolated peak of
+    /// a unit sine swept across one native bin in 20 steps, each to half a unit of its
+    /// printed last digit (the sweep is deterministic).
     #[test]
-    #[ignore = "a study; run with --ignored --nocapture"]
     fn peak_interpolation_study() {
-        for (window, pad) in [
-            (Window::Hann, 1),
-            (Window::Hann, 4),
-            (Window::Hann, 16),
-            (Window::Rectangular, 4),
-        ] {
+        let rows = crate::test_docs::table("| window, padding | frequency error |");
+        assert_eq!(rows.len(), 4, "{rows:?}");
+        let time: Vec<f64> = (0..10_000).map(|i| i as f64 / 1000.0).collect();
+        for row in &rows {
+            let (window, pad) = row[0].split_once(", ").unwrap();
+            let window = match window {
+                "Hann" => Window::Hann,
+                "rectangular" => Window::Rectangular,
+                other => panic!("docs/postproc.md: unknown window `{other}`"),
+            };
+            let pad = match pad.split(['x', ' ']).next().unwrap() {
+                "none" => 1,
+                factor => factor.parse().unwrap(),
+            };
             let mut worst_bins = 0.0_f64;
             let mut worst_amplitude = 0.0_f64;
             for k in 0..20 {
                 // Sweep the tone across one native bin (0.1 Hz for 10 s).
                 let f = 4.3 + 0.005 * k as f64;
-                let time: Vec<f64> = (0..10_000).map(|i| i as f64 / 1000.0).collect();
                 let x: Vec<f64> = time.iter().map(|t| (TAU * f * t + 0.3).sin()).collect();
                 let options = SpectrumOptions {
                     window,
@@ -393,7 +404,15 @@ mod tests {
                 worst_bins = worst_bins.max((peak.frequency_hz - f).abs() / spectrum.native_bin_hz);
                 worst_amplitude = worst_amplitude.max((peak.amplitude - 1.0).abs());
             }
-            println!("{window:?} pad {pad}: frequency error <= {worst_bins:.1e} bins, amplitude error <= {worst_amplitude:.1e}");
+            println!("{window:?} pad {pad}: frequency error <= {worst_bins:.2e} bins, amplitude error <= {worst_amplitude:.2e}");
+            let what = format!("{window:?}, padding {pad}");
+            let frequency = row[1].trim_end_matches(" bin");
+            assert_printed(worst_bins, frequency, &format!("{what}: frequency error"));
+            assert_printed(
+                worst_amplitude,
+                &row[2],
+                &format!("{what}: amplitude error"),
+            );
         }
     }
 }

@@ -86,9 +86,13 @@ def test_tampered_studies_and_rows_are_refused(tmp_path):
             "the study has")
 
 
+# The child takes Ctrl-C as an interactive Python does, whatever the runner left it: a
+# process started in the background by a non-interactive shell inherits SIGINT ignored,
+# and Python then installs no handler of its own.
 LONG_SOLVE = textwrap.dedent(
     """
-    import sys, coil
+    import signal, sys, coil
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     deck = coil.spring(analyses=["static", "transient"], dt_s=1e-5, duration_s=200.0,
                        initial_velocity_m_s=0.1, mass_kg=5.0, elements_per_coil=12)
     print("ready", flush=True)

@@ -53,6 +53,11 @@ impl Window {
         }
     }
 
+    /// The window's `n` weights (periodic: the Welch estimators' segments use the same).
+    pub fn coefficients(self, n: usize) -> Vec<f64> {
+        (0..n).map(|k| self.weight(k, n)).collect()
+    }
+
     /// Half-width of the main lobe, native bins.
     fn main_lobe_bins(self) -> f64 {
         match self {

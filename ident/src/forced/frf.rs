@@ -26,6 +26,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::model::ForcedModel;
+use coil_postproc::spectrum::Window;
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 
@@ -71,9 +72,7 @@ pub fn levels(records: &[(f64, &[f64], &[f64])]) -> Vec<LevelFrf> {
     };
     let mut planner = FftPlanner::new();
     let fft = planner.plan_fft_forward(seg);
-    let window: Vec<f64> = (0..seg)
-        .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / seg as f64).cos())
-        .collect();
+    let window = Window::Hann.coefficients(seg);
     groups
         .into_iter()
         .map(|(level, members)| {

@@ -47,6 +47,7 @@
 //! neighbouring-line correlations).
 
 use super::frf::segment_length;
+use coil_postproc::spectrum::Window;
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 
@@ -89,9 +90,7 @@ fn record_lines(run: &RecordRun<'_>, seg: usize) -> Option<(Vec<Line>, f64)> {
     }
     let mut planner = FftPlanner::new();
     let fft = planner.plan_fft_forward(seg);
-    let window: Vec<f64> = (0..seg)
-        .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / seg as f64).cos())
-        .collect();
+    let window = Window::Hann.coefficients(seg);
     let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
     let signals = [run.input, run.output, run.guided, run.coupled];
     let means: Vec<f64> = signals.iter().map(|s| mean(s)).collect();
